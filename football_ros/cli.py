@@ -1,0 +1,195 @@
+"""``football-ros``: command-line front end.
+
+Headless commands (no ROS needed): ``modes``, ``simulate``, ``plot``. Node commands
+(``simulator``, ``release``, ``record``, ``demo``) need rclpy and pass ``--ros-args`` through.
+Bad options print one line on stderr and exit with code 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from typing import Sequence
+
+from .physics import PRESETS, Flight, Release, ReleaseError
+from .physics.release import MODELS, MOMENT_CURVES
+
+EXIT_USAGE = 2
+
+NODE_COMMANDS = {
+    "simulator": "football_ros.nodes.simulator",
+    "release": "football_ros.nodes.release",
+    "record": "football_ros.tools.recorder",
+    "demo": "football_ros.tools.demo",
+}
+
+
+class UsageError(Exception):
+    """A bad command line; reported as one line and exit code 2."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # one line, no usage block
+        raise UsageError(message)
+
+
+def add_release_options(parser: argparse.ArgumentParser) -> None:
+    """The release options shared by every command that throws a ball."""
+    g = parser.add_argument_group("release (defaults: the preset's nominal release)")
+    g.add_argument("--ball", default="american", help=f"preset: {', '.join(PRESETS)}")
+    g.add_argument("--speed", type=float, help="release speed [m/s]")
+    g.add_argument("--elevation-deg", type=float, help="elevation above the horizontal [deg]")
+    g.add_argument("--azimuth-deg", type=float, default=0.0,
+                   help="direction, counter-clockwise from +x (downfield) [deg]")
+    g.add_argument("--spin-rpm", type=float, help="spin [rev/min], > 0 right-handed spiral")
+    g.add_argument("--alpha0-deg", type=float, default=0.0, help="initial angle of attack [deg]")
+    g.add_argument("--beta0-deg", type=float, default=0.0, help="initial sideslip [deg]")
+    g.add_argument("--alpha-rate-deg-s", type=float, default=0.0,
+                   help="axis pitch rate relative to the field [deg/s]")
+    g.add_argument("--beta-rate-deg-s", type=float, default=0.0,
+                   help="axis yaw rate relative to the field [deg/s]")
+    g.add_argument("--position", type=float, nargs=3, default=(0.0, 0.0, 0.0),
+                   metavar=("X", "Y", "Z"), help="release point in field [m]")
+    g.add_argument("--ball-param", action="append", default=[], metavar="KEY=VALUE",
+                   help="override a preset parameter, e.g. c_m_alpha=0.3 (repeatable)")
+    g.add_argument("--model", default="paper", choices=MODELS)
+    g.add_argument("--moment", default="linear", choices=MOMENT_CURVES)
+
+
+def release_from_args(args: argparse.Namespace) -> Release:
+    """Build a validated :class:`Release` from parsed options (raises ReleaseError/UsageError)."""
+    params = {}
+    for item in args.ball_param:
+        key, sep, value = item.partition("=")
+        if not sep:
+            raise UsageError(f"--ball-param expects KEY=VALUE, got '{item}'")
+        try:
+            params[key.strip()] = float(value)
+        except ValueError:
+            raise UsageError(f"--ball-param {key}: '{value}' is not a number") from None
+    return Release(ball=args.ball, speed=args.speed, elevation_deg=args.elevation_deg,
+                   azimuth_deg=args.azimuth_deg, spin_rpm=args.spin_rpm,
+                   alpha0_deg=args.alpha0_deg, beta0_deg=args.beta0_deg,
+                   alpha_rate_deg_s=args.alpha_rate_deg_s, beta_rate_deg_s=args.beta_rate_deg_s,
+                   position=tuple(args.position), model=args.model, moment=args.moment,
+                   ball_params=params)
+
+
+def modes_report(release: Release) -> dict:
+    """Linear-theory numbers of a release as plain data (rad, rad/s, rpm)."""
+    flight = Flight.from_release(release)
+    m = flight.modes
+    return {
+        "ball": release.ball, "speed": m.speed, "flight_path_angle": m.flight_path_angle,
+        "m_alpha": m.m_alpha, "h1": m.h1, "omega_fast": m.omega_fast, "omega_slow": m.omega_slow,
+        "growth_rate": m.growth_rate, "stable": m.stable,
+        "gyroscopic_stability_factor": m.gyroscopic_stability_factor,
+        "critical_spin_rpm": m.critical_spin_rpm, "equilibrium_sideslip": m.equilibrium_sideslip,
+        "c1": [m.c1.real, m.c1.imag], "c2": [m.c2.real, m.c2.imag],
+    }
+
+
+def _print_modes(report: dict) -> None:
+    rows = [
+        ("ball", report["ball"], ""),
+        ("speed V", f"{report['speed']:.3f}", "m/s"),
+        ("flight-path angle Phi", f"{math.degrees(report['flight_path_angle']):.2f}", "deg"),
+        ("M_alpha", f"{report['m_alpha']:.3f}", "1/s^2"),
+        ("h1 = (I_s/I_t) p", f"{report['h1']:.3f}", "rad/s"),
+        ("omega_fast (nutation)", f"{report['omega_fast']:.4f}",
+         f"rad/s ({report['omega_fast'] / (2 * math.pi):.3f} Hz)"),
+        ("omega_slow (precession)", f"{report['omega_slow']:.4f}",
+         f"rad/s ({report['omega_slow'] / (2 * math.pi):.3f} Hz)"),
+        ("gyroscopically stable", "yes" if report["stable"] else
+         f"NO (grows at {report['growth_rate']:.3f} 1/s)", "h1^2 > 4 M_alpha"),
+        ("S_g = h1^2 / (4 M_alpha)", f"{report['gyroscopic_stability_factor']:.3f}", ""),
+        ("critical spin", f"{report['critical_spin_rpm']:.1f}", "rpm"),
+        ("equilibrium sideslip s3p", f"{report['equilibrium_sideslip']:.5f}",
+         f"rad ({math.degrees(report['equilibrium_sideslip']):.3f} deg, > 0 nose right)"),
+        ("C1 (fast mode)", f"{report['c1'][0]:+.5f} {report['c1'][1]:+.5f}i", "rad"),
+        ("C2 (slow mode)", f"{report['c2'][0]:+.5f} {report['c2'][1]:+.5f}i", "rad"),
+    ]
+    width = max(len(r[0]) for r in rows)
+    for name, value, unit in rows:
+        print(f"{name:<{width}}  {value:>22}  {unit}")
+
+
+def _cmd_modes(args: argparse.Namespace) -> int:
+    report = modes_report(release_from_args(args))
+    if args.json:
+        print(json.dumps(report, indent=2))
+    else:
+        _print_modes(report)
+    return 0
+
+
+def _cmd_simulate(args: argparse.Namespace) -> int:
+    release = release_from_args(args)
+    if not (0.0 < args.duration <= 600.0):
+        raise UsageError(f"--duration must be in (0, 600] s, got {args.duration}")
+    if not (0.0 < args.rate <= 100000.0):
+        raise UsageError(f"--rate must be in (0, 100000] Hz, got {args.rate}")
+    if not (0.0 < args.step <= 0.05):
+        raise UsageError(f"--step must be in (0, 0.05] s, got {args.step}")
+    flight = Flight.from_release(release, step=args.step)
+    trajectory = flight.simulate(rate=args.rate, duration=args.duration)
+    trajectory.write_csv(args.out)
+    end = "landed" if trajectory.landed else "stopped at the duration"
+    print(f"{len(trajectory.times)} rows to {args.out}; {end} at t = {trajectory.times[-1]:.4f} s, "
+          f"x = {trajectory.positions[-1, 0]:.3f} m, y = {trajectory.positions[-1, 1]:.3f} m",
+          file=sys.stderr)
+    return 0
+
+
+def _cmd_plot(args: argparse.Namespace) -> int:
+    from .tools.figures import plot_source
+    for path in plot_source(args.source, args.out):
+        print(path)
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="football-ros", description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    p = sub.add_parser("modes", help="linear-theory modes, stability and equilibrium of a release")
+    add_release_options(p)
+    p.add_argument("--json", action="store_true", help="print JSON instead of a table")
+    p.set_defaults(func=_cmd_modes)
+    p = sub.add_parser("simulate", help="integrate a flight headless and write a CSV")
+    add_release_options(p)
+    p.add_argument("--duration", type=float, default=10.0, help="max simulated time [s]")
+    p.add_argument("--rate", type=float, default=100.0, help="output rows per second [Hz]")
+    p.add_argument("--step", type=float, default=1e-3, help="integration step [s]")
+    p.add_argument("--out", required=True, help="CSV file to write")
+    p.set_defaults(func=_cmd_simulate)
+    p = sub.add_parser("plot", help="figures (PNG) from a recorded bag or a simulate CSV")
+    p.add_argument("source", help="bag folder / .mcap file, or CSV from 'simulate'")
+    p.add_argument("--out", required=True, help="folder for the PNG files")
+    p.set_defaults(func=_cmd_plot)
+    for name in NODE_COMMANDS:
+        sub.add_parser(name, help=f"run the {name} node (takes --ros-args ...)", add_help=False)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv and argv[0] in NODE_COMMANDS:
+        import importlib
+        module = importlib.import_module(NODE_COMMANDS[argv[0]])
+        return module.main(argv[1:]) or 0
+    try:
+        args = build_parser().parse_args(argv)
+        return args.func(args)
+    except (UsageError, ReleaseError) as exc:
+        print(f"football-ros: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    except OSError as exc:
+        print(f"football-ros: error: {exc.strerror or exc}: {exc.filename or ''}".rstrip(": "),
+              file=sys.stderr)
+        return EXIT_USAGE
+
+
+if __name__ == "__main__":
+    sys.exit(main())

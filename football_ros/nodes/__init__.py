@@ -1,0 +1,1 @@
+"""rclpy nodes wrapping football_ros.physics: they pace, convert and publish."""

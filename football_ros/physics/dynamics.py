@@ -1,0 +1,231 @@
+"""Equations of motion and their integrator: the hot path, compiled with numba.
+
+Torque-only model of the paper (physics.md section 2), in ``field``:
+
+    r' = v,  v' = (0, 0, -g),  h' = M_alpha(V) f(delta) (v_hat x s),  s' = h x s
+
+with M_alpha(V) = k V^2, f = 1 (``linear``) or cos(delta) (``sin2delta``, Rae & Streit's
+C_M = 0.165 sin 2 delta scaled by C_Malpha / 0.33).
+
+State vector (``N_STATE`` floats): position r [m], velocity v [m/s], the attitude quaternion
+q_nr (x, y, z, w) of a frame that carries the axis (body x = s) without rolling (it turns with
+w_perp only), the modified angular momentum h = H / I_t [rad/s], the spin momentum h1 = h.s
+[rad/s] and the spin angle phi [rad] of the ball about s relative to that frame. The ball's
+orientation is q_nr * rot_x(phi); phi' = p = (I_t/I_s) h1.
+
+The step is classical RK4 followed by a projection: q_nr is normalised (so |s| = 1) and h is
+corrected along s so that h.s equals h1, which the model keeps constant. Both invariants hold to
+round-off for any step size.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .frames import GRAVITY
+from .presets import BallPreset
+
+# State layout.
+R, V, Q, H, H1, PHI = 0, 3, 6, 10, 13, 14
+N_STATE = 15
+
+# Parameter layout.
+P_MOMENT_K, P_SPIN_RATIO, P_GRAVITY, P_SIN2DELTA = 0, 1, 2, 3
+N_PARAM = 4
+
+
+def make_params(ball: BallPreset, moment: str = "linear", gravity: float = GRAVITY) -> np.ndarray:
+    """Parameter vector for the kernel: k [1/m^2], I_t/I_s, g [m/s^2], moment-curve flag."""
+    params = np.zeros(N_PARAM)
+    params[P_MOMENT_K] = ball.moment_coefficient()
+    params[P_SPIN_RATIO] = 1.0 / ball.inertia_ratio
+    params[P_GRAVITY] = gravity
+    params[P_SIN2DELTA] = 1.0 if moment == "sin2delta" else 0.0
+    return params
+
+
+@njit(cache=True)
+def axis_of(y: np.ndarray) -> tuple:
+    """Spin axis s = body x of q_nr."""
+    qx, qy, qz, qw = y[Q], y[Q + 1], y[Q + 2], y[Q + 3]
+    return (1.0 - 2.0 * (qy * qy + qz * qz), 2.0 * (qx * qy + qw * qz), 2.0 * (qx * qz - qw * qy))
+
+
+@njit(cache=True)
+def derivative(y: np.ndarray, params: np.ndarray, out: np.ndarray) -> None:
+    """Write dy/dt into ``out`` (autonomous: the model has no explicit time)."""
+    vx, vy, vz = y[V], y[V + 1], y[V + 2]
+    sx, sy, sz = axis_of(y)
+    hx, hy, hz = y[H], y[H + 1], y[H + 2]
+    speed = math.sqrt(vx * vx + vy * vy + vz * vz)
+    # Overturning moment: h' = k V^2 f (v_hat x s) = k V f (v x s).
+    gain = params[P_MOMENT_K] * speed
+    if params[P_SIN2DELTA] != 0.0:
+        gain *= (vx * sx + vy * sy + vz * sz) / speed
+    # Transverse angular velocity w_perp = h - (h.s) s turns the non-rolling frame.
+    hs = hx * sx + hy * sy + hz * sz
+    wx, wy, wz = hx - hs * sx, hy - hs * sy, hz - hs * sz
+    qx, qy, qz, qw = y[Q], y[Q + 1], y[Q + 2], y[Q + 3]
+    out[R], out[R + 1], out[R + 2] = vx, vy, vz
+    out[V], out[V + 1], out[V + 2] = 0.0, 0.0, -params[P_GRAVITY]
+    out[Q] = 0.5 * (wx * qw + wy * qz - wz * qy)
+    out[Q + 1] = 0.5 * (-wx * qz + wy * qw + wz * qx)
+    out[Q + 2] = 0.5 * (wx * qy - wy * qx + wz * qw)
+    out[Q + 3] = 0.5 * (-wx * qx - wy * qy - wz * qz)
+    out[H] = gain * (vy * sz - vz * sy)
+    out[H + 1] = gain * (vz * sx - vx * sz)
+    out[H + 2] = gain * (vx * sy - vy * sx)
+    out[H1] = 0.0
+    out[PHI] = params[P_SPIN_RATIO] * y[H1]
+
+
+@njit(cache=True)
+def _project(y: np.ndarray) -> None:
+    """Normalise q_nr and make h.s equal h1 (the invariants of the exact flow)."""
+    norm = math.sqrt(y[Q] ** 2 + y[Q + 1] ** 2 + y[Q + 2] ** 2 + y[Q + 3] ** 2)
+    for i in range(4):
+        y[Q + i] /= norm
+    sx, sy, sz = axis_of(y)
+    err = y[H1] - (y[H] * sx + y[H + 1] * sy + y[H + 2] * sz)
+    y[H] += err * sx
+    y[H + 1] += err * sy
+    y[H + 2] += err * sz
+
+
+@njit(cache=True)
+def rk4_step(y: np.ndarray, dt: float, params: np.ndarray, out: np.ndarray) -> None:
+    """One RK4 step of length ``dt`` [s] from ``y`` into ``out`` (may alias ``y``), projected."""
+    n = y.size
+    k1, k2, k3, k4, tmp = (np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n))
+    derivative(y, params, k1)
+    for i in range(n):
+        tmp[i] = y[i] + 0.5 * dt * k1[i]
+    derivative(tmp, params, k2)
+    for i in range(n):
+        tmp[i] = y[i] + 0.5 * dt * k2[i]
+    derivative(tmp, params, k3)
+    for i in range(n):
+        tmp[i] = y[i] + dt * k3[i]
+    derivative(tmp, params, k4)
+    for i in range(n):
+        out[i] = y[i] + dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+    _project(out)
+
+
+@njit(cache=True)
+def advance(y: np.ndarray, n_steps: int, dt: float, params: np.ndarray) -> None:
+    """Take ``n_steps`` RK4 steps of ``dt`` in place."""
+    for _ in range(n_steps):
+        rk4_step(y, dt, params, y)
+
+
+@njit(cache=True)
+def landing_time_in_step(y: np.ndarray, dt: float, params: np.ndarray, ground: float) -> float:
+    """Time [s] in [0, dt] at which z reaches ``ground`` in the step from ``y`` (bisection)."""
+    lo, hi = 0.0, dt
+    tmp = np.empty(y.size)
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        rk4_step(y, mid, params, tmp)
+        if tmp[R + 2] > ground:
+            lo = mid
+        else:
+            hi = mid
+    return hi
+
+
+@njit(cache=True)
+def crossed_ground(before: np.ndarray, after: np.ndarray, ground: float) -> bool:
+    """True when a step took the ball from above ``ground`` to at or below it, moving down."""
+    return before[R + 2] > ground and after[R + 2] <= ground and after[V + 2] < 0.0
+
+
+@njit(cache=True)
+def propagate(y0: np.ndarray, dt: float, params: np.ndarray, sample_period: float,
+              duration: float, ground: float) -> tuple:
+    """Integrate from ``y0`` at t = 0 and sample at multiples of ``sample_period`` [s].
+
+    Stops at ``duration`` or when the ball, moving down, reaches z = ``ground``; the last
+    sample is then the landing, located to round-off inside its step. Integration steps are
+    ``dt`` [s]; a sample between steps is a partial step from the last whole one, so samples
+    do not change the trajectory. Returns (times, states, landed).
+    """
+    n_max = int(math.floor(duration / sample_period + 1e-9)) + 1
+    times = np.empty(n_max)
+    states = np.empty((n_max, y0.size))
+    y = y0.copy()
+    nxt = np.empty(y0.size)
+    n_steps = 0
+    for k in range(n_max):
+        t_sample = k * sample_period
+        while (n_steps + 1) * dt <= t_sample + 1e-12:
+            rk4_step(y, dt, params, nxt)
+            if crossed_ground(y, nxt, ground):
+                return _finish_with_landing(times, states, k, y, n_steps * dt, dt, params, ground)
+            y[:] = nxt
+            n_steps += 1
+        rk4_step(y, t_sample - n_steps * dt, params, nxt)
+        if crossed_ground(y, nxt, ground):
+            return _finish_with_landing(times, states, k, y, n_steps * dt, t_sample - n_steps * dt,
+                                        params, ground)
+        times[k] = t_sample
+        states[k] = nxt
+    return times, states, False
+
+
+@njit(cache=True)
+def _finish_with_landing(times, states, k, y, t, step, params, ground):
+    tau = landing_time_in_step(y, step, params, ground)
+    rk4_step(y, tau, params, states[k])
+    states[k, R + 2] = ground
+    times[k] = t + tau
+    return times[:k + 1], states[:k + 1], True
+
+
+# Columns of describe(): orientation (x, y, z, w), axis, angular velocity, alpha, beta, delta.
+D_ORIENT, D_AXIS, D_OMEGA, D_ALPHA, D_BETA, D_DELTA = 0, 4, 7, 10, 11, 12
+N_DESCRIBE = 13
+
+
+@njit(cache=True)
+def describe(states: np.ndarray, params: np.ndarray) -> np.ndarray:
+    """Derived quantities of state rows (N, N_STATE) -> (N, N_DESCRIBE), in ``field``.
+
+    Orientation = q_nr * rot_x(phi) (body x = axis, spin angle included); angular velocity
+    w = h - h1 s + p s with p = (I_t/I_s) h1; alpha, beta, delta as in physics.md section 1
+    (compiled twin of :func:`football_ros.physics.frames.aero_angles`, tested against it).
+    """
+    out = np.empty((states.shape[0], N_DESCRIBE))
+    for i in range(states.shape[0]):
+        y = states[i]
+        sx, sy, sz = axis_of(y)
+        half = 0.5 * y[PHI]
+        c, s = math.cos(half), math.sin(half)
+        qx, qy, qz, qw = y[Q], y[Q + 1], y[Q + 2], y[Q + 3]
+        out[i, D_ORIENT] = qw * s + qx * c
+        out[i, D_ORIENT + 1] = qy * c + qz * s
+        out[i, D_ORIENT + 2] = qz * c - qy * s
+        out[i, D_ORIENT + 3] = qw * c - qx * s
+        out[i, D_AXIS], out[i, D_AXIS + 1], out[i, D_AXIS + 2] = sx, sy, sz
+        extra = params[P_SPIN_RATIO] * y[H1] - y[H1]
+        out[i, D_OMEGA] = y[H] + extra * sx
+        out[i, D_OMEGA + 1] = y[H + 1] + extra * sy
+        out[i, D_OMEGA + 2] = y[H + 2] + extra * sz
+        # Velocity frame: e1 = v/V, e2 = up made perpendicular to e1, e3 = e1 x e2.
+        vx, vy, vz = y[V], y[V + 1], y[V + 2]
+        speed = math.sqrt(vx * vx + vy * vy + vz * vz)
+        e1x, e1y, e1z = vx / speed, vy / speed, vz / speed
+        e2x, e2y, e2z = -e1z * e1x, -e1z * e1y, 1.0 - e1z * e1z
+        n2 = math.sqrt(e2x * e2x + e2y * e2y + e2z * e2z)
+        e2x, e2y, e2z = e2x / n2, e2y / n2, e2z / n2
+        e3x, e3y, e3z = e1y * e2z - e1z * e2y, e1z * e2x - e1x * e2z, e1x * e2y - e1y * e2x
+        s1 = sx * e1x + sy * e1y + sz * e1z
+        s2 = sx * e2x + sy * e2y + sz * e2z
+        s3 = sx * e3x + sy * e3y + sz * e3z
+        out[i, D_ALPHA] = math.atan2(s2, s1)
+        out[i, D_BETA] = math.asin(min(1.0, max(-1.0, s3)))
+        out[i, D_DELTA] = math.acos(min(1.0, max(-1.0, s1)))
+    return out

@@ -1,0 +1,201 @@
+"""A flight: initial state + ball + model, integrated headless or paced in real time.
+
+Everything is in ``field`` and SI. :class:`Flight` owns the state vector of
+:mod:`football_ros.physics.dynamics`; :class:`Trajectory` turns sampled state vectors into the
+quantities users read (pose, axis, alpha/beta and the linear-theory prediction).
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from dataclasses import dataclass
+from functools import cached_property
+from pathlib import Path
+
+import numpy as np
+
+from . import dynamics as dyn
+from . import frames
+from .linear_theory import LinearModes, linear_modes
+from .presets import BallPreset
+from .release import InitialState, Release
+
+DEFAULT_STEP = 1e-3
+"""Default integration step [s]: RK4 error on alpha/beta stays below 1e-6 rad over a pass."""
+
+CSV_HEADER = ("t", "x", "y", "z", "vx", "vy", "vz", "qx", "qy", "qz", "qw", "sx", "sy", "sz",
+              "alpha", "beta", "alpha_linear", "beta_linear")
+
+
+@dataclass(frozen=True)
+class Trajectory:
+    """Sampled flight. ``times`` (N,) [s] since release, ``states`` (N, N_STATE) state vectors."""
+
+    times: np.ndarray
+    states: np.ndarray
+    landed: bool
+    ball: BallPreset
+    modes: LinearModes
+
+    @property
+    def positions(self) -> np.ndarray:
+        """(N, 3) [m] in ``field``."""
+        return self.states[:, dyn.R:dyn.R + 3]
+
+    @property
+    def velocities(self) -> np.ndarray:
+        """(N, 3) [m/s] in ``field``."""
+        return self.states[:, dyn.V:dyn.V + 3]
+
+    @cached_property
+    def _described(self) -> np.ndarray:
+        return dyn.describe(self.states, dyn.make_params(self.ball))
+
+    @property
+    def axes(self) -> np.ndarray:
+        """(N, 3) unit spin axis in ``field``."""
+        return self._described[:, dyn.D_AXIS:dyn.D_AXIS + 3]
+
+    @property
+    def orientations(self) -> np.ndarray:
+        """(N, 4) ball orientation (x, y, z, w), body x = axis, spin angle included."""
+        return self._described[:, dyn.D_ORIENT:dyn.D_ORIENT + 4]
+
+    @property
+    def angular_velocities(self) -> np.ndarray:
+        """(N, 3) ball angular velocity [rad/s] in ``field``: w = h - h1 s + p s."""
+        return self._described[:, dyn.D_OMEGA:dyn.D_OMEGA + 3]
+
+    @property
+    def spin_momentum(self) -> np.ndarray:
+        """(N,) h.s [rad/s], computed from h and s (not the stored h1)."""
+        return np.sum(self.states[:, dyn.H:dyn.H + 3] * self.axes, axis=-1)
+
+    @property
+    def aero_angles(self) -> np.ndarray:
+        """(N, 3) alpha, beta, delta [rad] of the integrated (nonlinear) flight."""
+        return self._described[:, dyn.D_ALPHA:dyn.D_DELTA + 1]
+
+    @property
+    def aero_angles_linear(self) -> np.ndarray:
+        """(N, 2) alpha, beta [rad] of the linear theory, V and Phi frozen at release."""
+        return np.stack(self.modes.aero_angles(self.times), axis=-1)
+
+    def table(self) -> np.ndarray:
+        """(N, 18) rows in the order of :data:`CSV_HEADER`."""
+        return np.column_stack([self.times, self.positions, self.velocities, self.orientations,
+                                self.axes, self.aero_angles[:, :2], self.aero_angles_linear])
+
+    def write_csv(self, path: str | Path) -> None:
+        """Write :meth:`table` with :data:`CSV_HEADER` (full float precision)."""
+        with open(path, "w", newline="") as handle:
+            writer = csv.writer(handle)
+            writer.writerow(CSV_HEADER)
+            writer.writerows([[repr(float(v)) for v in row] for row in self.table()])
+
+
+class Flight:
+    """One ball in flight: build from a :class:`Release` or an :class:`InitialState`.
+
+    ``step`` is the fixed integration step [s]; sampling never changes the trajectory.
+    """
+
+    def __init__(self, ball: BallPreset, initial: InitialState, model: str = "paper",
+                 moment: str = "linear", step: float = DEFAULT_STEP) -> None:
+        if model != "paper":
+            raise NotImplementedError(f"model '{model}' is not available yet; use 'paper'")
+        if not (0.0 < step <= 0.05):
+            raise ValueError(f"integration step must be in (0, 0.05] s, got {step}")
+        self.ball, self.initial, self.model, self.moment, self.step = ball, initial, model, moment, step
+        self.params = dyn.make_params(ball, moment)
+        self.modes = linear_modes(ball, initial)
+        y0 = np.zeros(dyn.N_STATE)
+        y0[dyn.R:dyn.R + 3] = initial.position
+        y0[dyn.V:dyn.V + 3] = initial.velocity
+        y0[dyn.Q:dyn.Q + 4] = initial.attitude
+        y0[dyn.H:dyn.H + 3] = initial.modified_momentum(ball)
+        y0[dyn.H1] = ball.inertia_ratio * initial.spin
+        self.y0 = y0
+        self.rewind()
+
+    @classmethod
+    def from_release(cls, release: Release, step: float = DEFAULT_STEP) -> "Flight":
+        return cls(release.preset(), release.initial_state(), release.model, release.moment, step)
+
+    # --- headless ---------------------------------------------------------------------------
+    def simulate(self, rate: float = 100.0, duration: float = 10.0, ground: float = 0.0) -> Trajectory:
+        """Samples at multiples of 1/``rate`` [Hz] from t = 0 until ``duration`` [s] or the
+        landing on z = ``ground`` (then the last sample is the landing itself)."""
+        times, states, landed = dyn.propagate(self.y0, self.step, self.params, 1.0 / rate,
+                                              duration, ground)
+        return Trajectory(times, states, landed, self.ball, self.modes)
+
+    # --- real time --------------------------------------------------------------------------
+    def rewind(self) -> None:
+        """Back to the release (t = 0)."""
+        self._y = self.y0.copy()
+        self._steps = 0
+        self.landing_time: float | None = None
+        self._landing_state: np.ndarray | None = None
+
+    def state_at(self, t: float, ground: float = 0.0) -> np.ndarray:
+        """State vector at time ``t`` [s] after release (t never decreasing between calls).
+
+        Whole steps are committed, the remainder is a partial step. After the landing the
+        landing state is returned; ``landing_time`` is then set.
+        """
+        if self._landing_state is not None:
+            return self._landing_state
+        nxt = np.empty(dyn.N_STATE)
+        target = int(math.floor(t / self.step + 1e-9))
+        while self._steps < target:
+            dyn.rk4_step(self._y, self.step, self.params, nxt)
+            if dyn.crossed_ground(self._y, nxt, ground):
+                return self._land(self.step, ground)
+            self._y[:] = nxt
+            self._steps += 1
+        dyn.rk4_step(self._y, t - self._steps * self.step, self.params, nxt)
+        if dyn.crossed_ground(self._y, nxt, ground):
+            return self._land(t - self._steps * self.step, ground)
+        return nxt
+
+    def _land(self, step: float, ground: float) -> np.ndarray:
+        tau = dyn.landing_time_in_step(self._y, step, self.params, ground)
+        state = np.empty(dyn.N_STATE)
+        dyn.rk4_step(self._y, tau, self.params, state)
+        state[dyn.R + 2] = ground
+        self.landing_time = self._steps * self.step + tau
+        self._landing_state = state
+        return state
+
+    def sample(self, t: float, ground: float = 0.0) -> "BallSample":
+        """The ball at ``t`` [s] after release (or at its landing, once landed)."""
+        state = self.state_at(t, ground)
+        landed = self.landing_time is not None
+        t_state = self.landing_time if landed else t
+        d = dyn.describe(state[None, :], self.params)[0]
+        alpha_lin, beta_lin = self.modes.aero_angles(t_state)
+        return BallSample(t=t_state, position=state[dyn.R:dyn.R + 3].copy(),
+                          velocity=state[dyn.V:dyn.V + 3].copy(),
+                          orientation=d[dyn.D_ORIENT:dyn.D_ORIENT + 4], axis=d[dyn.D_AXIS:dyn.D_AXIS + 3],
+                          angular_velocity=d[dyn.D_OMEGA:dyn.D_OMEGA + 3],
+                          aero_angles=d[dyn.D_ALPHA:dyn.D_DELTA + 1],
+                          aero_angles_linear=np.array([float(alpha_lin), float(beta_lin)]), landed=landed)
+
+
+@dataclass(frozen=True)
+class BallSample:
+    """One instant of a flight, in ``field``: t [s] since release, position [m], velocity [m/s],
+    orientation (x, y, z, w; body x = axis), axis (unit), angular_velocity [rad/s],
+    aero_angles (alpha, beta, delta) [rad], aero_angles_linear (alpha, beta) [rad]."""
+
+    t: float
+    position: np.ndarray
+    velocity: np.ndarray
+    orientation: np.ndarray
+    axis: np.ndarray
+    angular_velocity: np.ndarray
+    aero_angles: np.ndarray
+    aero_angles_linear: np.ndarray
+    landed: bool

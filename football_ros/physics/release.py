@@ -1,0 +1,225 @@
+"""Release conditions and the rigid-body state they start (physics.md sections 1 and 3).
+
+A :class:`Release` is what a user says ("27.4 m/s, 30 deg, 600 rpm, nose 2 deg up"); an
+:class:`InitialState` is the rigid-body state it means in ``field``. Both are validated here,
+against :data:`LIMITS`, the one table of accepted ranges.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+from typing import Any, Mapping
+
+import numpy as np
+
+from . import frames
+from .presets import BallPreset, get_preset
+
+RPM = 2.0 * math.pi / 60.0
+"""rad/s per rev/min."""
+
+MODELS = ("paper", "full")
+MOMENT_CURVES = ("linear", "sin2delta")
+
+LIMITS: dict[str, tuple[float, float]] = {
+    "speed": (1.0, 60.0),              # m/s; the fastest passes and kicks are near 30 m/s
+    "elevation_deg": (-80.0, 80.0),    # deg; the velocity frame is undefined for vertical v
+    "azimuth_deg": (-180.0, 180.0),    # deg, counter-clockwise from +x seen from above
+    "spin_rpm": (-3000.0, 3000.0),     # rev/min, sign = hand
+    "alpha0_deg": (-60.0, 60.0),       # deg; moment data exist up to about 50 deg
+    "beta0_deg": (-60.0, 60.0),
+    "alpha_rate_deg_s": (-3600.0, 3600.0),
+    "beta_rate_deg_s": (-3600.0, 3600.0),
+    "position_xy": (-10000.0, 10000.0),  # m
+    "position_z": (0.0, 1000.0),         # m; the ground is z = 0
+    "axis_offset_deg": (0.0, 60.0),      # total angle delta of a full-state release
+    "transverse_rate_deg_s": (0.0, 3600.0),
+}
+
+
+class ReleaseError(ValueError):
+    """A release that cannot be flown; the message says why in one sentence."""
+
+
+def check_range(name: str, value: Any, limits_key: str | None = None) -> float:
+    """Return ``value`` as a float if it is a finite number inside ``LIMITS``, else raise."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ReleaseError(f"'{name}' must be a number, got {type(value).__name__} {value!r}")
+    value = float(value)
+    if not math.isfinite(value):
+        raise ReleaseError(f"'{name}' must be finite, got {value}")
+    lo, hi = LIMITS[limits_key or name]
+    if not lo <= value <= hi:
+        raise ReleaseError(f"'{name}' = {value:g} is outside the accepted range [{lo:g}, {hi:g}]")
+    return value
+
+
+def check_position(position: Any) -> tuple[float, float, float]:
+    """Validate a release position [x, y, z] in ``field`` [m]."""
+    if not isinstance(position, (list, tuple, np.ndarray)) or len(position) != 3:
+        raise ReleaseError(f"'position' must be a list [x, y, z] of 3 numbers, got {position!r}")
+    x = check_range("position[0]", position[0], "position_xy")
+    y = check_range("position[1]", position[1], "position_xy")
+    z = check_range("position[2]", position[2], "position_z")
+    return (x, y, z)
+
+
+@dataclass(frozen=True)
+class InitialState:
+    """Rigid-body state at release, all in ``field``.
+
+    position [m], velocity [m/s], axis (unit spin axis toward the leading nose),
+    transverse_rate (angular velocity perpendicular to the axis) [rad/s], spin [rad/s] about
+    +axis (right-hand rule), attitude (x, y, z, w) with body x = axis.
+    """
+
+    position: np.ndarray
+    velocity: np.ndarray
+    axis: np.ndarray
+    transverse_rate: np.ndarray
+    spin: float
+    attitude: np.ndarray
+
+    def angular_velocity(self) -> np.ndarray:
+        """Total angular velocity w = w_perp + p s [rad/s] in ``field``."""
+        return self.transverse_rate + self.spin * self.axis
+
+    def modified_momentum(self, ball: BallPreset) -> np.ndarray:
+        """h = H / I_t = w_perp + (I_s/I_t) p s [rad/s]."""
+        return self.transverse_rate + ball.inertia_ratio * self.spin * self.axis
+
+    @staticmethod
+    def from_rigid_body(position, velocity, attitude, angular_velocity) -> "InitialState":
+        """Build and validate from a full rigid-body state (body x of ``attitude`` = axis).
+
+        Raises ReleaseError for non-finite numbers, a speed, spin, axis offset or transverse
+        rate outside LIMITS, or a release that starts on the ground heading down.
+        """
+        arrays = []
+        for name, value, size in (("position", position, 3), ("velocity", velocity, 3),
+                                  ("orientation", attitude, 4), ("angular velocity", angular_velocity, 3)):
+            arr = np.asarray(value, dtype=float).reshape(-1)
+            if arr.size != size or not np.all(np.isfinite(arr)):
+                raise ReleaseError(f"{name} must be {size} finite numbers, got {list(arr)}")
+            arrays.append(arr)
+        pos, vel, quat, omega = arrays
+        check_position(list(pos))
+        check_range("speed", float(np.linalg.norm(vel)))
+        check_range("elevation_deg", math.degrees(float(frames.flight_path_angle(vel))))
+        norm = np.linalg.norm(quat)
+        if abs(norm - 1.0) > 1e-3:
+            raise ReleaseError(f"orientation must be a unit quaternion, |q| = {norm:.6g}")
+        quat = quat / norm
+        axis = frames.body_x_axis(quat)
+        delta = math.degrees(float(frames.aero_angles(axis, vel)[2]))
+        check_range("axis offset from the velocity (deg)", delta, "axis_offset_deg")
+        spin = float(np.dot(omega, axis))
+        check_range("spin_rpm", spin / RPM)
+        transverse = omega - spin * axis
+        check_range("transverse angular rate (deg/s)", math.degrees(float(np.linalg.norm(transverse))),
+                    "transverse_rate_deg_s")
+        if pos[2] <= 0.0 and vel[2] <= 0.0:
+            raise ReleaseError("a release on the ground (z = 0) must go up (positive elevation)")
+        return InitialState(pos, vel, axis, transverse, spin, quat)
+
+
+@dataclass(frozen=True)
+class Release:
+    """A release as a user states it. Angles in degrees, speed in m/s, spin in rev/min.
+
+    alpha0_deg/beta0_deg: spin-axis offset from the velocity (angle of attack, sideslip).
+    alpha_rate_deg_s/beta_rate_deg_s: rates at which the axis turns relative to ``field``
+    (0/0 = "not rotating relative to the field", the paper's default).
+    """
+
+    ball: str = "american"
+    speed: float | None = None
+    elevation_deg: float | None = None
+    azimuth_deg: float = 0.0
+    spin_rpm: float | None = None
+    alpha0_deg: float = 0.0
+    beta0_deg: float = 0.0
+    alpha_rate_deg_s: float = 0.0
+    beta_rate_deg_s: float = 0.0
+    position: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    model: str = "paper"
+    moment: str = "linear"
+    ball_params: Mapping[str, float] = field(default_factory=dict)
+
+    FIELDS = ("ball", "speed", "elevation_deg", "azimuth_deg", "spin_rpm", "alpha0_deg",
+              "beta0_deg", "alpha_rate_deg_s", "beta_rate_deg_s", "position", "model", "moment",
+              "ball_params")
+
+    def __post_init__(self) -> None:
+        preset = self.preset()  # validates ball and ball_params
+        for name, default in (("speed", preset.speed), ("elevation_deg", preset.elevation_deg),
+                              ("spin_rpm", preset.spin_rpm)):
+            value = getattr(self, name)
+            object.__setattr__(self, name, check_range(name, default if value is None else value))
+        for name in ("azimuth_deg", "alpha0_deg", "beta0_deg", "alpha_rate_deg_s", "beta_rate_deg_s"):
+            object.__setattr__(self, name, check_range(name, getattr(self, name)))
+        object.__setattr__(self, "position", check_position(self.position))
+        if self.model not in MODELS:
+            raise ReleaseError(f"unknown model '{self.model}' (known: {', '.join(MODELS)})")
+        if self.moment not in MOMENT_CURVES:
+            raise ReleaseError(f"unknown moment curve '{self.moment}' (known: {', '.join(MOMENT_CURVES)})")
+        if self.position[2] <= 0.0 and self.elevation_deg <= 0.0:
+            raise ReleaseError("a release on the ground (z = 0) must go up (positive elevation)")
+
+    def preset(self) -> BallPreset:
+        """The ball with ``ball_params`` applied."""
+        if not isinstance(self.ball, str):
+            raise ReleaseError(f"'ball' must be a preset name, got {self.ball!r}")
+        if not isinstance(self.ball_params, Mapping):
+            raise ReleaseError(f"'ball_params' must be a mapping, got {self.ball_params!r}")
+        try:
+            return get_preset(self.ball, self.ball_params)
+        except (ValueError, TypeError) as exc:
+            raise ReleaseError(str(exc)) from None
+
+    @classmethod
+    def from_mapping(cls, data: Mapping[str, Any]) -> "Release":
+        """Build from a mapping of the release keys; unknown keys raise ReleaseError."""
+        unknown = sorted(set(data) - set(cls.FIELDS))
+        if unknown:
+            raise ReleaseError(f"unknown key(s) {', '.join(map(repr, unknown))}; "
+                               f"known: {', '.join(cls.FIELDS)}")
+        for key in ("ball", "model", "moment"):
+            if key in data and not isinstance(data[key], str):
+                raise ReleaseError(f"'{key}' must be a string, got {data[key]!r}")
+        kwargs = dict(data)
+        if "ball_params" in kwargs and kwargs["ball_params"] is None:
+            kwargs["ball_params"] = {}
+        if "position" in kwargs:
+            kwargs["position"] = check_position(kwargs["position"])
+        return cls(**kwargs)
+
+    def to_mapping(self) -> dict[str, Any]:
+        """Plain-data form (JSON/YAML-safe)."""
+        out = {name: getattr(self, name) for name in self.FIELDS}
+        out["position"] = list(self.position)
+        out["ball_params"] = dict(self.ball_params)
+        return out
+
+    def initial_state(self) -> InitialState:
+        """The rigid-body state in ``field`` this release means (physics.md section 1)."""
+        velocity = frames.direction(self.speed, math.radians(self.elevation_deg),
+                                    math.radians(self.azimuth_deg))
+        alpha, beta = math.radians(self.alpha0_deg), math.radians(self.beta0_deg)
+        axis = frames.axis_from_aero_angles(alpha, beta, velocity)
+        # Axis rates relative to the field, with the velocity frame held at its release value.
+        d_alpha = np.array([-math.cos(beta) * math.sin(alpha), math.cos(beta) * math.cos(alpha), 0.0])
+        d_beta = np.array([-math.sin(beta) * math.cos(alpha), -math.sin(beta) * math.sin(alpha),
+                           math.cos(beta)])
+        axis_rate_vf = (math.radians(self.alpha_rate_deg_s) * d_alpha
+                        + math.radians(self.beta_rate_deg_s) * d_beta)
+        axis_rate = frames.from_velocity_frame(axis_rate_vf, velocity)
+        transverse = np.cross(axis, axis_rate)  # w_perp = s x s' for w_perp perpendicular to s
+        return InitialState(np.array(self.position, dtype=float), velocity, axis, transverse,
+                            self.spin_rpm * RPM, frames.attitude_with_axis(axis))
+
+    def replace(self, **changes: Any) -> "Release":
+        """A validated copy with some fields changed."""
+        return dataclasses.replace(self, **changes)

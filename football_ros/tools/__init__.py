@@ -1,0 +1,1 @@
+"""Recorder, figures and the demo."""

@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# Create ./.venv with football_ros, ROS 2 Jazzy from PyPI wheels and the test tools.
+# Idempotent: a second run only checks that everything is installed.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+PYTHON=${PYTHON:-python3}
+if [ ! -x .venv/bin/python ]; then
+  echo "[setup] creating .venv with $($PYTHON --version)"
+  "$PYTHON" -m venv .venv
+  .venv/bin/python -m pip install --quiet --disable-pip-version-check --upgrade pip setuptools wheel
+fi
+echo "[setup] installing football_ros[ros,test] into .venv (first time: about a minute)"
+if ! .venv/bin/python -m pip install --disable-pip-version-check -e ".[ros,test]" > .venv/pip-install.log 2>&1; then
+  grep -v "is ignored: it is neither a file nor a directory" .venv/pip-install.log | tail -40
+  echo "[setup] pip install failed; full log: .venv/pip-install.log" >&2
+  exit 1
+fi
+.venv/bin/python -c "import rclpy, football_ros; print('[setup] ok: rclpy and football_ros', football_ros.__version__)"

@@ -1,0 +1,59 @@
+"""ament_python package football_ros (also pip-installable without ROS)."""
+
+from glob import glob
+
+from setuptools import find_packages, setup
+
+package_name = "football_ros"
+
+setup(
+    name=package_name,
+    version="0.1.0",
+    packages=find_packages(exclude=["test", "bench"]),
+    data_files=[
+        ("share/ament_index/resource_index/packages", [f"resource/{package_name}"]),
+        (f"share/{package_name}", ["package.xml"]),
+        (f"share/{package_name}/launch", glob("launch/*.launch.py")),
+        (f"share/{package_name}/config", glob("config/*.yaml")),
+        (f"share/{package_name}/msg_docs", glob("msg_docs/*.md")),
+    ],
+    python_requires=">=3.10",
+    install_requires=[
+        "setuptools",
+        "numpy>=1.24",
+        "scipy>=1.10",
+        "numba>=0.59",
+        "PyYAML>=6.0",
+        "rosbags>=0.10",
+        "matplotlib>=3.7",
+    ],
+    extras_require={
+        # ROS 2 Jazzy from PyPI wheels, for machines without /opt/ros (never with a real install).
+        "ros": [
+            "ros-jazzy-rclpy[fastrtps]",
+            "ros-jazzy-common-interfaces",
+            "ros-jazzy-std-srvs",
+        ],
+        "test": [
+            "pytest>=7",
+            "hypothesis>=6",
+            "mcap>=1.1",
+            "mcap-ros2-support>=0.5",
+            "colcon-common-extensions",
+        ],
+    },
+    zip_safe=True,
+    maintainer="football_ros developers",
+    maintainer_email="football-ros@example.org",
+    description="Spinning American football / rugby ball flight (Dzielski & Blackburn 2022) for ROS 2 Jazzy",
+    license="Apache-2.0",
+    tests_require=["pytest"],
+    entry_points={
+        "console_scripts": [
+            "football-ros = football_ros.cli:main",
+            "simulator = football_ros.nodes.simulator:main",
+            "release = football_ros.nodes.release:main",
+            "recorder = football_ros.tools.recorder:main",
+        ],
+    },
+)

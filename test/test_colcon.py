@@ -1,0 +1,37 @@
+"""The repo is a proper ament_python package: colcon builds it on the pip-installed ROS."""
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+VENV = Path(sys.prefix)
+
+
+@pytest.mark.skipif(shutil.which("colcon", path=str(VENV / "bin")) is None, reason="colcon not installed")
+def test_colcon_build_installs_node_executables(tmp_path):
+    env = dict(os.environ, AMENT_PREFIX_PATH=str(VENV), PATH=f"{VENV / 'bin'}:{os.environ['PATH']}")
+    proc = subprocess.run(
+        [str(VENV / "bin" / "colcon"), "build", "--base-paths", str(REPO),
+         "--build-base", str(tmp_path / "build"), "--install-base", str(tmp_path / "install")],
+        cwd=tmp_path, env=env, capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    lib = tmp_path / "install" / "football_ros" / "lib" / "football_ros"
+    for exe in ("simulator", "release", "recorder", "football-ros"):
+        assert os.access(lib / exe, os.X_OK), f"{exe} missing from {lib}"
+    share = tmp_path / "install" / "football_ros" / "share"
+    assert (share / "ament_index" / "resource_index" / "packages" / "football_ros").exists()
+    assert (share / "football_ros" / "package.xml").exists()
+    assert (share / "football_ros" / "launch" / "football.launch.py").exists()
+    assert (share / "football_ros" / "config" / "football.yaml").exists()
+    # The installed entry point runs from the install space, not from the source tree.
+    site = next((tmp_path / "install" / "football_ros" / "lib").glob("python3*/site-packages"))
+    out = subprocess.run([str(lib / "football-ros"), "modes", "--json"], cwd=tmp_path,
+                         env=dict(env, PYTHONPATH=str(site)), capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    assert json.loads(out.stdout)["omega_fast"] == pytest.approx(32.01, rel=5e-3)
