@@ -1,0 +1,26 @@
+"""Parameter declaration with descriptors (description, ranges): one helper for every node."""
+
+from __future__ import annotations
+
+from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
+from rclpy.node import Node
+
+
+def declare(node: Node, name: str, default, description: str,
+            limits: tuple[float, float] | None = None, read_only: bool = False):
+    """Declare ``name`` with a descriptor; numeric ``limits`` become an enforced range.
+
+    Returns the value in force (the default or a --ros-args override, which rclpy checks
+    against the range before the node starts).
+    """
+    descriptor = ParameterDescriptor(description=description, read_only=read_only)
+    if limits is not None:
+        lo, hi = limits
+        if isinstance(default, bool):
+            raise TypeError("a bool parameter takes no range")
+        if isinstance(default, int):
+            descriptor.integer_range = [IntegerRange(from_value=int(lo), to_value=int(hi), step=1)]
+        else:
+            descriptor.floating_point_range = [FloatingPointRange(from_value=float(lo), to_value=float(hi),
+                                                                  step=0.0)]
+    return node.declare_parameter(name, default, descriptor).value

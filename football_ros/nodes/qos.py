@@ -1,0 +1,39 @@
+"""QoS profiles and topic names: the one place for them (see msg_docs/ for each topic)."""
+
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+
+# Topic names, relative so that a namespace (--ros-args -r __ns:=/ball2) applies.
+POSE = "football/pose"
+ODOM = "football/odom"
+SPIN_AXIS = "football/spin_axis"
+AERO_ANGLES = "football/aero_angles"
+AERO_ANGLES_LINEAR = "football/aero_angles_linear"
+MARKERS = "football/markers"
+DIAGNOSTICS = "/diagnostics"
+CLOCK = "/clock"
+RELEASE_REQUEST = "football/release/request"
+RELEASE_RESPONSE = "football/release/response"
+RELEASE_STATE = "football/release/state"
+FLIGHT_ORDER = "football/flight/order"
+RESET_SERVICE = "football/reset"
+PAUSE_SERVICE = "football/pause"
+
+STATE_TOPICS = (POSE, ODOM, SPIN_AXIS, AERO_ANGLES, AERO_ANGLES_LINEAR)
+
+# Ball state at up to 1-2 kHz: reliable so a recorder loses nothing, a deep queue for bursts.
+STATE = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=200,
+                   reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
+# RViz markers and /diagnostics: reliable, shallow.
+MARKERS_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
+                         reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
+DIAGNOSTICS_QOS = MARKERS_QOS
+# /clock as rclcpp::ClockQoS: best effort, latest only.
+CLOCK_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
+                       reliability=ReliabilityPolicy.BEST_EFFORT, durability=DurabilityPolicy.VOLATILE)
+# Requests and responses: reliable and deep, so a burst of requests is answered one by one.
+REQUEST = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000,
+                     reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
+# Flight orders (release node -> simulator): reliable, volatile: a simulator that is not there
+# when a release is accepted must not fly it later.
+ORDER = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
+                   reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)

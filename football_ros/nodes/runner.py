@@ -1,0 +1,41 @@
+"""Start-up and clean shutdown shared by every node (the Jazzy demo_nodes_py pattern).
+
+Ctrl-C (SIGINT) and SIGTERM end the spin without a traceback; the node's ``close()`` (if any)
+runs before the node is destroyed, so threads stop and files are flushed.
+"""
+
+from __future__ import annotations
+
+import sys
+from typing import Callable, Sequence
+
+import rclpy
+from rclpy.exceptions import InvalidParameterTypeException, ParameterException
+from rclpy.executors import ExternalShutdownException
+from rclpy.node import Node
+
+
+def run_node(factory: Callable[[], Node], argv: Sequence[str] | None, program: str) -> int:
+    """Init rclpy with ``argv`` (ROS arguments included), spin the node, shut down cleanly."""
+    args = [program, *(sys.argv[1:] if argv is None else argv)]
+    rclpy.init(args=args)
+    node = None
+    code = 0
+    try:
+        try:
+            node = factory()
+        except (ParameterException, InvalidParameterTypeException, ValueError) as exc:
+            # A start-up error (a parameter override out of range, ...): one clear line.
+            print(f"{program}: error: {exc}", file=sys.stderr)
+            return 2
+        rclpy.spin(node)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    finally:
+        if node is not None:
+            close = getattr(node, "close", None)
+            if close is not None:
+                close()
+            node.destroy_node()
+        rclpy.try_shutdown()
+    return code

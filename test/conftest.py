@@ -1,0 +1,153 @@
+"""Shared fixtures: an isolated ROS domain, node subprocesses ended by PID, a message collector."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+# One ROS domain for this test session, chosen from the PID so that parallel runs do not meet;
+# discovery stays on this machine. Set before rclpy is initialised anywhere in this process.
+os.environ["ROS_DOMAIN_ID"] = str(100 + os.getpid() % 100)
+os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
+os.environ.setdefault("RCUTILS_LOGGING_BUFFERED_STREAM", "1")
+
+REPO = Path(__file__).resolve().parents[1]
+
+
+class NodeProcess:
+    """A football_ros node in a subprocess; ``stop()`` ends exactly that process by PID."""
+
+    def __init__(self, command: str, *args: str, log_dir: Path) -> None:
+        self.log_path = log_dir / f"{command}-{time.monotonic_ns()}.log"
+        self._log = open(self.log_path, "w")
+        self.proc = subprocess.Popen([sys.executable, "-m", "football_ros.cli", command, *args],
+                                     stdout=self._log, stderr=subprocess.STDOUT, env=dict(os.environ))
+        self.pid = self.proc.pid
+
+    def stop(self, sig: int = signal.SIGINT, timeout: float = 10.0) -> int:
+        if self.proc.poll() is None:
+            os.kill(self.pid, sig)
+            try:
+                self.proc.wait(timeout=timeout)
+            except subprocess.TimeoutExpired:
+                os.kill(self.pid, signal.SIGKILL)
+                self.proc.wait()
+        self._log.close()
+        return self.proc.returncode
+
+    def log(self) -> str:
+        if not self._log.closed:
+            self._log.flush()
+        return self.log_path.read_text()
+
+    def wait_for_log(self, text: str, timeout: float = 30.0) -> None:
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            if text in self.log():
+                return
+            if self.proc.poll() is not None:
+                raise AssertionError(f"node exited ({self.proc.returncode}):\n{self.log()}")
+            time.sleep(0.05)
+        raise AssertionError(f"'{text}' not logged in {timeout} s:\n{self.log()}")
+
+
+@pytest.fixture
+def start_node(tmp_path):
+    """start_node('simulator', '--ros-args', ...) -> NodeProcess, waited until ready."""
+    started: list[NodeProcess] = []
+
+    def _start(command: str, *args: str, ready: str = "ready") -> NodeProcess:
+        node = NodeProcess(command, *args, log_dir=tmp_path)
+        started.append(node)
+        if ready:
+            node.wait_for_log(ready)
+        return node
+
+    yield _start
+    for node in started:
+        node.stop()
+
+
+class Collector:
+    """An rclpy node spun in a background thread that records what it subscribes to."""
+
+    def __init__(self) -> None:
+        import rclpy
+        from rclpy.executors import SingleThreadedExecutor
+
+        self.context = rclpy.Context()
+        rclpy.init(context=self.context)
+        self.node = rclpy.create_node(f"test_collector_{os.getpid()}", context=self.context)
+        self.executor = SingleThreadedExecutor(context=self.context)
+        self.executor.add_node(self.node)
+        self.messages: dict[str, list] = {}
+        self.arrivals: dict[str, list[int]] = {}
+        self._lock = threading.Lock()
+        self._thread = threading.Thread(target=self._spin, daemon=True)
+        self._thread.start()
+
+    def _spin(self) -> None:
+        while self.context.ok():
+            try:
+                self.executor.spin_once(timeout_sec=0.05)
+            except Exception:
+                if not self.context.ok():
+                    return
+                raise
+
+    def subscribe(self, msg_type, topic: str, qos) -> None:
+        with self._lock:
+            self.messages.setdefault(topic, [])
+            self.arrivals.setdefault(topic, [])
+
+        def callback(msg, topic=topic):
+            now = time.monotonic_ns()
+            with self._lock:
+                self.messages[topic].append(msg)
+                self.arrivals[topic].append(now)
+
+        self.node.create_subscription(msg_type, topic, callback, qos)
+
+    def publisher(self, msg_type, topic: str, qos):
+        return self.node.create_publisher(msg_type, topic, qos)
+
+    def get(self, topic: str) -> list:
+        with self._lock:
+            return list(self.messages[topic])
+
+    def clear(self) -> None:
+        with self._lock:
+            for topic in self.messages:
+                self.messages[topic].clear()
+                self.arrivals[topic].clear()
+
+    def wait_for(self, predicate, timeout: float = 20.0, what: str = "condition") -> None:
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            if predicate():
+                return
+            time.sleep(0.02)
+        raise AssertionError(f"timed out after {timeout} s waiting for {what}")
+
+    def wait_for_subscribers(self, publisher, count: int = 1, timeout: float = 20.0) -> None:
+        self.wait_for(lambda: publisher.get_subscription_count() >= count, timeout, "a subscriber")
+
+    def close(self) -> None:
+        self.executor.shutdown(timeout_sec=1.0)
+        self.node.destroy_node()
+        self.context.try_shutdown()
+        self._thread.join(timeout=2.0)
+
+
+@pytest.fixture
+def collector():
+    c = Collector()
+    yield c
+    c.close()
