@@ -58,10 +58,11 @@ class BallPreset:
         for key, value in overrides.items():
             if key not in numeric:
                 raise ValueError(f"unknown ball parameter '{key}' (known: {', '.join(sorted(numeric))})")
-            value = float(value)
-            if not math.isfinite(value) or value <= 0.0:
-                raise ValueError(f"ball parameter '{key}' must be a positive finite number, got {value}")
-            changes[key] = value
+            if (isinstance(value, bool) or not isinstance(value, (int, float))
+                    or not math.isfinite(value) or value <= 0.0):
+                raise ValueError(f"ball parameter '{key}' must be a positive finite number, "
+                                 f"got {str(value)[:40]!r}")
+            changes[key] = float(value)
         return dataclasses.replace(self, **changes)
 
 
