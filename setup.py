@@ -53,7 +53,7 @@ setup(
             "football-ros = football_ros.cli:main",
             "simulator = football_ros.nodes.simulator:main",
             "release = football_ros.nodes.release:main",
-            "recorder = football_ros.tools.recorder:main",
+            "recorder = football_ros.nodes.recorder:main",
         ],
     },
 )

@@ -21,7 +21,7 @@ EXIT_USAGE = 2
 NODE_COMMANDS = {
     "simulator": "football_ros.nodes.simulator",
     "release": "football_ros.nodes.release",
-    "record": "football_ros.tools.recorder",
+    "record": "football_ros.nodes.recorder",
     "demo": "football_ros.tools.demo",
 }
 
@@ -145,7 +145,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
 
 def _cmd_plot(args: argparse.Namespace) -> int:
     from .tools.figures import plot_source
-    for path in plot_source(args.source, args.out):
+    for path in plot_source(args.source, args.out, args.ball, args.spin_rpm):
         print(path)
     return 0
 
@@ -167,6 +167,10 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("plot", help="figures (PNG) from a recorded bag or a simulate CSV")
     p.add_argument("source", help="bag folder / .mcap file, or CSV from 'simulate'")
     p.add_argument("--out", required=True, help="folder for the PNG files")
+    p.add_argument("--ball", default="american", choices=list(PRESETS),
+                   help="preset for the equilibrium sideslip curve")
+    p.add_argument("--spin-rpm", type=float,
+                   help="spin for the equilibrium curve (default: recorded in a bag, else the preset's)")
     p.set_defaults(func=_cmd_plot)
     for name in NODE_COMMANDS:
         sub.add_parser(name, help=f"run the {name} node (takes --ros-args ...)", add_help=False)
@@ -183,6 +187,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         args = build_parser().parse_args(argv)
         return args.func(args)
     except (UsageError, ReleaseError) as exc:
+        print(f"football-ros: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    except ValueError as exc:  # unreadable plot source
         print(f"football-ros: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
     except OSError as exc:

@@ -89,6 +89,13 @@ def diagnostic_status(name: str, level: str, message: str, values: Mapping[str, 
                             values=key_values(values))
 
 
+def level_of(status: DiagnosticStatus) -> str:
+    """'OK', 'WARN', 'ERROR' or 'STALE' of a DiagnosticStatus (rclpy gives the level as bytes)."""
+    value = status.level
+    number = value[0] if isinstance(value, (bytes, bytearray)) else int(value)
+    return {ord(v) if isinstance(v, bytes) else v: k for k, v in LEVELS.items()}[number]
+
+
 def _color(r: float, g: float, b: float, a: float = 1.0) -> ColorRGBA:
     return ColorRGBA(r=r, g=g, b=b, a=a)
 

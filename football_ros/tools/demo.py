@@ -1,0 +1,179 @@
+"""``football-ros demo``: simulator + release node + recorder, one spiral pass, a bag and figures.
+
+Starts the three nodes as child processes (logs in the run folder), throws the default pass (or
+the one given with the release options) through ``football/release/request``, prints the ball's
+progress while it flies, stops everything cleanly after the landing, then draws the figures from
+the bag. Ctrl-C at any time stops the children and keeps what was recorded.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import json
+import math
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+from typing import Sequence
+
+from ..cli import UsageError, add_release_options, release_from_args
+from ..physics import ReleaseError
+
+
+class _Child:
+    def __init__(self, name: str, args: list[str], log_dir: Path) -> None:
+        self.name = name
+        self.log_path = log_dir / f"{name}.log"
+        self._log = open(self.log_path, "w")
+        self.proc = subprocess.Popen([sys.executable, "-m", "football_ros.cli", *args], stdout=self._log,
+                                     stderr=subprocess.STDOUT, env=dict(os.environ))
+
+    def ready(self) -> bool:
+        self._log.flush()
+        return "ready" in self.log_path.read_text()
+
+    def stop(self, timeout: float = 10.0) -> None:
+        if self.proc.poll() is None:
+            self.proc.send_signal(signal.SIGINT)
+            try:
+                self.proc.wait(timeout=timeout)
+            except subprocess.TimeoutExpired:
+                self.proc.kill()
+                self.proc.wait()
+        self._log.close()
+
+
+def _say(text: str) -> None:
+    print(f"[demo] {text}", flush=True)
+
+
+def run_demo(args: argparse.Namespace) -> int:
+    import rclpy
+    from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
+    from geometry_msgs.msg import PoseStamped, Vector3Stamped
+    from std_msgs.msg import String
+
+    from ..nodes import qos
+    from ..nodes.messages import level_of
+
+    release = release_from_args(args)
+    run_dir = Path(args.out or Path("runs") / datetime.datetime.now().strftime("demo_%Y%m%d_%H%M%S")).resolve()
+    run_dir.mkdir(parents=True, exist_ok=False)
+    bag = run_dir / "bag"
+    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    _say(f"run folder: {run_dir}")
+    children = [
+        _Child("simulator", ["simulator", "--ros-args", "-p", f"publish_rate:={args.rate}"], run_dir),
+        _Child("release", ["release"], run_dir),
+        _Child("recorder", ["record", "--out", str(bag)], run_dir),
+    ]
+    rclpy.init()
+    node = rclpy.create_node("football_demo")
+    state = {"pose": None, "aero": None, "responses": [], "landed": None}
+    node.create_subscription(PoseStamped, qos.POSE, lambda m: state.__setitem__("pose", m), qos.STATE)
+    node.create_subscription(Vector3Stamped, qos.AERO_ANGLES, lambda m: state.__setitem__("aero", m), qos.STATE)
+    responses = node.create_subscription(DiagnosticStatus, qos.RELEASE_RESPONSE, state["responses"].append,
+                                         qos.REQUEST)
+
+    def on_diagnostics(msg):
+        for status in msg.status:
+            values = {kv.key: kv.value for kv in status.values}
+            if values.get("event") == "landed":
+                state["landed"] = status.message
+
+    node.create_subscription(DiagnosticArray, qos.DIAGNOSTICS, on_diagnostics, qos.DIAGNOSTICS_QOS)
+    requests = node.create_publisher(String, qos.RELEASE_REQUEST, qos.REQUEST)
+    code = 1
+    try:
+        _say("starting simulator, release node and recorder ...")
+        deadline = time.monotonic() + 60.0
+        while not all(c.ready() for c in children):
+            rclpy.spin_once(node, timeout_sec=0.1)
+            for child in children:
+                if child.proc.poll() is not None:
+                    raise RuntimeError(f"{child.name} exited early; see {child.log_path}")
+            if time.monotonic() > deadline:
+                raise RuntimeError("the nodes did not start within 60 s")
+        while (requests.get_subscription_count() == 0 or responses.get_publisher_count() == 0
+               or node.count_subscribers(qos.POSE) < 2):
+            rclpy.spin_once(node, timeout_sec=0.1)
+        accepted = None
+        # Discovery between the nodes can take a moment: a request that is not answered, or that
+        # is answered "no simulator is listening", is sent again under a new id.
+        for attempt in range(1, 21):
+            request = dict(release.to_mapping(), id=f"demo-pass-{attempt}")
+            _say(f"throwing: {json.dumps(request)}")
+            requests.publish(String(data=json.dumps(request)))
+            t_wait = time.monotonic() + 2.0
+            while time.monotonic() < t_wait and not any(r.name == request["id"] for r in state["responses"]):
+                rclpy.spin_once(node, timeout_sec=0.05)
+            answer = next((r for r in state["responses"] if r.name == request["id"]), None)
+            if answer is None:
+                _say("no answer yet; sending again")
+                continue
+            _say(f"release node: {answer.message}")
+            if level_of(answer) != "ERROR":
+                accepted = answer
+                break
+            if "no simulator is listening" not in answer.message:
+                return 2
+            time.sleep(0.5)
+        if accepted is None:
+            raise RuntimeError("the release node never saw the simulator")
+        _say("     t [s]     x [m]     y [m]     z [m]  alpha [deg]  beta [deg]")
+        next_print = time.monotonic()
+        values = {kv.key: kv.value for kv in accepted.values}
+        flight_end = next_print + float(values.get("time_of_flight", "nan")) + 10.0
+        while state["landed"] is None:
+            if not time.monotonic() < flight_end:  # NaN (no landing predicted) ends it too
+                raise RuntimeError("no landing reported; see simulator.log")
+            rclpy.spin_once(node, timeout_sec=0.01)
+            if time.monotonic() >= next_print and state["pose"] is not None and state["aero"] is not None:
+                p, a = state["pose"].pose.position, state["aero"].vector
+                t = (state["pose"].header.stamp.sec + 1e-9 * state["pose"].header.stamp.nanosec)
+                state.setdefault("t0", t)
+                _say(f"{t - state['t0']:10.2f}{p.x:10.2f}{p.y:10.2f}{p.z:10.2f}"
+                     f"{math.degrees(a.x):13.2f}{math.degrees(a.y):12.2f}")
+                next_print += 0.1
+        _say(state["landed"])
+        code = 0
+    except KeyboardInterrupt:
+        _say("interrupted")
+        code = 130
+    except RuntimeError as exc:
+        _say(f"error: {exc}")
+    finally:
+        for child in reversed(children):  # recorder first, so the bag holds the landing
+            child.stop()
+        node.destroy_node()
+        rclpy.try_shutdown()
+    if bag.exists() and (bag / "metadata.yaml").exists():
+        from .figures import plot_source
+        _say(f"bag: {bag}")
+        try:
+            for path in plot_source(bag, run_dir / "figures", release.ball):
+                _say(f"figure: {path}")
+        except ValueError as exc:
+            _say(f"no figures: {exc}")
+    _say(f"logs: {', '.join(str(c.log_path) for c in children)}")
+    return code
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="football-ros demo", description=__doc__.splitlines()[0])
+    add_release_options(parser)
+    parser.add_argument("--out", help="run folder to create (default runs/demo_<date>_<time>)")
+    parser.add_argument("--rate", type=float, default=200.0, help="simulator publish rate [Hz]")
+    try:
+        return run_demo(parser.parse_args(argv))
+    except (UsageError, ReleaseError) as exc:
+        print(f"football-ros demo: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
