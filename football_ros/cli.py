@@ -18,11 +18,13 @@ from .physics.release import MODELS, MOMENT_CURVES
 
 EXIT_USAGE = 2
 
-NODE_COMMANDS = {
-    "simulator": "football_ros.nodes.simulator",
-    "release": "football_ros.nodes.release",
-    "record": "football_ros.nodes.recorder",
-    "demo": "football_ros.tools.demo",
+NODE_COMMANDS = {  # command -> (module, function); these need rclpy and parse their own options
+    "simulator": ("football_ros.nodes.simulator", "main"),
+    "release": ("football_ros.nodes.release", "main"),
+    "record": ("football_ros.nodes.recorder", "main"),
+    "demo": ("football_ros.tools.demo", "main"),
+    "echo": ("football_ros.nodes.console", "echo"),
+    "throw": ("football_ros.nodes.console", "throw"),
 }
 
 
@@ -173,7 +175,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="spin for the equilibrium curve (default: recorded in a bag, else the preset's)")
     p.set_defaults(func=_cmd_plot)
     for name in NODE_COMMANDS:
-        sub.add_parser(name, help=f"run the {name} node (takes --ros-args ...)", add_help=False)
+        sub.add_parser(name, help=f"{name} (ROS; see football-ros {name} --help)", add_help=False)
     return parser
 
 
@@ -181,8 +183,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv and argv[0] in NODE_COMMANDS:
         import importlib
-        module = importlib.import_module(NODE_COMMANDS[argv[0]])
-        return module.main(argv[1:]) or 0
+        module_name, function = NODE_COMMANDS[argv[0]]
+        return getattr(importlib.import_module(module_name), function)(argv[1:]) or 0
     try:
         args = build_parser().parse_args(argv)
         return args.func(args)

@@ -102,7 +102,8 @@ class Collector:
                     return
                 raise
 
-    def subscribe(self, msg_type, topic: str, qos) -> None:
+    def subscribe(self, msg_type, topic: str, qos, raw: bool = False) -> None:
+        """Record messages of ``topic`` (``raw``: serialized bytes, cheaper at high rates)."""
         with self._lock:
             self.messages.setdefault(topic, [])
             self.arrivals.setdefault(topic, [])
@@ -113,7 +114,7 @@ class Collector:
                 self.messages[topic].append(msg)
                 self.arrivals[topic].append(now)
 
-        self.node.create_subscription(msg_type, topic, callback, qos)
+        self.node.create_subscription(msg_type, topic, callback, qos, raw=raw)
 
     def publisher(self, msg_type, topic: str, qos):
         return self.node.create_publisher(msg_type, topic, qos)

@@ -17,7 +17,6 @@ from std_msgs.msg import ColorRGBA, Header
 from visualization_msgs.msg import Marker, MarkerArray
 
 from ..physics.flight import BallSample
-from ..physics.frames import quaternion_to_matrix
 
 LEVELS = {"OK": DiagnosticStatus.OK, "WARN": DiagnosticStatus.WARN, "ERROR": DiagnosticStatus.ERROR,
           "STALE": DiagnosticStatus.STALE}
@@ -59,10 +58,18 @@ def odometry(sample: BallSample, stamp: Time, frame_id: str, child_frame_id: str
     msg = Odometry(header=header(stamp, frame_id), child_frame_id=child_frame_id)
     msg.pose.pose.position = _point(sample.position)
     msg.pose.pose.orientation = _quaternion(sample.orientation)
-    to_body = quaternion_to_matrix(sample.orientation).T
-    msg.twist.twist.linear = _vector(to_body @ sample.velocity)
-    msg.twist.twist.angular = _vector(to_body @ sample.angular_velocity)
+    msg.twist.twist.linear = _vector(to_body_frame(sample.orientation, sample.velocity))
+    msg.twist.twist.angular = _vector(to_body_frame(sample.orientation, sample.angular_velocity))
     return msg
+
+
+def to_body_frame(q: Sequence[float], v: Sequence[float]) -> tuple[float, float, float]:
+    """Components in the body frame of a world vector ``v`` (R(q)^T v), with plain floats: this
+    runs for every Odometry message, where numpy's per-call overhead would dominate."""
+    x, y, z, w = (-float(q[0]), -float(q[1]), -float(q[2]), float(q[3]))  # conjugate
+    vx, vy, vz = float(v[0]), float(v[1]), float(v[2])
+    tx, ty, tz = 2.0 * (y * vz - z * vy), 2.0 * (z * vx - x * vz), 2.0 * (x * vy - y * vx)
+    return (vx + w * tx + y * tz - z * ty, vy + w * ty + z * tx - x * tz, vz + w * tz + x * ty - y * tx)
 
 
 def vector3_stamped(vec: Sequence[float], stamp: Time, frame_id: str) -> Vector3Stamped:
@@ -130,3 +137,16 @@ def markers(sample: BallSample, trail: Iterable[Sequence[float]], stamp: Time, f
 def vector_of(msg_vector) -> np.ndarray:
     """numpy (3,) from a geometry_msgs Vector3/Point."""
     return np.array([msg_vector.x, msg_vector.y, msg_vector.z])
+
+
+def to_plain(msg):
+    """A message as plain data (dicts, lists, numbers, strings) for printing as YAML/JSON."""
+    if hasattr(msg, "get_fields_and_field_types"):
+        return {name: to_plain(getattr(msg, name)) for name in msg.get_fields_and_field_types()}
+    if isinstance(msg, (bytes, bytearray)):
+        return list(msg) if len(msg) != 1 else msg[0]
+    if hasattr(msg, "tolist"):  # numpy arrays and scalars, array.array
+        return msg.tolist()
+    if isinstance(msg, (list, tuple)):
+        return [to_plain(v) for v in msg]
+    return msg

@@ -1,0 +1,168 @@
+"""Simulator node at a high publish rate vs a bare rclpy publisher, measured in the same run.
+
+    .venv/bin/python bench/node_benchmark.py [--rate 1000] [--seconds 60]
+
+For each publisher process, a subscriber in this (other) process records the arrival time of
+every football/pose message for ``--seconds``. Reported: messages received and missed (gaps
+in the 1/rate stamp sequence), the inter-arrival jitter |dt - 1/rate| (p50, p99, max), the
+publisher's CPU use, and for the simulator its own overrun count from /diagnostics. The
+simulator is kept flying by a new flight order every 2.5 s (replace policy).
+Targets (issue 3): 0 missed ticks, p99 jitter <= 0.3 ms.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+
+os.environ.setdefault("ROS_DOMAIN_ID", str(150 + os.getpid() % 50))
+os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+
+import rclpy  # noqa: E402
+from diagnostic_msgs.msg import DiagnosticArray  # noqa: E402
+from geometry_msgs.msg import PoseStamped  # noqa: E402
+from rclpy.executors import SingleThreadedExecutor  # noqa: E402
+from std_msgs.msg import String  # noqa: E402
+
+from football_ros.nodes import qos  # noqa: E402
+from football_ros.physics import Release  # noqa: E402
+from football_ros.requests import FlightOrder  # noqa: E402
+
+HERE = Path(__file__).resolve().parent
+TICKS = os.sysconf("SC_CLK_TCK")
+
+
+def cpu_seconds(pid: int) -> float:
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / TICKS
+
+
+class Probe:
+    def __init__(self) -> None:
+        self.node = rclpy.create_node("bench_probe")
+        self.arrivals: list[int] = []
+        self.stamps: list[int] = []
+        self.overruns = 0
+        self.recording = False
+        self.node.create_subscription(PoseStamped, qos.POSE, self._on_pose, qos.STATE)
+        self.node.create_subscription(DiagnosticArray, qos.DIAGNOSTICS, self._on_diag, qos.DIAGNOSTICS_QOS)
+        self.orders = self.node.create_publisher(String, qos.FLIGHT_ORDER, qos.ORDER)
+        self.executor = SingleThreadedExecutor()
+        self.executor.add_node(self.node)
+        self.thread = threading.Thread(target=self.executor.spin, daemon=True)
+        self.thread.start()
+
+    def _on_pose(self, msg) -> None:
+        if self.recording:
+            self.arrivals.append(time.monotonic_ns())
+            self.stamps.append(msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec)
+
+    def _on_diag(self, msg) -> None:
+        for status in msg.status:
+            for kv in status.values:
+                if kv.key == "overruns":
+                    self.overruns = int(kv.value)
+
+    def measure(self, pid: int, seconds: float, rate: float, keep_flying: bool) -> dict:
+        deadline = time.monotonic() + 30
+        while self.node.count_publishers(qos.POSE) == 0 and time.monotonic() < deadline:
+            time.sleep(0.05)
+        if keep_flying:
+            while self.orders.get_subscription_count() == 0:
+                time.sleep(0.05)
+        order = String(data=FlightOrder.from_release("bench", Release()).to_json())
+        if keep_flying:
+            self.orders.publish(order)
+        time.sleep(2.0)  # settle
+        overruns0, cpu0 = self.overruns, cpu_seconds(pid)
+        self.arrivals.clear()
+        self.stamps.clear()
+        self.recording = True
+        start = time.monotonic()
+        next_order = start
+        while time.monotonic() - start < seconds:
+            if keep_flying and time.monotonic() >= next_order:
+                self.orders.publish(order)
+                next_order += 2.5
+            time.sleep(0.05)
+        self.recording = False
+        cpu = (cpu_seconds(pid) - cpu0) / seconds
+        arrivals = np.array(self.arrivals, dtype=np.int64)
+        stamps = np.array(self.stamps, dtype=np.int64)
+        period = 1e9 / rate
+        jitter = np.abs(np.diff(arrivals) - period) / 1e6
+        gaps = np.diff(stamps)
+        missed = int(np.sum(np.maximum(np.round(gaps / period) - 1, 0))) if keep_flying else None
+        return {"received": len(arrivals), "expected": int(seconds * rate), "missed": missed,
+                "p50": float(np.percentile(jitter, 50)), "p99": float(np.percentile(jitter, 99)),
+                "max": float(jitter.max()), "cpu": 100 * cpu,
+                "overruns": self.overruns - overruns0 if keep_flying else None}
+
+
+def start(cmd: list[str]) -> subprocess.Popen:
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    for line in proc.stdout:
+        if "ready" in line:
+            break
+    threading.Thread(target=proc.stdout.read, daemon=True).start()
+    return proc
+
+
+def stop(proc: subprocess.Popen) -> None:
+    os.kill(proc.pid, signal.SIGINT)
+    try:
+        proc.wait(timeout=10)
+    except subprocess.TimeoutExpired:
+        os.kill(proc.pid, signal.SIGKILL)
+        proc.wait()
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--rate", type=float, default=1000.0)
+    parser.add_argument("--seconds", type=float, default=60.0)
+    args = parser.parse_args()
+    rclpy.init()
+    probe = Probe()
+    results = {}
+    sim = start([sys.executable, "-m", "football_ros.cli", "simulator", "--ros-args", "-p",
+                 f"publish_rate:={args.rate}", "-p", "hold_rate:=0.0"])
+    try:
+        results["simulator"] = probe.measure(sim.pid, args.seconds, args.rate, keep_flying=True)
+    finally:
+        stop(sim)
+    time.sleep(1.0)
+    bare = start([sys.executable, str(HERE / "bare_publisher.py"), str(args.rate)])
+    try:
+        results["bare rclpy"] = probe.measure(bare.pid, args.seconds, args.rate, keep_flying=False)
+    finally:
+        stop(bare)
+    probe.executor.shutdown()
+    rclpy.try_shutdown()
+
+    sim_r, bare_r = results["simulator"], results["bare rclpy"]
+    print(f"\nfootball_ros simulator vs bare rclpy publisher: {args.rate:g} Hz, {args.seconds:g} s each, "
+          f"subscriber in another process, {os.cpu_count()} cores\n")
+    print(f"{'metric':<28}{'simulator':>12}{'bare rclpy':>12}{'ratio':>8}")
+    rows = [("messages received", "received", "{:.0f}"), ("messages expected", "expected", "{:.0f}"),
+            ("missed ticks (stamp gaps)", "missed", "{}"), ("overruns (node's own count)", "overruns", "{}"),
+            ("jitter p50 [ms]", "p50", "{:.3f}"), ("jitter p99 [ms]", "p99", "{:.3f}"),
+            ("jitter max [ms]", "max", "{:.3f}"), ("CPU [% of one core]", "cpu", "{:.1f}")]
+    for label, key, fmt in rows:
+        a, b = sim_r[key], bare_r[key]
+        ratio = f"{a / b:.2f}" if isinstance(a, float) and isinstance(b, float) and b else "-"
+        print(f"{label:<28}{fmt.format(a) if a is not None else '-':>12}"
+              f"{fmt.format(b) if b is not None else '-':>12}{ratio:>8}")
+    print("\ntargets: 0 missed ticks, jitter p99 <= 0.3 ms")
+
+
+if __name__ == "__main__":
+    main()

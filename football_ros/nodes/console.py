@@ -1,0 +1,97 @@
+"""``football-ros echo`` and ``football-ros throw``: topic echo and a one-line pass for machines
+without the ``ros2`` command (pip-installed ROS). Same output style as ``ros2 topic echo``."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from typing import Sequence
+
+import yaml
+
+from ..cli import UsageError, add_release_options, release_from_args
+from ..physics import ReleaseError
+from . import messages as mb
+from .recorder import TOPICS
+
+
+def _init(node_name: str):
+    import rclpy
+    rclpy.init()
+    return rclpy, rclpy.create_node(node_name)
+
+
+def echo(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="football-ros echo", description="print messages of a topic as YAML")
+    parser.add_argument("topic", help=f"one of: {', '.join(TOPICS)} (relative names resolve to /...)")
+    parser.add_argument("--count", type=int, default=0, help="exit after N messages (0 = never)")
+    parser.add_argument("--timeout", type=float, default=0.0, help="exit after S seconds (0 = never)")
+    args = parser.parse_args(argv)
+    topic = args.topic if args.topic in TOPICS else args.topic.lstrip("/")
+    if topic not in TOPICS:
+        print(f"football-ros echo: error: unknown topic '{args.topic}'", file=sys.stderr)
+        return 2
+    msg_type, profile = TOPICS[topic]
+    rclpy, node = _init("football_echo")
+    seen = [0]
+
+    def show(msg) -> None:
+        print(yaml.safe_dump(mb.to_plain(msg), sort_keys=False, width=120).rstrip())
+        print("---", flush=True)
+        seen[0] += 1
+
+    node.create_subscription(msg_type, topic, show, profile)
+    end = time.monotonic() + args.timeout if args.timeout > 0 else float("inf")
+    try:
+        while rclpy.ok() and time.monotonic() < end and not (args.count and seen[0] >= args.count):
+            rclpy.spin_once(node, timeout_sec=0.1)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        node.destroy_node()
+        rclpy.try_shutdown()
+    return 0
+
+
+def throw(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="football-ros throw",
+                                     description="send one release request and print the answer")
+    add_release_options(parser)
+    parser.add_argument("--id", default=f"throw-{int(time.time())}", help="correlation id")
+    parser.add_argument("--timeout", type=float, default=10.0, help="seconds to wait for the answer")
+    try:
+        args = parser.parse_args(argv)
+        request = dict(release_from_args(args).to_mapping(), id=args.id)
+    except (UsageError, ReleaseError) as exc:
+        print(f"football-ros throw: error: {exc}", file=sys.stderr)
+        return 2
+    from diagnostic_msgs.msg import DiagnosticStatus
+    from std_msgs.msg import String
+
+    from . import qos
+    rclpy, node = _init("football_throw")
+    answers = []
+    responses = node.create_subscription(DiagnosticStatus, qos.RELEASE_RESPONSE, answers.append, qos.REQUEST)
+    pub = node.create_publisher(String, qos.RELEASE_REQUEST, qos.REQUEST)
+    end = time.monotonic() + args.timeout
+    try:
+        while time.monotonic() < end and (pub.get_subscription_count() == 0 or responses.get_publisher_count() == 0):
+            rclpy.spin_once(node, timeout_sec=0.05)
+        if pub.get_subscription_count() == 0:
+            print("football-ros throw: error: no release node is listening on "
+                  f"{node.resolve_topic_name(qos.RELEASE_REQUEST)}", file=sys.stderr)
+            return 1
+        pub.publish(String(data=json.dumps(request)))
+        while time.monotonic() < end and not any(a.name == args.id for a in answers):
+            rclpy.spin_once(node, timeout_sec=0.05)
+        answer = next((a for a in answers if a.name == args.id), None)
+        if answer is None:
+            print(f"football-ros throw: error: no answer within {args.timeout:g} s", file=sys.stderr)
+            return 1
+        print(yaml.safe_dump(mb.to_plain(answer), sort_keys=False, width=120).rstrip())
+        return 0 if mb.level_of(answer) != "ERROR" else 1
+    finally:
+        node.destroy_node()
+        rclpy.try_shutdown()

@@ -1,0 +1,159 @@
+"""Recorder, bag round trips (rosbags and, independently, mcap), signal safety, figures, demo."""
+
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+import yaml
+from diagnostic_msgs.msg import DiagnosticArray
+from geometry_msgs.msg import PoseStamped, Vector3Stamped
+from nav_msgs.msg import Odometry
+from rosbags.highlevel import AnyReader
+from rosbags.typesys import Stores, get_typestore
+
+from football_ros.nodes import qos
+from football_ros.physics import Flight, Release
+from test_simulator_node import landed_event, order_flight
+
+STATE = {qos.POSE: PoseStamped, qos.ODOM: Odometry, qos.SPIN_AXIS: Vector3Stamped,
+         qos.AERO_ANGLES: Vector3Stamped, qos.AERO_ANGLES_LINEAR: Vector3Stamped}
+
+
+def read_bag(path):
+    counts, aero = {}, []
+    with AnyReader([path], default_typestore=get_typestore(Stores.ROS2_JAZZY)) as reader:
+        for conn, _t, raw in reader.messages():
+            counts[conn.topic] = counts.get(conn.topic, 0) + 1
+            if conn.topic == "/football/aero_angles":
+                msg = reader.deserialize(raw, conn.msgtype)
+                aero.append((msg.vector.x, msg.vector.y))
+        msgdefs = {c.topic: c.msgdef.data for c in reader.connections}
+    return counts, np.array(aero), msgdefs
+
+
+def record_flight(start_node, collector, bag, storage, rate=1000.0):
+    start_node("simulator", "--ros-args", "-p", f"publish_rate:={rate}", "-p", "hold_rate:=0.0")
+    recorder = start_node("record", "--out", str(bag), "--storage", storage)
+    for topic in (qos.POSE, qos.AERO_ANGLES):  # the independent count (serialized: cheap)
+        collector.subscribe(STATE[topic], topic, qos.STATE, raw=True)
+    collector.subscribe(DiagnosticArray, qos.DIAGNOSTICS, qos.DIAGNOSTICS_QOS)
+    collector.wait_for(lambda: collector.node.count_subscribers(qos.POSE) >= 2, 20.0, "the recorder")
+    time.sleep(1.0)  # let the simulator discover the recorder's subscriptions too
+    order_flight(collector, Release(), "bag-1")
+    collector.wait_for(lambda: landed_event(collector), 15.0, "the landing")
+    time.sleep(0.5)
+    assert recorder.stop(signal.SIGINT) == 0
+    return recorder
+
+
+def test_records_every_message_of_a_1khz_flight(start_node, collector, tmp_path):
+    bag = tmp_path / "bag"
+    recorder = record_flight(start_node, collector, bag, "mcap")
+    counts, aero, msgdefs = read_bag(bag)
+    expected = Flight.from_release(Release()).simulate(rate=1000.0, duration=10.0)
+    for topic in (qos.POSE, qos.AERO_ANGLES):
+        assert len(collector.get(topic)) == len(expected.times)  # the independent subscriber
+    for topic in STATE:
+        assert counts["/" + topic] == len(expected.times), (topic, counts)
+    assert np.max(np.abs(aero - expected.aero_angles[:, :2])) < 1e-6
+    assert "geometry_msgs/Vector3 vector" in msgdefs["/football/aero_angles"]
+    meta = yaml.safe_load((bag / "metadata.yaml").read_text())["rosbag2_bagfile_information"]
+    assert meta["storage_identifier"] == "mcap" and meta["message_count"] == sum(counts.values())
+    topics = {t["topic_metadata"]["name"]: t["topic_metadata"] for t in meta["topics_with_message_count"]}
+    assert topics["/football/pose"]["offered_qos_profiles"][0]["reliability"] == "reliable"
+    assert topics["/football/pose"]["type"] == "geometry_msgs/msg/PoseStamped"
+    assert "wrote" in recorder.log() and "Traceback" not in recorder.log()
+
+    # Independently of rosbags: the mcap library with its ROS 2 decoder.
+    from mcap.reader import make_reader
+    from mcap_ros2.decoder import DecoderFactory
+
+    with open(next(bag.glob("*.mcap")), "rb") as handle:
+        reader = make_reader(handle, decoder_factories=[DecoderFactory()])
+        summary = reader.get_summary()
+        by_topic = {ch.topic: summary.statistics.channel_message_counts[cid]
+                    for cid, ch in summary.channels.items()}
+        assert by_topic["/football/odom"] == len(expected.times)
+        odom = [m.decoded_message for m in reader.iter_decoded_messages(topics=["/football/odom"])]
+    positions = np.array([[o.pose.pose.position.x, o.pose.pose.position.y, o.pose.pose.position.z]
+                          for o in odom])
+    assert np.max(np.abs(positions - expected.positions)) < 1e-6
+
+
+def test_sqlite3_storage(start_node, collector, tmp_path):
+    bag = tmp_path / "bag_sqlite"
+    record_flight(start_node, collector, bag, "sqlite3", rate=200.0)
+    counts, _, _ = read_bag(bag)
+    assert list(bag.glob("*.db3")) and counts["/football/pose"] == len(collector.get(qos.POSE)) == 560
+
+
+@pytest.mark.parametrize("sig, after", [(signal.SIGINT, 0.3), (signal.SIGTERM, 1.1), (signal.SIGTERM, 0.0)])
+def test_signal_at_any_moment_leaves_a_bag_that_opens(start_node, collector, tmp_path, sig, after):
+    bag = tmp_path / "bag"
+    start_node("simulator", "--ros-args", "-p", "publish_rate:=1000.0")
+    recorder = start_node("record", "--out", str(bag))
+    collector.subscribe(PoseStamped, qos.POSE, qos.STATE)
+    collector.wait_for(lambda: collector.node.count_subscribers(qos.POSE) >= 2, 20.0, "the recorder")
+    time.sleep(0.5)
+    order_flight(collector, Release(), "sig-1")
+    time.sleep(after)
+    assert recorder.stop(sig) == 0
+    assert (bag / "metadata.yaml").exists()
+    counts, _, _ = read_bag(bag)
+    meta = yaml.safe_load((bag / "metadata.yaml").read_text())["rosbag2_bagfile_information"]
+    assert meta["message_count"] == sum(counts.values())
+    if after >= 1.0:
+        assert counts["/football/pose"] > 500
+
+
+def test_figures_from_csv_and_from_bag(tmp_path, start_node, collector):
+    csv_path = tmp_path / "flight.csv"
+    Flight.from_release(Release(ball="rugby")).simulate(rate=200).write_csv(csv_path)
+    bag = tmp_path / "bag"
+    record_flight(start_node, collector, bag, "mcap", rate=200.0)
+    for source, ball in ((csv_path, "rugby"), (bag, "american")):
+        out = tmp_path / f"fig_{source.name}"
+        proc = subprocess.run([sys.executable, "-m", "football_ros.cli", "plot", str(source), "--out", str(out),
+                               "--ball", ball], capture_output=True, text=True, timeout=120)
+        assert proc.returncode == 0, proc.stderr
+        for name in ("wobble", "angles", "trajectory", "precession"):
+            png = out / f"{name}.png"
+            assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 20_000
+
+
+def test_flight_data_from_bag_matches_headless(tmp_path, start_node, collector):
+    from football_ros.tools.flightdata import load
+
+    bag = tmp_path / "bag"
+    record_flight(start_node, collector, bag, "mcap", rate=200.0)
+    record = load(bag)
+    expected = Flight.from_release(Release()).simulate(rate=200.0)
+    assert len(record.t) == len(expected.times)
+    assert np.max(np.abs(record.velocity - expected.velocities)) < 1e-6
+    assert np.max(np.abs(record.axis - expected.axes)) < 1e-9
+    assert np.median(record.spin) == pytest.approx(600 * 2 * np.pi / 60, rel=1e-9)
+
+
+def test_plot_rejects_unknown_sources(tmp_path):
+    (tmp_path / "x.csv").write_text("a,b\n1,2\n")
+    for source in (tmp_path / "x.csv", tmp_path):
+        proc = subprocess.run([sys.executable, "-m", "football_ros.cli", "plot", str(source), "--out",
+                               str(tmp_path / "o")], capture_output=True, text=True, timeout=60)
+        assert proc.returncode == 2 and proc.stderr.count("\n") == 1
+
+
+def test_demo_end_to_end(tmp_path):
+    out = tmp_path / "demo"
+    proc = subprocess.run([sys.executable, "-m", "football_ros.cli", "demo", "--out", str(out)],
+                          capture_output=True, text=True, timeout=180)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "landed at x = 66.277 m" in proc.stdout
+    progress = [line for line in proc.stdout.splitlines() if line.startswith("[demo]") and "  " in line]
+    assert len(progress) > 20  # about ten lines per second of flight
+    assert (out / "bag" / "metadata.yaml").exists()
+    assert len(list((out / "figures").glob("*.png"))) == 4
+    for name in ("simulator", "release", "recorder"):
+        assert "Traceback" not in (out / f"{name}.log").read_text()
