@@ -13,7 +13,10 @@ import math
 import sys
 from typing import Sequence
 
+import yaml
+
 from .physics import PRESETS, Flight, Release, ReleaseError
+from .physics.aero import AeroModel, dynamic_stability
 from .physics.release import MODELS, MOMENT_CURVES
 
 EXIT_USAGE = 2
@@ -56,8 +59,13 @@ def add_release_options(parser: argparse.ArgumentParser) -> None:
                    metavar=("X", "Y", "Z"), help="release point in field [m]")
     g.add_argument("--ball-param", action="append", default=[], metavar="KEY=VALUE",
                    help="override a preset parameter, e.g. c_m_alpha=0.3 (repeatable)")
-    g.add_argument("--model", default="paper", choices=MODELS)
+    g.add_argument("--model", default="paper", choices=MODELS,
+                   help="paper: torque only; full: + drag, lift, Magnus, damping, wind")
     g.add_argument("--moment", default="linear", choices=MOMENT_CURVES)
+    g.add_argument("--aero", action="append", default=[], metavar="KEY=VALUE",
+                   help="full-model setting, e.g. drag=false, c_l_alpha=0.3, air_density=1.1 (repeatable)")
+    g.add_argument("--wind", type=float, nargs=3, metavar=("X", "Y", "Z"),
+                   help="wind in field [m/s] (full model)")
 
 
 def release_from_args(args: argparse.Namespace) -> Release:
@@ -71,18 +79,30 @@ def release_from_args(args: argparse.Namespace) -> Release:
             params[key.strip()] = float(value)
         except ValueError:
             raise UsageError(f"--ball-param {key}: '{value}' is not a number") from None
+    aero = {}
+    for item in args.aero:
+        key, sep, value = item.partition("=")
+        if not sep:
+            raise UsageError(f"--aero expects KEY=VALUE, got '{item}'")
+        aero[key.strip()] = yaml.safe_load(value)
+    if args.wind is not None:
+        aero["wind"] = list(args.wind)
     return Release(ball=args.ball, speed=args.speed, elevation_deg=args.elevation_deg,
                    azimuth_deg=args.azimuth_deg, spin_rpm=args.spin_rpm,
                    alpha0_deg=args.alpha0_deg, beta0_deg=args.beta0_deg,
                    alpha_rate_deg_s=args.alpha_rate_deg_s, beta_rate_deg_s=args.beta_rate_deg_s,
                    position=tuple(args.position), model=args.model, moment=args.moment,
-                   ball_params=params)
+                   ball_params=params, aero=aero)
 
 
 def modes_report(release: Release) -> dict:
     """Linear-theory numbers of a release as plain data (rad, rad/s, rpm)."""
     flight = Flight.from_release(release)
     m = flight.modes
+    aero = flight.aero or AeroModel().without_extras()
+    ball = flight.ball
+    dyn = dynamic_stability(ball.mass, ball.diameter, ball.inertia_spin, ball.inertia_transverse,
+                            ball.c_m_alpha, ball.air_density, m.speed, release.initial_state().spin, aero)
     return {
         "ball": release.ball, "speed": m.speed, "flight_path_angle": m.flight_path_angle,
         "m_alpha": m.m_alpha, "h1": m.h1, "omega_fast": m.omega_fast, "omega_slow": m.omega_slow,
@@ -90,7 +110,15 @@ def modes_report(release: Release) -> dict:
         "gyroscopic_stability_factor": m.gyroscopic_stability_factor,
         "critical_spin_rpm": m.critical_spin_rpm, "equilibrium_sideslip": m.equilibrium_sideslip,
         "c1": [m.c1.real, m.c1.imag], "c2": [m.c2.real, m.c2.imag],
+        "model": release.model, "dynamic_stability_factor": _finite_or_none(dyn.s_d),
+        "dynamically_stable": dyn.dynamically_stable if release.model == "full" else None,
+        "fast_damping_rate": _finite_or_none(dyn.fast_damping_rate),
+        "slow_damping_rate": _finite_or_none(dyn.slow_damping_rate),
     }
+
+
+def _finite_or_none(value: float) -> float | None:
+    return value + 0.0 if math.isfinite(value) else None  # + 0.0 turns -0.0 into 0.0
 
 
 def _print_modes(report: dict) -> None:
@@ -108,6 +136,11 @@ def _print_modes(report: dict) -> None:
          f"NO (grows at {report['growth_rate']:.3f} 1/s)", "h1^2 > 4 M_alpha"),
         ("S_g = h1^2 / (4 M_alpha)", f"{report['gyroscopic_stability_factor']:.3f}", ""),
         ("critical spin", f"{report['critical_spin_rpm']:.1f}", "rpm"),
+        ("S_d = 2T/H (McCoy)", _fmt(report["dynamic_stability_factor"], ".3f"),
+         "full model only" if report["model"] != "full" else
+         ("dynamically stable" if report["dynamically_stable"] else "dynamically UNSTABLE")),
+        ("fast-mode damping rate", _fmt(report["fast_damping_rate"], "+.4f"), "1/s (< 0 decays)"),
+        ("slow-mode damping rate", _fmt(report["slow_damping_rate"], "+.4f"), "1/s (< 0 decays)"),
         ("equilibrium sideslip s3p", f"{report['equilibrium_sideslip']:.5f}",
          f"rad ({math.degrees(report['equilibrium_sideslip']):.3f} deg, > 0 nose right)"),
         ("C1 (fast mode)", f"{report['c1'][0]:+.5f} {report['c1'][1]:+.5f}i", "rad"),
@@ -116,6 +149,10 @@ def _print_modes(report: dict) -> None:
     width = max(len(r[0]) for r in rows)
     for name, value, unit in rows:
         print(f"{name:<{width}}  {value:>22}  {unit}")
+
+
+def _fmt(value, spec: str) -> str:
+    return "n/a" if value is None else format(value, spec)
 
 
 def _cmd_modes(args: argparse.Namespace) -> int:

@@ -15,13 +15,14 @@ import itertools
 import json
 import math
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 import yaml
 
-from .physics import BallPreset, InitialState, Release, ReleaseError, get_preset
+from .physics import BallPreset, Flight, InitialState, Release, ReleaseError, get_preset
+from .physics.aero import AeroModel
 from .physics.release import MODELS, MOMENT_CURVES
 
 MAX_REQUEST_BYTES = 65536
@@ -127,20 +128,27 @@ class FlightOrder:
     model: str
     moment: str
     initial: InitialState
+    aero: dict = field(default_factory=dict)
 
     def ball(self) -> BallPreset:
         return get_preset(self.ball_name, self.ball_params)
 
+    def flight(self, step: float, model: str | None = None) -> Flight:
+        """The Flight this order means (``model`` overrides the ordered one)."""
+        model = model or self.model
+        aero = AeroModel.from_mapping(self.aero) if model == "full" else None
+        return Flight(self.ball(), self.initial, model, self.moment, step, aero)
+
     @staticmethod
     def from_release(request_id: str, release: Release) -> "FlightOrder":
         return FlightOrder(request_id, release.ball, dict(release.ball_params), release.model,
-                           release.moment, release.initial_state())
+                           release.moment, release.initial_state(), dict(release.aero))
 
     def to_json(self) -> str:
         st = self.initial
         return json.dumps({
             "id": self.request_id, "ball": self.ball_name, "ball_params": self.ball_params,
-            "model": self.model, "moment": self.moment,
+            "model": self.model, "moment": self.moment, "aero": self.aero,
             "position": st.position.tolist(), "velocity": st.velocity.tolist(),
             "orientation": st.attitude.tolist(), "angular_velocity": st.angular_velocity().tolist(),
         })
@@ -158,11 +166,13 @@ class FlightOrder:
             if not isinstance(ball_params, dict):
                 raise ValueError("ball_params must be a mapping")
             get_preset(data.get("ball"), ball_params)
+            aero = data.get("aero") or {}
+            AeroModel.from_mapping(aero)
             initial = InitialState.from_rigid_body(data["position"], data["velocity"],
                                                    data["orientation"], data["angular_velocity"])
             return FlightOrder(_check_id(data["id"]), data["ball"], ball_params, data["model"],
-                               data["moment"], initial)
-        except (KeyError, TypeError, json.JSONDecodeError) as exc:
+                               data["moment"], initial, aero)
+        except (KeyError, TypeError, AttributeError, json.JSONDecodeError) as exc:
             raise ValueError(f"malformed flight order: {brief(exc)}") from None
 
 

@@ -102,8 +102,8 @@ class ReleaseNode(Node):
     def _decide(self, order: FlightOrder) -> tuple[str, str, str, dict]:
         """Accept (and order the flight) or reject; returns the answer to publish."""
         try:
-            flight = Flight(order.ball(), order.initial, order.model, order.moment, self.integration_step)
-        except (NotImplementedError, ValueError) as exc:
+            flight = order.flight(self.integration_step)
+        except ValueError as exc:
             return self._rejection(order.request_id, str(exc))
         values = prediction(flight)
         if self._orders.get_subscription_count() == 0:

@@ -39,6 +39,7 @@ from .runner import run_node
 
 NODE_NAME = "football_simulator"
 DIAGNOSTIC_NAME = "football_ros: simulator"
+MODEL_CHOICES = ("release", "paper", "full")
 MAX_CATCH_UP_S = 1.0
 """A stall longer than this is not replayed: its ticks are skipped (and counted)."""
 
@@ -88,6 +89,10 @@ class SimulatorNode(Node):
                                  (0.0, 100.0))
         self.diagnostics_rate = declare(self, "diagnostics_rate", 1.0, "Periodic /diagnostics [Hz]",
                                         (0.1, 100.0))
+        self.model = declare(self, "model", "release",
+                             "Equations of motion: 'release' (as each release asks), 'paper' or 'full'")
+        if self.model not in MODEL_CHOICES:
+            raise ValueError(f"parameter model must be one of {', '.join(MODEL_CHOICES)}, got '{self.model}'")
         self.add_on_set_parameters_callback(self._on_parameters)
 
         self._pubs = {
@@ -127,9 +132,12 @@ class SimulatorNode(Node):
             for p in params:
                 if p.name in ("publish_rate", "integration_step", "real_time_factor", "publish_clock",
                               "frame_id", "child_frame_id", "marker_rate", "trail_length", "hold_rate",
-                              "diagnostics_rate"):
+                              "diagnostics_rate", "model"):
                     if p.name in ("frame_id", "child_frame_id") and not p.value:
                         return SetParametersResult(successful=False, reason=f"{p.name} must not be empty")
+                    if p.name == "model" and p.value not in MODEL_CHOICES:
+                        return SetParametersResult(successful=False,
+                                                   reason=f"model must be one of {', '.join(MODEL_CHOICES)}")
                     setattr(self, p.name, p.value)
             if self._run is not None:
                 self._rebase(self._run)
@@ -144,8 +152,8 @@ class SimulatorNode(Node):
     def _on_order(self, msg: String) -> None:
         try:
             order = FlightOrder.from_json(msg.data)
-            flight = Flight(order.ball(), order.initial, order.model, order.moment, self.integration_step)
-        except (ValueError, NotImplementedError) as exc:
+            flight = order.flight(self.integration_step, self._model_override())
+        except ValueError as exc:
             self.get_logger().error(f"ignored a flight order: {exc}")
             return
         self._start(order, flight)
@@ -176,10 +184,12 @@ class SimulatorNode(Node):
         if order is None:
             response.success, response.message = False, "no flight to reset: nothing was released yet"
             return response
-        self._start(order, Flight(order.ball(), order.initial, order.model, order.moment,
-                                  self.integration_step))
+        self._start(order, order.flight(self.integration_step, self._model_override()))
         response.success, response.message = True, f"flight '{order.request_id}' restarted from its release"
         return response
+
+    def _model_override(self) -> str | None:
+        return None if self.model == "release" else self.model
 
     def _on_pause(self, request, response):
         with self._lock:

@@ -5,7 +5,9 @@ Torque-only model of the paper (physics.md section 2), in ``field``:
     r' = v,  v' = (0, 0, -g),  h' = M_alpha(V) f(delta) (v_hat x s),  s' = h x s
 
 with M_alpha(V) = k V^2, f = 1 (``linear``) or cos(delta) (``sin2delta``, Rae & Streit's
-C_M = 0.165 sin 2 delta scaled by C_Malpha / 0.33).
+C_M = 0.165 sin 2 delta scaled by C_Malpha / 0.33). The full model adds the forces and moments
+of :mod:`football_ros.physics.aero` (all in :func:`loads`); with its coefficients zero the
+added terms are exact zeros.
 
 State vector (``N_STATE`` floats): position r [m], velocity v [m/s], the attitude quaternion
 q_nr (x, y, z, w) of a frame that carries the axis (body x = s) without rolling (it turns with
@@ -25,6 +27,7 @@ import math
 import numpy as np
 from numba import njit
 
+from .aero import AeroModel
 from .frames import GRAVITY
 from .presets import BallPreset
 
@@ -32,18 +35,42 @@ from .presets import BallPreset
 R, V, Q, H, H1, PHI = 0, 3, 6, 10, 13, 14
 N_STATE = 15
 
-# Parameter layout.
-P_MOMENT_K, P_SPIN_RATIO, P_GRAVITY, P_SIN2DELTA = 0, 1, 2, 3
-N_PARAM = 4
+# Parameter layout (make_params fills it; 0 coefficients switch terms off).
+(P_MOMENT_K, P_SPIN_RATIO, P_GRAVITY, P_SIN2DELTA, P_FORCE_K, P_CD0, P_CD2, P_CLA, P_CNPA,
+ P_DAMP_K, P_CMQ, P_CLP, P_CMPA, P_DIAMETER, P_WIND) = range(15)
+N_PARAM = P_WIND + 3
 
 
-def make_params(ball: BallPreset, moment: str = "linear", gravity: float = GRAVITY) -> np.ndarray:
-    """Parameter vector for the kernel: k [1/m^2], I_t/I_s, g [m/s^2], moment-curve flag."""
+def make_params(ball: BallPreset, moment: str = "linear", aero: AeroModel | None = None,
+                gravity: float = GRAVITY) -> np.ndarray:
+    """Kernel parameters. ``aero`` None = the paper's model (torque only).
+
+    k = rho S D C_Malpha / (2 I_t) [1/m^2], I_t/I_s, g [m/s^2], moment-curve flag, then the full
+    model's rho S / (2 m) [1/m], coefficients, rho S D^2 / (2 I_t) [1/m], D [m] and wind [m/s].
+    The density is the ball's (see :meth:`Flight.__init__` for the full model's).
+    """
     params = np.zeros(N_PARAM)
-    params[P_MOMENT_K] = ball.moment_coefficient()
+    rho = ball.air_density
+    area = ball.reference_area
+    params[P_MOMENT_K] = rho * area * ball.diameter * ball.c_m_alpha / (2.0 * ball.inertia_transverse)
     params[P_SPIN_RATIO] = 1.0 / ball.inertia_ratio
     params[P_GRAVITY] = gravity
     params[P_SIN2DELTA] = 1.0 if moment == "sin2delta" else 0.0
+    if aero is not None:
+        params[P_FORCE_K] = rho * area / (2.0 * ball.mass)
+        params[P_DAMP_K] = rho * area * ball.diameter ** 2 / (2.0 * ball.inertia_transverse)
+        params[P_DIAMETER] = ball.diameter
+        if aero.drag:
+            params[P_CD0], params[P_CD2] = aero.c_d0, aero.c_d2
+        if aero.lift:
+            params[P_CLA] = aero.c_l_alpha
+        if aero.magnus:
+            params[P_CNPA], params[P_CMPA] = aero.c_n_p_alpha, aero.c_m_p_alpha
+        if aero.pitch_damping:
+            params[P_CMQ] = aero.c_m_q
+        if aero.spin_damping:
+            params[P_CLP] = aero.c_l_p
+        params[P_WIND:P_WIND + 3] = aero.wind
     return params
 
 
@@ -55,30 +82,65 @@ def axis_of(y: np.ndarray) -> tuple:
 
 
 @njit(cache=True)
+def loads(v: tuple, s: tuple, h: tuple, h1: float, params: np.ndarray) -> tuple:
+    """Acceleration a [m/s^2], dh/dt [rad/s^2] and dh1/dt of the ball (module docstring and
+    :mod:`football_ros.physics.aero` give the terms). Shared by every kernel."""
+    vx, vy, vz = v
+    sx, sy, sz = s
+    hx, hy, hz = h
+    ux, uy, uz = vx - params[P_WIND], vy - params[P_WIND + 1], vz - params[P_WIND + 2]
+    speed = math.sqrt(ux * ux + uy * uy + uz * uz)
+    ex, ey, ez = ux / speed, uy / speed, uz / speed
+    cos_d = ex * sx + ey * sy + ez * sz
+    cx, cy, cz = ey * sz - ez * sy, ez * sx - ex * sz, ex * sy - ey * sx  # u_hat x s
+    # Overturning moment (the paper): h' = k U^2 f(delta) (u_hat x s).
+    gain = params[P_MOMENT_K] * speed * speed
+    if params[P_SIN2DELTA] != 0.0:
+        gain *= cos_d
+    dhx, dhy, dhz = gain * cx, gain * cy, gain * cz
+    ax, ay, az = 0.0, 0.0, -params[P_GRAVITY]
+    dh1 = 0.0
+    fk = params[P_FORCE_K]
+    if fk != 0.0:
+        spin = params[P_SPIN_RATIO] * h1
+        q_u2 = fk * speed * speed
+        drag = -q_u2 * (params[P_CD0] + params[P_CD2] * (1.0 - cos_d * cos_d))
+        lift = q_u2 * params[P_CLA]
+        magnus = fk * speed * spin * params[P_DIAMETER] * params[P_CNPA]
+        ax += drag * ex + lift * (sx - cos_d * ex) + magnus * cx
+        ay += drag * ey + lift * (sy - cos_d * ey) + magnus * cy
+        az += drag * ez + lift * (sz - cos_d * ez) + magnus * cz
+        dk = params[P_DAMP_K] * speed
+        hs = hx * sx + hy * sy + hz * sz
+        pitch = dk * params[P_CMQ]
+        roll = dk * params[P_CLP] * spin
+        mag_m = dk * spin * params[P_CMPA]
+        dhx += pitch * (hx - hs * sx) + roll * sx + mag_m * (ex - cos_d * sx)
+        dhy += pitch * (hy - hs * sy) + roll * sy + mag_m * (ey - cos_d * sy)
+        dhz += pitch * (hz - hs * sz) + roll * sz + mag_m * (ez - cos_d * sz)
+        dh1 = roll
+    return ax, ay, az, dhx, dhy, dhz, dh1
+
+
+@njit(cache=True)
 def derivative(y: np.ndarray, params: np.ndarray, out: np.ndarray) -> None:
     """Write dy/dt into ``out`` (autonomous: the model has no explicit time)."""
-    vx, vy, vz = y[V], y[V + 1], y[V + 2]
-    sx, sy, sz = axis_of(y)
+    s = axis_of(y)
+    sx, sy, sz = s
     hx, hy, hz = y[H], y[H + 1], y[H + 2]
-    speed = math.sqrt(vx * vx + vy * vy + vz * vz)
-    # Overturning moment: h' = k V^2 f (v_hat x s) = k V f (v x s).
-    gain = params[P_MOMENT_K] * speed
-    if params[P_SIN2DELTA] != 0.0:
-        gain *= (vx * sx + vy * sy + vz * sz) / speed
+    ax, ay, az, dhx, dhy, dhz, dh1 = loads((y[V], y[V + 1], y[V + 2]), s, (hx, hy, hz), y[H1], params)
     # Transverse angular velocity w_perp = h - (h.s) s turns the non-rolling frame.
     hs = hx * sx + hy * sy + hz * sz
     wx, wy, wz = hx - hs * sx, hy - hs * sy, hz - hs * sz
     qx, qy, qz, qw = y[Q], y[Q + 1], y[Q + 2], y[Q + 3]
-    out[R], out[R + 1], out[R + 2] = vx, vy, vz
-    out[V], out[V + 1], out[V + 2] = 0.0, 0.0, -params[P_GRAVITY]
+    out[R], out[R + 1], out[R + 2] = y[V], y[V + 1], y[V + 2]
+    out[V], out[V + 1], out[V + 2] = ax, ay, az
     out[Q] = 0.5 * (wx * qw + wy * qz - wz * qy)
     out[Q + 1] = 0.5 * (-wx * qz + wy * qw + wz * qx)
     out[Q + 2] = 0.5 * (wx * qy - wy * qx + wz * qw)
     out[Q + 3] = 0.5 * (-wx * qx - wy * qy - wz * qz)
-    out[H] = gain * (vy * sz - vz * sy)
-    out[H + 1] = gain * (vz * sx - vx * sz)
-    out[H + 2] = gain * (vx * sy - vy * sx)
-    out[H1] = 0.0
+    out[H], out[H + 1], out[H + 2] = dhx, dhy, dhz
+    out[H1] = dh1
     out[PHI] = params[P_SPIN_RATIO] * y[H1]
 
 

@@ -19,7 +19,8 @@ from . import dynamics as dyn
 from . import frames
 from .linear_theory import LinearModes, linear_modes
 from .presets import BallPreset
-from .release import InitialState, Release
+from .aero import AeroModel
+from .release import MODELS, InitialState, Release
 
 DEFAULT_STEP = 1e-3
 """Default integration step [s]: RK4 error on alpha/beta stays below 1e-6 rad over a pass."""
@@ -50,7 +51,7 @@ class Trajectory:
 
     @cached_property
     def _described(self) -> np.ndarray:
-        return dyn.describe(self.states, dyn.make_params(self.ball))
+        return dyn.describe(self.states, dyn.make_params(self.ball))  # uses I_t/I_s only
 
     @property
     def axes(self) -> np.ndarray:
@@ -102,13 +103,16 @@ class Flight:
     """
 
     def __init__(self, ball: BallPreset, initial: InitialState, model: str = "paper",
-                 moment: str = "linear", step: float = DEFAULT_STEP) -> None:
-        if model != "paper":
-            raise NotImplementedError(f"model '{model}' is not available yet; use 'paper'")
+                 moment: str = "linear", step: float = DEFAULT_STEP, aero: AeroModel | None = None) -> None:
+        if model not in MODELS:
+            raise ValueError(f"unknown model '{model}' (known: {', '.join(MODELS)})")
         if not (0.0 < step <= 0.05):
             raise ValueError(f"integration step must be in (0, 0.05] s, got {step}")
+        self.aero = (aero or AeroModel()) if model == "full" else None
+        if self.aero is not None:  # the full model's air density (plain value or altitude/temperature)
+            ball = ball.with_overrides({"air_density": self.aero.density(ball.air_density)})
         self.ball, self.initial, self.model, self.moment, self.step = ball, initial, model, moment, step
-        self.params = dyn.make_params(ball, moment)
+        self.params = dyn.make_params(ball, moment, self.aero)
         self.modes = linear_modes(ball, initial)
         y0 = np.zeros(dyn.N_STATE)
         y0[dyn.R:dyn.R + 3] = initial.position
@@ -121,7 +125,8 @@ class Flight:
 
     @classmethod
     def from_release(cls, release: Release, step: float = DEFAULT_STEP) -> "Flight":
-        return cls(release.preset(), release.initial_state(), release.model, release.moment, step)
+        return cls(release.preset(), release.initial_state(), release.model, release.moment, step,
+                   release.aero_model())
 
     # --- headless ---------------------------------------------------------------------------
     def simulate(self, rate: float = 100.0, duration: float = 10.0, ground: float = 0.0) -> Trajectory:

@@ -15,6 +15,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from . import frames
+from .aero import AeroModel
 from .presets import BallPreset, get_preset
 
 RPM = 2.0 * math.pi / 60.0
@@ -147,10 +148,11 @@ class Release:
     model: str = "paper"
     moment: str = "linear"
     ball_params: Mapping[str, float] = field(default_factory=dict)
+    aero: Mapping[str, Any] = field(default_factory=dict)
 
     FIELDS = ("ball", "speed", "elevation_deg", "azimuth_deg", "spin_rpm", "alpha0_deg",
               "beta0_deg", "alpha_rate_deg_s", "beta_rate_deg_s", "position", "model", "moment",
-              "ball_params")
+              "ball_params", "aero")
 
     def __post_init__(self) -> None:
         preset = self.preset()  # validates ball and ball_params
@@ -167,6 +169,20 @@ class Release:
             raise ReleaseError(f"unknown moment curve '{self.moment}' (known: {', '.join(MOMENT_CURVES)})")
         if self.position[2] <= 0.0 and self.elevation_deg <= 0.0:
             raise ReleaseError("a release on the ground (z = 0) must go up (positive elevation)")
+        self.aero_model()  # validates aero
+
+    def aero_model(self) -> AeroModel | None:
+        """The full model's settings (None for the paper's model)."""
+        if not isinstance(self.aero, Mapping):
+            raise ReleaseError(f"'aero' must be a mapping, got {self.aero!r}"[:120])
+        if self.model != "full":
+            if self.aero:
+                raise ReleaseError("'aero' settings need model: full")
+            return None
+        try:
+            return AeroModel.from_mapping(self.aero)
+        except (ValueError, TypeError) as exc:
+            raise ReleaseError(str(exc)) from None
 
     def preset(self) -> BallPreset:
         """The ball with ``ball_params`` applied."""
@@ -190,8 +206,9 @@ class Release:
             if key in data and not isinstance(data[key], str):
                 raise ReleaseError(f"'{key}' must be a string, got {data[key]!r}")
         kwargs = dict(data)
-        if "ball_params" in kwargs and kwargs["ball_params"] is None:
-            kwargs["ball_params"] = {}
+        for key in ("ball_params", "aero"):
+            if key in kwargs and kwargs[key] is None:
+                kwargs[key] = {}
         if "position" in kwargs:
             kwargs["position"] = check_position(kwargs["position"])
         return cls(**kwargs)
@@ -201,6 +218,7 @@ class Release:
         out = {name: getattr(self, name) for name in self.FIELDS}
         out["position"] = list(self.position)
         out["ball_params"] = dict(self.ball_params)
+        out["aero"] = dict(self.aero)
         return out
 
     def initial_state(self) -> InitialState:
