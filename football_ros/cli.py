@@ -182,6 +182,31 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_montecarlo(args: argparse.Namespace) -> int:
+    import time
+    from pathlib import Path
+
+    from .tools import montecarlo as mc
+    release = release_from_args(args)
+    if not 1 <= args.n <= 10_000_000:
+        raise UsageError(f"--n must be in [1, 10000000], got {args.n}")
+    try:
+        spread = mc.parse_spread(args.spread)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    out = Path(args.out)
+    start = time.perf_counter()
+    samples, result = mc.run(release, args.n, spread, args.seed, progress=not args.quiet)
+    seconds = time.perf_counter() - start
+    mc.write_csv(out, samples, result)
+    figure = out.with_suffix(".png")
+    mc.plot(figure, result, f"{args.n} releases around {release.ball} {release.speed:g} m/s, "
+            f"{release.elevation_deg:g} deg, {release.spin_rpm:g} rpm ({release.model} model)")
+    mc.print_summary(result, args.n, seconds)
+    print(f"per-ball results: {out}\nfigure: {figure}")
+    return 0
+
+
 def _cmd_plot(args: argparse.Namespace) -> int:
     from .tools.figures import plot_source
     for path in plot_source(args.source, args.out, args.ball, args.spin_rpm):
@@ -203,6 +228,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--step", type=float, default=1e-3, help="integration step [s]")
     p.add_argument("--out", required=True, help="CSV file to write")
     p.set_defaults(func=_cmd_simulate)
+    p = sub.add_parser("montecarlo", help="landing dispersion and wobble statistics of release errors")
+    add_release_options(p)
+    p.add_argument("--n", type=int, default=10000, help="number of balls")
+    p.add_argument("--spread", action="append", default=[], metavar="KEY=SIGMA[,KEY=SIGMA]",
+                   help="standard deviation of a release error, e.g. speed=0.5,spin_rpm=30 "
+                        "(defaults: speed 0.5 m/s, angles 1 deg, spin 30 rpm, rates 10 deg/s)")
+    p.add_argument("--seed", type=int, default=0, help="random seed")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--out", required=True, help="CSV file of per-ball results (figure: same name .png)")
+    p.set_defaults(func=_cmd_montecarlo)
     p = sub.add_parser("plot", help="figures (PNG) from a recorded bag or a simulate CSV")
     p.add_argument("source", help="bag folder / .mcap file, or CSV from 'simulate'")
     p.add_argument("--out", required=True, help="folder for the PNG files")

@@ -198,3 +198,36 @@ def test_clean_shutdown_mid_flight(start_node, collector, sig):
     collector.wait_for(lambda: len(collector.get(qos.POSE)) > 100, 10.0, "poses")
     assert node.stop(sig) == 0
     assert "Traceback" not in node.log()
+
+
+def test_params_yaml_lists_every_parameter_and_loads(start_node, collector):
+    import yaml
+    from rcl_interfaces.srv import ListParameters
+
+    from conftest import REPO
+
+    config = yaml.safe_load((REPO / "config" / "football.yaml").read_text())
+    start_node("simulator", "--ros-args", "--params-file", str(REPO / "config" / "football.yaml"))
+    start_node("release", "--ros-args", "--params-file", str(REPO / "config" / "football.yaml"))
+    for node in ("football_simulator", "football_release"):
+        listed = call(collector, ListParameters, f"/{node}/list_parameters", ListParameters.Request())
+        declared = set(listed.result.names) - {"use_sim_time", "start_type_description_service"}
+        assert declared == set(config[node]["ros__parameters"]), node
+
+
+def test_model_parameter_forces_the_full_model(start_node, collector):
+    start_node("simulator", "--ros-args", "-p", "model:=full", "-p", "publish_rate:=200.0")
+    collector.subscribe(PoseStamped, qos.POSE, qos.STATE)
+    collector.subscribe(DiagnosticArray, qos.DIAGNOSTICS, qos.DIAGNOSTICS_QOS)
+    order_flight(collector, Release(), "full-1")  # ordered as paper, flown as full
+    collector.wait_for(lambda: landed_event(collector), 10.0, "the landing")
+    expected = Flight.from_release(Release(model="full")).simulate(rate=200.0)
+    last = collector.get(qos.POSE)[-1].pose.position
+    assert (last.x, last.y) == pytest.approx((expected.positions[-1, 0], expected.positions[-1, 1]), abs=1e-6)
+    assert last.y < -0.3  # drag and lift: shorter, and right of the vacuum plane
+
+
+def test_bad_model_parameter_is_refused(tmp_path):
+    proc = subprocess.run([sys.executable, "-m", "football_ros.cli", "simulator", "--ros-args", "-p",
+                           "model:=magic"], capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 2 and "model" in proc.stderr and "Traceback" not in proc.stderr

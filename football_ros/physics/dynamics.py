@@ -93,32 +93,28 @@ def loads(v: tuple, s: tuple, h: tuple, h1: float, params: np.ndarray) -> tuple:
     ex, ey, ez = ux / speed, uy / speed, uz / speed
     cos_d = ex * sx + ey * sy + ez * sz
     cx, cy, cz = ey * sz - ez * sy, ez * sx - ex * sz, ex * sy - ey * sx  # u_hat x s
-    # Overturning moment (the paper): h' = k U^2 f(delta) (u_hat x s).
-    gain = params[P_MOMENT_K] * speed * speed
-    if params[P_SIN2DELTA] != 0.0:
-        gain *= cos_d
-    dhx, dhy, dhz = gain * cx, gain * cy, gain * cz
-    ax, ay, az = 0.0, 0.0, -params[P_GRAVITY]
-    dh1 = 0.0
+    # Overturning moment (the paper): h' = k U^2 f(delta) (u_hat x s), f = 1 or cos(delta).
+    # No branches below: zero coefficients give exact zeros, and the batch kernel vectorises.
+    flag = params[P_SIN2DELTA]
+    gain = params[P_MOMENT_K] * speed * speed * (1.0 - flag + flag * cos_d)
     fk = params[P_FORCE_K]
-    if fk != 0.0:
-        spin = params[P_SPIN_RATIO] * h1
-        q_u2 = fk * speed * speed
-        drag = -q_u2 * (params[P_CD0] + params[P_CD2] * (1.0 - cos_d * cos_d))
-        lift = q_u2 * params[P_CLA]
-        magnus = fk * speed * spin * params[P_DIAMETER] * params[P_CNPA]
-        ax += drag * ex + lift * (sx - cos_d * ex) + magnus * cx
-        ay += drag * ey + lift * (sy - cos_d * ey) + magnus * cy
-        az += drag * ez + lift * (sz - cos_d * ez) + magnus * cz
-        dk = params[P_DAMP_K] * speed
-        hs = hx * sx + hy * sy + hz * sz
-        pitch = dk * params[P_CMQ]
-        roll = dk * params[P_CLP] * spin
-        mag_m = dk * spin * params[P_CMPA]
-        dhx += pitch * (hx - hs * sx) + roll * sx + mag_m * (ex - cos_d * sx)
-        dhy += pitch * (hy - hs * sy) + roll * sy + mag_m * (ey - cos_d * sy)
-        dhz += pitch * (hz - hs * sz) + roll * sz + mag_m * (ez - cos_d * sz)
-        dh1 = roll
+    spin = params[P_SPIN_RATIO] * h1
+    q_u2 = fk * speed * speed
+    drag = -q_u2 * (params[P_CD0] + params[P_CD2] * (1.0 - cos_d * cos_d))
+    lift = q_u2 * params[P_CLA]
+    magnus = fk * speed * spin * params[P_DIAMETER] * params[P_CNPA]
+    ax = drag * ex + lift * (sx - cos_d * ex) + magnus * cx
+    ay = drag * ey + lift * (sy - cos_d * ey) + magnus * cy
+    az = drag * ez + lift * (sz - cos_d * ez) + magnus * cz - params[P_GRAVITY]
+    dk = params[P_DAMP_K] * speed
+    hs = hx * sx + hy * sy + hz * sz
+    pitch = dk * params[P_CMQ]
+    roll = dk * params[P_CLP] * spin
+    mag_m = dk * spin * params[P_CMPA]
+    dhx = gain * cx + pitch * (hx - hs * sx) + roll * sx + mag_m * (ex - cos_d * sx)
+    dhy = gain * cy + pitch * (hy - hs * sy) + roll * sy + mag_m * (ey - cos_d * sy)
+    dhz = gain * cz + pitch * (hz - hs * sz) + roll * sz + mag_m * (ez - cos_d * sz)
+    dh1 = roll
     return ax, ay, az, dhx, dhy, dhz, dh1
 
 

@@ -223,21 +223,39 @@ class Release:
 
     def initial_state(self) -> InitialState:
         """The rigid-body state in ``field`` this release means (physics.md section 1)."""
-        velocity = frames.direction(self.speed, math.radians(self.elevation_deg),
-                                    math.radians(self.azimuth_deg))
-        alpha, beta = math.radians(self.alpha0_deg), math.radians(self.beta0_deg)
-        axis = frames.axis_from_aero_angles(alpha, beta, velocity)
-        # Axis rates relative to the field, with the velocity frame held at its release value.
-        d_alpha = np.array([-math.cos(beta) * math.sin(alpha), math.cos(beta) * math.cos(alpha), 0.0])
-        d_beta = np.array([-math.sin(beta) * math.cos(alpha), -math.sin(beta) * math.sin(alpha),
-                           math.cos(beta)])
-        axis_rate_vf = (math.radians(self.alpha_rate_deg_s) * d_alpha
-                        + math.radians(self.beta_rate_deg_s) * d_beta)
-        axis_rate = frames.from_velocity_frame(axis_rate_vf, velocity)
-        transverse = np.cross(axis, axis_rate)  # w_perp = s x s' for w_perp perpendicular to s
-        return InitialState(np.array(self.position, dtype=float), velocity, axis, transverse,
-                            self.spin_rpm * RPM, frames.attitude_with_axis(axis))
+        st = release_states(self.speed, self.elevation_deg, self.azimuth_deg, self.spin_rpm,
+                            self.alpha0_deg, self.beta0_deg, self.alpha_rate_deg_s, self.beta_rate_deg_s,
+                            np.array(self.position, dtype=float))
+        axis = st["axis"][0]
+        return InitialState(st["position"][0], st["velocity"][0], axis, st["transverse_rate"][0],
+                            float(st["spin"][0]), frames.attitude_with_axis(axis))
 
     def replace(self, **changes: Any) -> "Release":
         """A validated copy with some fields changed."""
         return dataclasses.replace(self, **changes)
+
+
+def release_states(speed, elevation_deg, azimuth_deg, spin_rpm, alpha0_deg, beta0_deg,
+                   alpha_rate_deg_s, beta_rate_deg_s, position) -> dict[str, np.ndarray]:
+    """Vectorised release -> rigid-body state in ``field`` (arrays broadcast to N releases).
+
+    Returns position, velocity [m/s], axis (unit), transverse_rate [rad/s] (each (N, 3)) and
+    spin [rad/s] (N,). The axis is (alpha0, beta0) off the velocity; its rates are relative to
+    the field with the velocity frame held at its release value, and w_perp = s x s'.
+    """
+    arrays = np.broadcast_arrays(*(np.atleast_1d(np.asarray(x, dtype=float)) for x in (
+        speed, elevation_deg, azimuth_deg, spin_rpm, alpha0_deg, beta0_deg, alpha_rate_deg_s,
+        beta_rate_deg_s)))
+    speed, elev, azim, spin_rpm, alpha, beta, alpha_rate, beta_rate = arrays
+    elev, azim, alpha, beta = (np.radians(x) for x in (elev, azim, alpha, beta))
+    velocity = speed[:, None] * np.stack([np.cos(elev) * np.cos(azim), np.cos(elev) * np.sin(azim),
+                                          np.sin(elev)], axis=-1)
+    e1, e2, e3 = frames.velocity_frame(velocity)
+    ca, sa, cb, sb = np.cos(alpha)[:, None], np.sin(alpha)[:, None], np.cos(beta)[:, None], np.sin(beta)[:, None]
+    axis = cb * ca * e1 + cb * sa * e2 + sb * e3
+    d_alpha = cb * (-sa * e1 + ca * e2)
+    d_beta = -sb * ca * e1 - sb * sa * e2 + cb * e3
+    axis_rate = np.radians(alpha_rate)[:, None] * d_alpha + np.radians(beta_rate)[:, None] * d_beta
+    position = np.broadcast_to(np.asarray(position, dtype=float), velocity.shape).copy()
+    return {"position": position, "velocity": velocity, "axis": axis,
+            "transverse_rate": np.cross(axis, axis_rate), "spin": spin_rpm * RPM}

@@ -1,0 +1,130 @@
+"""Headless speed at equal accuracy: one flight, and a batch of flights, against scipy solve_ivp.
+
+    .venv/bin/python bench/flight_benchmark.py [--n 20000] [--model paper|full]
+
+Reference: solve_ivp DOP853 with rtol = atol = 1e-13 on the s/h form of the equations
+(physics.md section 2; written out here independently of football_ros). Every contender's
+max |alpha|, |beta| difference from it is printed; the targets (issue 6) are <= 1e-6 rad,
+>= 10x for one flight, >= 1e5 ball-seconds per second for the batch. Times are the best of
+three runs, all measured in this run on this machine.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import time
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from football_ros.physics import Flight, Release, frames, get_preset
+from football_ros.physics.batch import simulate_batch
+from football_ros.physics.release import release_states
+
+G = 9.81
+
+
+def rhs_factory(ball):
+    k = ball.moment_coefficient()
+
+    def rhs(_t, y):
+        v, s, h = y[3:6], y[6:9], y[9:12]
+        speed = np.linalg.norm(v)
+        return np.concatenate([v, [0.0, 0.0, -G], np.cross(h, s), k * speed * np.cross(v, s)])
+
+    return rhs
+
+
+def ivp_angles(ball, st, index, times, rtol, atol):
+    s0 = st["axis"][index]
+    h0 = st["transverse_rate"][index] + ball.inertia_ratio * st["spin"][index] * s0
+    y0 = np.concatenate([st["position"][index], st["velocity"][index], s0, h0])
+    sol = solve_ivp(rhs_factory(ball), (0.0, times[-1]), y0, method="DOP853", rtol=rtol, atol=atol, t_eval=times)
+    return frames.aero_angles(sol.y[6:9].T, sol.y[3:6].T)[:, :2]
+
+
+def best_of(fn, repeat=3):
+    best, out = float("inf"), None
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        out = fn()
+        best = min(best, time.perf_counter() - t0)
+    return best, out
+
+
+def one_flight(baseline_rtol: float) -> list[tuple]:
+    """A 3 s flight (released 10 m up so it does not land), sampled at 100 Hz."""
+    release = Release(position=(0.0, 0.0, 10.0), alpha0_deg=3.0, beta0_deg=-2.0, alpha_rate_deg_s=20.0,
+                      beta_rate_deg_s=-10.0)
+    ball = release.preset()
+    st = release_states(release.speed, release.elevation_deg, 0.0, release.spin_rpm, 3.0, -2.0, 20.0, -10.0,
+                        np.array(release.position))
+    times = np.arange(301) * 0.01
+    ref = ivp_angles(ball, st, 0, times, 1e-13, 1e-13)
+    Flight.from_release(release).simulate(rate=100.0, duration=3.0)  # compile / load the kernel
+    t_ours, tr = best_of(lambda: Flight.from_release(release).simulate(rate=100.0, duration=3.0))
+    err_ours = np.max(np.abs(tr.aero_angles[:, :2] - ref))
+    t_ivp, ang = best_of(lambda: ivp_angles(ball, st, 0, times, baseline_rtol, baseline_rtol * 1e-2))
+    err_ivp = np.max(np.abs(ang - ref))
+    return [("one 3 s flight: football_ros (RK4, 1 ms)", t_ours, err_ours),
+            (f"one 3 s flight: solve_ivp DOP853 rtol={baseline_rtol:g}", t_ivp, err_ivp)]
+
+
+def batch(n: int, model: str, baseline_rtol: float, n_ivp: int) -> tuple[list[tuple], float, float]:
+    rng = np.random.default_rng(7)
+    ball = get_preset("american")
+    st = release_states(27.4 + rng.normal(0, 1.0, n), 30 + rng.normal(0, 2.0, n), rng.normal(0, 1.0, n),
+                        600 + rng.normal(0, 40.0, n), rng.normal(0, 2.0, n), rng.normal(0, 2.0, n),
+                        rng.normal(0, 15.0, n), rng.normal(0, 15.0, n), np.zeros(3))
+    simulate_batch(ball, {k: v[:64] for k, v in st.items()}, model)  # compile / load, start threads
+    t_batch, res = best_of(lambda: simulate_batch(ball, st, model))
+    ball_seconds = float(res.time_of_flight.sum())
+    # Accuracy of the batch on a few balls, sampled every 4 steps over the first 2.5 s.
+    picks = rng.choice(n, size=8, replace=False)
+    sub = {k: v[picks] for k, v in st.items()}
+    probe = simulate_batch(ball, sub, "paper", sample_count=1)
+    step = probe.sample_period
+    count = int(2.5 / (4 * step))
+    sampled = simulate_batch(ball, sub, "paper", sample_period=4 * step, sample_count=count)
+    times = np.arange(count) * 4 * step
+    err_batch = max(np.max(np.abs(sampled.samples[i] - ivp_angles(ball, sub, i, times, 1e-13, 1e-13)))
+                    for i in range(len(picks)))
+    # The per-ball solve_ivp loop, on n_ivp balls, to each ball's landing time.
+    def ivp_loop():
+        errs = []
+        for i in range(n_ivp):
+            t_end = res.time_of_flight[i]
+            grid = np.linspace(0.0, t_end, 100)
+            errs.append(ivp_angles(ball, st, i, grid, baseline_rtol, baseline_rtol * 1e-2))
+        return errs
+    t_ivp, _ = best_of(ivp_loop, repeat=1)
+    ivp_ball_seconds = float(res.time_of_flight[:n_ivp].sum())
+    rows = [(f"batch of {n} ({model} model)", t_batch, err_batch if model == "paper" else float("nan")),
+            (f"solve_ivp loop, {n_ivp} balls", t_ivp, float("nan"))]
+    return rows, ball_seconds / t_batch, ivp_ball_seconds / t_ivp
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--n", type=int, default=20000, help="balls in the batch")
+    parser.add_argument("--n-ivp", type=int, default=20, help="balls in the solve_ivp loop")
+    parser.add_argument("--model", default="paper", choices=("paper", "full"))
+    args = parser.parse_args()
+    # The baseline gets the loosest solve_ivp tolerance that still meets 1e-6 rad.
+    for rtol in (1e-5, 1e-6, 1e-7, 1e-8, 1e-9):
+        rows = one_flight(rtol)
+        if rows[1][2] <= 1e-6:
+            break
+    batch_rows, rate, ivp_rate = batch(args.n, args.model, rtol, args.n_ivp)
+    print(f"\nfootball_ros headless speed, {os.cpu_count()} cores (best of 3; errors vs DOP853 rtol=atol=1e-13)\n")
+    print(f"{'contender':<48}{'time [s]':>12}{'max alpha/beta err [rad]':>26}")
+    for name, seconds, err in rows + batch_rows:
+        print(f"{name:<48}{seconds:>12.4f}{err:>26.2e}" if np.isfinite(err) else f"{name:<48}{seconds:>12.4f}{'-':>26}")
+    print(f"\none flight: football_ros is {rows[1][1] / rows[0][1]:.0f}x faster than solve_ivp (target >= 10x)")
+    print(f"batch: {rate:.3g} ball-seconds per second vs {ivp_rate:.3g} for the solve_ivp loop "
+          f"({rate / ivp_rate:.0f}x); target >= 1e5")
+
+
+if __name__ == "__main__":
+    main()

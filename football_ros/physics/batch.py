@@ -1,0 +1,260 @@
+"""Many flights at once: arrays of releases in, arrays of landings and wobble statistics out.
+
+The kernel integrates each ball with the forces and moments of
+:func:`football_ros.physics.dynamics.loads` (the same physics as the real-time kernel) on the
+lean state (r, v, s, h, h1), with the 8th-order Dormand-Prince weights (scipy's DOP853 tableau)
+at a fixed step, |s| = 1 and h.s = h1 restored after every step, balls spread over the cores
+with numba ``prange`` (blocks of balls, the ball index innermost). The default step follows the
+fastest mode (``STEP_PER_RADIAN``): 29 ms for the nominal spiral. The maxima of |alpha|, |beta|
+and delta are taken at the steps. The landing is located inside its step on
+the cubic Hermite interpolant of z.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit, prange
+from scipy.integrate._ivp import dop853_coefficients as _dop853  # the published tableau
+
+from . import dynamics as dyn
+from .aero import AeroModel
+from .presets import BallPreset
+
+_STAGES = _dop853.N_STAGES
+_A = _dop853.A[:_STAGES, :_STAGES]
+_B = np.ascontiguousarray(_dop853.B)
+# The non-zero entries of A, row by row (50 of 66): stage i uses _A_VAL/_A_COL[_A_ROW[i]:_A_ROW[i+1]].
+_A_ROW = np.concatenate([[0], np.cumsum((_A != 0).sum(axis=1))]).astype(np.int64)
+_A_COL = np.nonzero(_A)[1].astype(np.int64)
+_A_VAL = _A[np.nonzero(_A)]
+N_LEAN = 13  # r, v, s, h, h1
+STEP_PER_RADIAN = 1.1
+"""Default step = STEP_PER_RADIAN / max |h1| (at most MAX_STEP): about 1.1 rad of the fastest
+mode per step, which keeps alpha/beta within 3e-7 rad of a tight DOP853 solution over the
+releases bench/flight_benchmark.py tries (the error grows as step^8)."""
+MAX_STEP = 0.04
+
+
+@njit(cache=True, fastmath=True)
+def _block_derivative(y, params, out, nb):
+    """d/dt of the lean states in columns 0..nb-1 of y (N_LEAN, BLOCK) into out."""
+    for b in range(nb):
+        sx, sy, sz = y[6, b], y[7, b], y[8, b]
+        hx, hy, hz = y[9, b], y[10, b], y[11, b]
+        ax, ay, az, dhx, dhy, dhz, dh1 = dyn.loads((y[3, b], y[4, b], y[5, b]), (sx, sy, sz),
+                                                   (hx, hy, hz), y[12, b], params)
+        out[0, b], out[1, b], out[2, b] = y[3, b], y[4, b], y[5, b]
+        out[3, b], out[4, b], out[5, b] = ax, ay, az
+        out[6, b] = hy * sz - hz * sy   # s' = h x s
+        out[7, b] = hz * sx - hx * sz
+        out[8, b] = hx * sy - hy * sx
+        out[9, b], out[10, b], out[11, b] = dhx, dhy, dhz
+        out[12, b] = dh1
+
+
+@njit(cache=True, fastmath=True)
+def _block_step(y, dt, params, k, tmp, out, nb):
+    """One DOP853 (8th-order weights) step of every column, then |s| = 1 and h.s = h1.
+
+    Columns are balls: the inner loops run over balls, so the compiler can use SIMD lanes."""
+    for i in range(_STAGES):
+        for j in range(N_LEAN):
+            for b in range(nb):
+                tmp[j, b] = y[j, b]
+            for e in range(_A_ROW[i], _A_ROW[i + 1]):
+                a = dt * _A_VAL[e]
+                col = _A_COL[e]
+                for b in range(nb):
+                    tmp[j, b] += a * k[col, j, b]
+        _block_derivative(tmp, params, k[i], nb)
+    for j in range(N_LEAN):
+        for b in range(nb):
+            out[j, b] = y[j, b]
+        for i in range(_STAGES):
+            a = dt * _B[i]
+            for b in range(nb):
+                out[j, b] += a * k[i, j, b]
+    for b in range(nb):
+        norm = math.sqrt(out[6, b] ** 2 + out[7, b] ** 2 + out[8, b] ** 2)
+        out[6, b] /= norm
+        out[7, b] /= norm
+        out[8, b] /= norm
+        err = out[12, b] - (out[9, b] * out[6, b] + out[10, b] * out[7, b] + out[11, b] * out[8, b])
+        out[9, b] += err * out[6, b]
+        out[10, b] += err * out[7, b]
+        out[11, b] += err * out[8, b]
+
+
+@njit(cache=True)
+def _axis_components(y):
+    """s1, s2, s3: the axis of a lean state in its velocity frame (physics.md section 1)."""
+    vx, vy, vz = y[3], y[4], y[5]
+    speed = math.sqrt(vx * vx + vy * vy + vz * vz)
+    e1x, e1y, e1z = vx / speed, vy / speed, vz / speed
+    e2x, e2y, e2z = -e1z * e1x, -e1z * e1y, 1.0 - e1z * e1z
+    n2 = math.sqrt(e2x * e2x + e2y * e2y + e2z * e2z)
+    e2x, e2y, e2z = e2x / n2, e2y / n2, e2z / n2
+    e3x, e3y, e3z = e1y * e2z - e1z * e2y, e1z * e2x - e1x * e2z, e1x * e2y - e1y * e2x
+    return (y[6] * e1x + y[7] * e1y + y[8] * e1z, y[6] * e2x + y[7] * e2y + y[8] * e2z,
+            y[6] * e3x + y[7] * e3y + y[8] * e3z)
+
+
+@njit(cache=True)
+def _hermite(p0, d0, p1, d1, dt, u):
+    """Cubic Hermite interpolant at fraction u of a step of length dt."""
+    u2, u3 = u * u, u * u * u
+    return ((2 * u3 - 3 * u2 + 1) * p0 + (u3 - 2 * u2 + u) * dt * d0
+            + (-2 * u3 + 3 * u2) * p1 + (u3 - u2) * dt * d1)
+
+
+BLOCK = 32
+"""Balls integrated together by one thread (SIMD lanes along the ball index)."""
+
+
+@njit(parallel=True, cache=True)
+def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples, results):
+    """Integrate every row of y0 (N, N_LEAN), block b of BLOCK rows with step steps[b];
+    results (N, 8) = landing x, y, time, landed, max|alpha|, max|beta|, max delta, final
+    spin momentum h1. ``samples`` (N, M, 2) gets alpha, beta every ``sample_every`` steps."""
+    n_balls = y0.shape[0]
+    n_blocks = (n_balls + BLOCK - 1) // BLOCK
+    for blk in prange(n_blocks):
+        first = blk * BLOCK
+        nb = min(BLOCK, n_balls - first)
+        dt = steps[blk]
+        n_steps = int(math.ceil(max_time / dt))
+        y = np.empty((N_LEAN, BLOCK))
+        nxt = np.empty((N_LEAN, BLOCK))
+        tmp = np.empty((N_LEAN, BLOCK))
+        k = np.empty((_STAGES, N_LEAN, BLOCK))
+        flying = np.ones(BLOCK, np.bool_)
+        worst = np.empty((4, BLOCK))
+        for b in range(nb):
+            ball = first + b
+            y[:, b] = y0[ball]
+            s1, s2, s3 = _axis_components(y[:, b])
+            # Extremes are kept as components (no trigonometry per step): the largest |alpha|
+            # as the pair (|s2|, s1) of largest angle, the largest |beta| as max |s3|, the
+            # largest delta as min s1; angles are taken once at the end.
+            worst[0, b], worst[1, b], worst[2, b], worst[3, b] = abs(s2), s1, abs(s3), s1
+            results[ball, 2], results[ball, 3] = max_time, 0.0
+            if samples.shape[1] > 0:
+                samples[ball, 0, 0] = math.atan2(s2, s1)
+                samples[ball, 0, 1] = math.asin(min(1.0, max(-1.0, s3)))
+        left = nb
+        for i in range(n_steps):
+            _block_step(y, dt, params, k, tmp, nxt, nb)
+            j = (i + 1) // sample_every
+            keep_sample = (i + 1) % sample_every == 0 and j < samples.shape[1]
+            for b in range(nb):
+                if not flying[b]:
+                    continue
+                ball = first + b
+                if y[2, b] > ground and nxt[2, b] <= ground and nxt[5, b] < 0.0:
+                    lo, hi = 0.0, 1.0
+                    for _ in range(60):
+                        mid = 0.5 * (lo + hi)
+                        if _hermite(y[2, b], y[5, b], nxt[2, b], nxt[5, b], dt, mid) > ground:
+                            lo = mid
+                        else:
+                            hi = mid
+                    results[ball, 0] = _hermite(y[0, b], y[3, b], nxt[0, b], nxt[3, b], dt, hi)
+                    results[ball, 1] = _hermite(y[1, b], y[4, b], nxt[1, b], nxt[4, b], dt, hi)
+                    results[ball, 2] = (i + hi) * dt
+                    results[ball, 3] = 1.0
+                    results[ball, 7] = y[12, b]
+                    flying[b] = False
+                    left -= 1
+                    continue
+                s1, s2, s3 = _axis_components(nxt[:, b])
+                if abs(s2) * worst[1, b] > worst[0, b] * s1:
+                    worst[0, b], worst[1, b] = abs(s2), s1
+                worst[2, b] = max(worst[2, b], abs(s3))
+                worst[3, b] = min(worst[3, b], s1)
+                if keep_sample:
+                    samples[ball, j, 0] = math.atan2(s2, s1)
+                    samples[ball, j, 1] = math.asin(min(1.0, max(-1.0, s3)))
+            y[:, :] = nxt
+            if left == 0:
+                break
+        for b in range(nb):
+            ball = first + b
+            if flying[b]:
+                results[ball, 0], results[ball, 1] = y[0, b], y[1, b]
+                results[ball, 7] = y[12, b]
+            results[ball, 4] = math.atan2(worst[0, b], worst[1, b])
+            results[ball, 5] = math.asin(min(1.0, worst[2, b]))
+            results[ball, 6] = math.acos(max(-1.0, min(1.0, worst[3, b])))
+
+
+@dataclass(frozen=True)
+class BatchResult:
+    """Per-ball results: landing_x, landing_y [m], time_of_flight [s] (max_time if not landed),
+    landed (bool), max_alpha, max_beta, max_delta [rad] over the flight, and, when asked for,
+    samples (N, M, 2) of alpha, beta [rad] at multiples of ``sample_period``."""
+
+    landing_x: np.ndarray
+    landing_y: np.ndarray
+    time_of_flight: np.ndarray
+    landed: np.ndarray
+    max_alpha: np.ndarray
+    max_beta: np.ndarray
+    max_delta: np.ndarray
+    samples: np.ndarray | None
+    sample_period: float
+
+
+def lean_states(ball: BallPreset, states: dict[str, np.ndarray]) -> np.ndarray:
+    """(N, N_LEAN) batch states from :func:`football_ros.physics.release.release_states`."""
+    n = states["velocity"].shape[0]
+    y = np.empty((n, N_LEAN))
+    y[:, 0:3] = states["position"]
+    y[:, 3:6] = states["velocity"]
+    y[:, 6:9] = states["axis"]
+    h1 = ball.inertia_ratio * states["spin"]
+    y[:, 9:12] = states["transverse_rate"] + h1[:, None] * states["axis"]
+    y[:, 12] = h1
+    return y
+
+
+def simulate_batch(ball: BallPreset, states: dict[str, np.ndarray], model: str = "paper",
+                   moment: str = "linear", aero: AeroModel | None = None, step: float | None = None,
+                   max_time: float = 20.0, ground: float = 0.0, sample_period: float | None = None,
+                   sample_count: int = 0) -> BatchResult:
+    """Fly N balls (same ball and model, releases from ``states``) until each lands on z = ground
+    or ``max_time`` [s] passes. ``step`` [s]: None = the default rule (module docstring)."""
+    if model == "full":
+        aero = aero or AeroModel()
+        ball = ball.with_overrides({"air_density": aero.density(ball.air_density)})
+    else:
+        aero = None
+    y0 = lean_states(ball, states)
+    n = y0.shape[0]
+    n_blocks = (n + BLOCK - 1) // BLOCK
+    spin_momentum = np.abs(y0[:, 12])
+    if step is None and not sample_count:
+        # Blocks of balls with similar spin momentum, each with its own step.
+        order = np.argsort(spin_momentum, kind="stable")
+        padded = np.pad(spin_momentum[order], (0, n_blocks * BLOCK - n), mode="edge")
+        steps = np.minimum(MAX_STEP, STEP_PER_RADIAN / np.maximum(padded.reshape(n_blocks, BLOCK).max(axis=1), 1e-9))
+    else:
+        order = np.arange(n)
+        if step is None:
+            step = min(MAX_STEP, STEP_PER_RADIAN / max(float(spin_momentum.max()), 1e-9))
+        steps = np.full(n_blocks, step)
+    every = 1
+    if sample_count:
+        every = int(round((sample_period or steps[0]) / steps[0]))
+        if every < 1 or abs(every * steps[0] - (sample_period or steps[0])) > 1e-9 * steps[0]:
+            raise ValueError("sample_period must be a whole multiple of the step")
+    samples = np.full((n, sample_count, 2), np.nan)
+    results = np.empty((n, 8))
+    _integrate_batch(np.ascontiguousarray(y0[order]), dyn.make_params(ball, moment, aero), steps, max_time,
+                     ground, every, samples, results)
+    unsorted = np.empty_like(results)
+    unsorted[order] = results
+    return BatchResult(unsorted[:, 0], unsorted[:, 1], unsorted[:, 2], unsorted[:, 3] > 0.5, unsorted[:, 4],
+                       unsorted[:, 5], unsorted[:, 6], samples if sample_count else None, every * steps[0])

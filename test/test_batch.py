@@ -1,0 +1,114 @@
+"""Batch prediction and Monte Carlo: same physics as the single-flight kernel, real numbers."""
+
+import csv
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from football_ros.physics import Flight, Release, frames, get_preset
+from football_ros.physics.batch import simulate_batch
+from football_ros.physics.release import release_states
+
+RELEASES = [Release(), Release(spin_rpm=-700.0, alpha0_deg=3.0, beta_rate_deg_s=25.0),
+            Release(ball="rugby"), Release(speed=18.0, elevation_deg=45.0, azimuth_deg=30.0, spin_rpm=450.0),
+            Release(position=(1.0, -2.0, 2.0), elevation_deg=10.0, spin_rpm=900.0, alpha0_deg=-4.0)]
+
+
+def states_of(releases):
+    keys = ("speed", "elevation_deg", "azimuth_deg", "spin_rpm", "alpha0_deg", "beta0_deg",
+            "alpha_rate_deg_s", "beta_rate_deg_s")
+    cols = [np.array([getattr(r, k) for r in releases]) for k in keys]
+    return release_states(*cols, np.array([r.position for r in releases]))
+
+
+@pytest.mark.parametrize("model", ["paper", "full"])
+def test_batch_landings_match_single_flights(model):
+    american = [r.replace(model=model) for r in RELEASES if r.ball == "american"]
+    result = simulate_batch(get_preset("american"), states_of(american), model)
+    for i, release in enumerate(american):
+        tr = Flight.from_release(release).simulate(rate=100.0, duration=20.0)
+        assert result.landed[i] and tr.landed
+        assert result.time_of_flight[i] == pytest.approx(tr.times[-1], abs=1e-6)
+        assert result.landing_x[i] == pytest.approx(tr.positions[-1, 0], abs=1e-5)
+        assert result.landing_y[i] == pytest.approx(tr.positions[-1, 1], abs=1e-5)
+        dense = Flight.from_release(release).simulate(rate=1000.0, duration=20.0)
+        assert result.max_beta[i] == pytest.approx(np.max(np.abs(dense.aero_angles[:, 1])), abs=2e-3)
+        assert result.max_beta[i] <= np.max(np.abs(dense.aero_angles[:, 1])) + 1e-6
+
+
+def test_batch_angles_within_1e6_of_tight_dop853():
+    ball = get_preset("american")
+    st = states_of([RELEASES[1]])
+    k = ball.moment_coefficient()
+
+    def rhs(_t, y):
+        v, s, h = y[3:6], y[6:9], y[9:12]
+        return np.concatenate([v, [0, 0, -9.81], np.cross(h, s), k * np.linalg.norm(v) * np.cross(v, s)])
+
+    probe = simulate_batch(ball, st, sample_count=1)
+    times = np.arange(int(2.5 / probe.sample_period)) * probe.sample_period
+    result = simulate_batch(ball, st, sample_period=probe.sample_period, sample_count=len(times))
+    s0 = st["axis"][0]
+    h0 = st["transverse_rate"][0] + ball.inertia_ratio * st["spin"][0] * s0
+    sol = solve_ivp(rhs, (0, times[-1]), np.concatenate([st["position"][0], st["velocity"][0], s0, h0]),
+                    method="DOP853", rtol=1e-13, atol=1e-13, t_eval=times)
+    ref = frames.aero_angles(sol.y[6:9].T, sol.y[3:6].T)[:, :2]
+    assert probe.sample_period > 0.02  # the 8th-order method takes long steps ...
+    assert np.max(np.abs(result.samples[0] - ref)) < 1e-6  # ... at the accuracy asked for
+
+
+def test_results_come_back_in_input_order():
+    rng = np.random.default_rng(3)
+    n = 300  # several blocks, sorted by spin inside
+    spins = rng.uniform(450, 1200, n) * rng.choice([-1, 1], n)
+    st = release_states(27.0, 30.0, 0.0, spins, 0.0, 0.0, 0.0, 0.0, np.zeros(3))
+    result = simulate_batch(get_preset("american"), st)
+    for i in rng.choice(n, 5, replace=False):
+        single = simulate_batch(get_preset("american"), {k: v[i:i + 1] for k, v in st.items()}, step=0.01)
+        assert result.max_beta[i] == pytest.approx(single.max_beta[0], abs=3e-3)
+        assert np.sign(result.max_beta[i]) == np.sign(single.max_beta[0])
+    assert np.allclose(result.time_of_flight, 2 * 27.0 * 0.5 / 9.81, atol=1e-9)
+
+
+def test_montecarlo_command(tmp_path):
+    out = tmp_path / "mc.csv"
+    proc = subprocess.run([sys.executable, "-m", "football_ros.cli", "montecarlo", "--n", "600", "--seed", "1",
+                           "--spread", "speed=0.5,spin_rpm=30", "--quiet", "--out", str(out)],
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    with open(out) as handle:
+        rows = list(csv.DictReader(handle))
+    assert len(rows) == 600 and all(r["landed"] == "1.0" for r in rows)
+    speeds = np.array([float(r["speed"]) for r in rows])
+    assert speeds.std() == pytest.approx(0.5, rel=0.15) and speeds.mean() == pytest.approx(27.4, abs=0.1)
+    # The landing range follows the vacuum formula for each sampled release (paper model).
+    x = np.array([float(r["landing_x"]) for r in rows])
+    elev = np.radians([float(r["elevation_deg"]) for r in rows])
+    azim = np.radians([float(r["azimuth_deg"]) for r in rows])
+    assert np.allclose(x, speeds ** 2 * np.sin(2 * elev) / 9.81 * np.cos(azim), atol=1e-6)
+    assert "landing x (downfield)" in proc.stdout and "ball-seconds per second" in proc.stdout
+    assert (tmp_path / "mc.png").stat().st_size > 20_000
+
+
+def test_montecarlo_with_no_spread_is_the_single_flight(tmp_path):
+    out = tmp_path / "mc.csv"
+    zero = ",".join(f"{k}=0" for k in ("speed", "elevation_deg", "azimuth_deg", "spin_rpm", "alpha0_deg",
+                                        "beta0_deg", "alpha_rate_deg_s", "beta_rate_deg_s"))
+    proc = subprocess.run([sys.executable, "-m", "football_ros.cli", "montecarlo", "--n", "40", "--model", "full",
+                           "--spread", zero, "--quiet", "--out", str(out)], capture_output=True, text=True,
+                          timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    data = np.loadtxt(out, delimiter=",", skiprows=1)
+    tr = Flight.from_release(Release(model="full")).simulate(rate=100.0)
+    assert np.allclose(data[:, 8], tr.positions[-1, 0], atol=1e-5)
+    assert np.allclose(data[:, 9], tr.positions[-1, 1], atol=1e-5) and data[0, 9] < -0.3  # drifts right
+
+
+@pytest.mark.parametrize("args", [["--n", "0"], ["--spread", "speed=-1"], ["--spread", "mass=1"]])
+def test_montecarlo_bad_options(tmp_path, args):
+    proc = subprocess.run([sys.executable, "-m", "football_ros.cli", "montecarlo", *args, "--out",
+                           str(tmp_path / "x.csv")], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 2 and proc.stderr.startswith("football-ros: error:")
