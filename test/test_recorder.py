@@ -16,7 +16,7 @@ from rosbags.typesys import Stores, get_typestore
 
 from football_ros.nodes import qos
 from football_ros.physics import Flight, Release
-from test_simulator_node import landed_event, order_flight
+from rosutil import landed_event, order_flight
 
 STATE = {qos.POSE: PoseStamped, qos.ODOM: Odometry, qos.SPIN_AXIS: Vector3Stamped,
          qos.AERO_ANGLES: Vector3Stamped, qos.AERO_ANGLES_LINEAR: Vector3Stamped}

@@ -8,18 +8,17 @@ import time
 
 import numpy as np
 import pytest
-from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
+from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PoseStamped, Vector3Stamped
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
-from std_msgs.msg import String
 from std_srvs.srv import SetBool, Trigger
 from visualization_msgs.msg import MarkerArray
 
 from football_ros.nodes import qos
 from football_ros.physics import Flight, Release
 from football_ros.physics.frames import quaternion_to_matrix
-from football_ros.requests import FlightOrder
+from rosutil import call, landed_event, order_flight
 
 STATE_TYPES = {qos.POSE: PoseStamped, qos.ODOM: Odometry, qos.SPIN_AXIS: Vector3Stamped,
                qos.AERO_ANGLES: Vector3Stamped, qos.AERO_ANGLES_LINEAR: Vector3Stamped}
@@ -34,26 +33,6 @@ def subscribe_all(collector):
         collector.subscribe(msg_type, topic, qos.STATE)
     collector.subscribe(MarkerArray, qos.MARKERS, qos.MARKERS_QOS)
     collector.subscribe(DiagnosticArray, qos.DIAGNOSTICS, qos.DIAGNOSTICS_QOS)
-
-
-def order_flight(collector, release: Release, request_id: str):
-    """Send a flight order straight to the simulator (what the release node does)."""
-    pub = collector.publisher(String, qos.FLIGHT_ORDER, qos.ORDER)
-    collector.wait_for_subscribers(pub)
-    pub.publish(String(data=FlightOrder.from_release(request_id, release).to_json()))
-
-
-def landed_event(collector):
-    return any(s.values and any(kv.key == "event" and kv.value == "landed" for kv in s.values)
-               for arr in collector.get(qos.DIAGNOSTICS) for s in arr.status)
-
-
-def call(collector, srv_type, name, request, timeout=10.0):
-    client = collector.node.create_client(srv_type, name)
-    assert client.wait_for_service(timeout_sec=timeout), f"service {name} not available"
-    future = client.call_async(request)
-    collector.wait_for(future.done, timeout, f"{name} response")
-    return future.result()
 
 
 def test_flight_on_all_topics_matches_headless_simulation(start_node, collector, tmp_path):

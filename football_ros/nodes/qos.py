@@ -20,8 +20,9 @@ PAUSE_SERVICE = "football/pause"
 
 STATE_TOPICS = (POSE, ODOM, SPIN_AXIS, AERO_ANGLES, AERO_ANGLES_LINEAR)
 
-# Ball state at up to 1-2 kHz: reliable so a recorder loses nothing, a deep queue for bursts.
-STATE = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=200,
+# Ball state at up to 1-2 kHz: reliable so a recorder loses nothing; 1000 deep (1 s at 1 kHz)
+# so a subscriber that stalls for a moment (GC, disk) catches up instead of losing samples.
+STATE = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000,
                    reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
 # RViz markers and /diagnostics: reliable, shallow.
 MARKERS_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,

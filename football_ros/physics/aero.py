@@ -31,7 +31,7 @@ The rugby preset uses the same estimates (no better data), scaled by its own S a
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import dataclass, fields, replace
 from typing import Any, Mapping
 
 import numpy as np

@@ -16,7 +16,6 @@ from pathlib import Path
 import numpy as np
 
 from . import dynamics as dyn
-from . import frames
 from .linear_theory import LinearModes, linear_modes
 from .presets import BallPreset
 from .aero import AeroModel
