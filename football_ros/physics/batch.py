@@ -89,20 +89,6 @@ def _block_step(y, dt, params, k, tmp, out, nb):
 
 
 @njit(cache=True)
-def _axis_components(y):
-    """s1, s2, s3: the axis of a lean state in its velocity frame (physics.md section 1)."""
-    vx, vy, vz = y[3], y[4], y[5]
-    speed = math.sqrt(vx * vx + vy * vy + vz * vz)
-    e1x, e1y, e1z = vx / speed, vy / speed, vz / speed
-    e2x, e2y, e2z = -e1z * e1x, -e1z * e1y, 1.0 - e1z * e1z
-    n2 = math.sqrt(e2x * e2x + e2y * e2y + e2z * e2z)
-    e2x, e2y, e2z = e2x / n2, e2y / n2, e2z / n2
-    e3x, e3y, e3z = e1y * e2z - e1z * e2y, e1z * e2x - e1x * e2z, e1x * e2y - e1y * e2x
-    return (y[6] * e1x + y[7] * e1y + y[8] * e1z, y[6] * e2x + y[7] * e2y + y[8] * e2z,
-            y[6] * e3x + y[7] * e3y + y[8] * e3z)
-
-
-@njit(cache=True)
 def _hermite(p0, d0, p1, d1, dt, u):
     """Cubic Hermite interpolant at fraction u of a step of length dt."""
     u2, u3 = u * u, u * u * u
@@ -135,7 +121,8 @@ def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples,
         for b in range(nb):
             ball = first + b
             y[:, b] = y0[ball]
-            s1, s2, s3 = _axis_components(y[:, b])
+            s1, s2, s3 = dyn.velocity_frame_components((y[3, b], y[4, b], y[5, b]),
+                                                       (y[6, b], y[7, b], y[8, b]))
             # Extremes are kept as components (no trigonometry per step): the largest |alpha|
             # as the pair (|s2|, s1) of largest angle, the largest |beta| as max |s3|, the
             # largest delta as min s1; angles are taken once at the end.
@@ -169,7 +156,8 @@ def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples,
                     flying[b] = False
                     left -= 1
                     continue
-                s1, s2, s3 = _axis_components(nxt[:, b])
+                s1, s2, s3 = dyn.velocity_frame_components((nxt[3, b], nxt[4, b], nxt[5, b]),
+                                                           (nxt[6, b], nxt[7, b], nxt[8, b]))
                 if abs(s2) * worst[1, b] > worst[0, b] * s1:
                     worst[0, b], worst[1, b] = abs(s2), s1
                 worst[2, b] = max(worst[2, b], abs(s3))

@@ -243,6 +243,22 @@ def _finish_with_landing(times, states, k, y, t, step, params, ground):
     return times[:k + 1], states[:k + 1], True
 
 
+@njit(cache=True)
+def velocity_frame_components(v: tuple, s: tuple) -> tuple:
+    """Components (s1, s2, s3) of ``s`` along e1 = v/V, e2 = up made perpendicular to e1 and
+    e3 = e1 x e2 (compiled twin of :func:`football_ros.physics.frames.to_velocity_frame`)."""
+    vx, vy, vz = v
+    sx, sy, sz = s
+    speed = math.sqrt(vx * vx + vy * vy + vz * vz)
+    e1x, e1y, e1z = vx / speed, vy / speed, vz / speed
+    e2x, e2y, e2z = -e1z * e1x, -e1z * e1y, 1.0 - e1z * e1z
+    n2 = math.sqrt(e2x * e2x + e2y * e2y + e2z * e2z)
+    e2x, e2y, e2z = e2x / n2, e2y / n2, e2z / n2
+    e3x, e3y, e3z = e1y * e2z - e1z * e2y, e1z * e2x - e1x * e2z, e1x * e2y - e1y * e2x
+    return (sx * e1x + sy * e1y + sz * e1z, sx * e2x + sy * e2y + sz * e2z,
+            sx * e3x + sy * e3y + sz * e3z)
+
+
 # Columns of describe(): orientation (x, y, z, w), axis, angular velocity, alpha, beta, delta.
 D_ORIENT, D_AXIS, D_OMEGA, D_ALPHA, D_BETA, D_DELTA = 0, 4, 7, 10, 11, 12
 N_DESCRIBE = 13
@@ -272,17 +288,7 @@ def describe(states: np.ndarray, params: np.ndarray) -> np.ndarray:
         out[i, D_OMEGA] = y[H] + extra * sx
         out[i, D_OMEGA + 1] = y[H + 1] + extra * sy
         out[i, D_OMEGA + 2] = y[H + 2] + extra * sz
-        # Velocity frame: e1 = v/V, e2 = up made perpendicular to e1, e3 = e1 x e2.
-        vx, vy, vz = y[V], y[V + 1], y[V + 2]
-        speed = math.sqrt(vx * vx + vy * vy + vz * vz)
-        e1x, e1y, e1z = vx / speed, vy / speed, vz / speed
-        e2x, e2y, e2z = -e1z * e1x, -e1z * e1y, 1.0 - e1z * e1z
-        n2 = math.sqrt(e2x * e2x + e2y * e2y + e2z * e2z)
-        e2x, e2y, e2z = e2x / n2, e2y / n2, e2z / n2
-        e3x, e3y, e3z = e1y * e2z - e1z * e2y, e1z * e2x - e1x * e2z, e1x * e2y - e1y * e2x
-        s1 = sx * e1x + sy * e1y + sz * e1z
-        s2 = sx * e2x + sy * e2y + sz * e2z
-        s3 = sx * e3x + sy * e3y + sz * e3z
+        s1, s2, s3 = velocity_frame_components((y[V], y[V + 1], y[V + 2]), (sx, sy, sz))
         out[i, D_ALPHA] = math.atan2(s2, s1)
         out[i, D_BETA] = math.asin(min(1.0, max(-1.0, s3)))
         out[i, D_DELTA] = math.acos(min(1.0, max(-1.0, s1)))
