@@ -145,7 +145,9 @@ def main() -> None:
         results["bare rclpy"] = probe.measure(bare.pid, args.seconds, args.rate, keep_flying=False)
     finally:
         stop(bare)
-    probe.executor.shutdown()
+    probe.executor.shutdown(timeout_sec=2.0)
+    probe.thread.join(timeout=2.0)
+    probe.node.destroy_node()
     rclpy.try_shutdown()
 
     sim_r, bare_r = results["simulator"], results["bare rclpy"]

@@ -74,3 +74,20 @@ def test_bad_options_exit_2_with_one_line(args):
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("football-ros: error:"), proc.stderr
     assert "Traceback" not in proc.stderr
+
+
+def test_physics_and_headless_commands_need_no_ros(tmp_path):
+    """With rclpy and every ROS message package unimportable, the headless commands still run."""
+    blocked = ["rclpy", "std_msgs", "geometry_msgs", "nav_msgs", "diagnostic_msgs", "visualization_msgs",
+               "rosgraph_msgs", "std_srvs", "builtin_interfaces"]
+    csv_path, figs = tmp_path / "f.csv", tmp_path / "figs"
+    code = (f"import sys\nfor name in {blocked!r}: sys.modules[name] = None\n"
+            "from football_ros.cli import main\n"
+            f"assert main(['modes', '--json']) == 0\n"
+            f"assert main(['simulate', '--out', {str(csv_path)!r}]) == 0\n"
+            f"assert main(['plot', {str(csv_path)!r}, '--out', {str(figs)!r}]) == 0\n"
+            f"assert main(['montecarlo', '--n', '50', '--quiet', '--out', {str(tmp_path / 'mc.csv')!r}]) == 0\n"
+            "assert not any(m.split('.')[0] in {'rclpy'} for m in sys.modules if sys.modules[m] is not None)\n")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert len(list(figs.glob("*.png"))) == 4

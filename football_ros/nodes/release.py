@@ -16,6 +16,7 @@ import numpy as np
 
 from diagnostic_msgs.msg import DiagnosticStatus
 from nav_msgs.msg import Odometry
+from rcl_interfaces.msg import SetParametersResult
 from rclpy.node import Node
 from std_msgs.msg import String
 
@@ -57,6 +58,7 @@ class ReleaseNode(Node):
                                          "Largest accepted request text [bytes]", (64, 1 << 20))
         self.integration_step = declare(self, "integration_step", 0.001,
                                         "Integration step of the landing prediction [s]", (1e-5, 0.01))
+        self.add_on_set_parameters_callback(self._on_parameters)  # ranges: enforced by descriptors
         self._responses = self.create_publisher(DiagnosticStatus, qos.RELEASE_RESPONSE, qos.REQUEST)
         self._orders = self.create_publisher(String, qos.FLIGHT_ORDER, qos.ORDER)
         self.create_subscription(String, qos.RELEASE_REQUEST, self._on_request, qos.REQUEST)
@@ -66,6 +68,12 @@ class ReleaseNode(Node):
             f"ready: requests on '{self.resolve_topic_name(qos.RELEASE_REQUEST)}' and "
             f"'{self.resolve_topic_name(qos.RELEASE_STATE)}', answers on "
             f"'{self.resolve_topic_name(qos.RELEASE_RESPONSE)}'")
+
+    def _on_parameters(self, params) -> SetParametersResult:
+        for p in params:
+            if p.name != "use_sim_time":
+                setattr(self, p.name, p.value)
+        return SetParametersResult(successful=True)
 
     def _on_request(self, msg: String) -> None:
         request_id = "unknown"
