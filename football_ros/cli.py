@@ -256,6 +256,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     if argv and argv[0] in NODE_COMMANDS:
         import importlib
         module_name, function = NODE_COMMANDS[argv[0]]
+        own = argv[1:argv.index("--ros-args")] if "--ros-args" in argv else argv[1:]
+        if argv[0] in ("simulator", "release") and ({"-h", "--help"} & set(own)):
+            print(f"usage: football-ros {argv[0]} [--ros-args -p NAME:=VALUE ...]\n")
+            print(importlib.import_module(module_name).__doc__)
+            print("Parameters, topics and QoS: config/football.yaml and msg_docs/.")
+            return 0
         return getattr(importlib.import_module(module_name), function)(argv[1:]) or 0
     try:
         args = build_parser().parse_args(argv)

@@ -7,7 +7,8 @@ PYTHON=${PYTHON:-python3}
 if [ ! -x .venv/bin/python ]; then
   echo "[setup] creating .venv with $($PYTHON --version)"
   "$PYTHON" -m venv .venv
-  .venv/bin/python -m pip install --quiet --disable-pip-version-check --upgrade pip setuptools wheel
+  .venv/bin/python -m pip install --quiet --disable-pip-version-check --upgrade pip setuptools wheel \
+    > .venv/pip-upgrade.log 2>&1 || { cat .venv/pip-upgrade.log; exit 1; }
 fi
 echo "[setup] installing football_ros[ros,test] into .venv (first time: about a minute)"
 if ! .venv/bin/python -m pip install --disable-pip-version-check -e ".[ros,test]" > .venv/pip-install.log 2>&1; then

@@ -18,8 +18,6 @@ FLIGHT_ORDER = "football/flight/order"
 RESET_SERVICE = "football/reset"
 PAUSE_SERVICE = "football/pause"
 
-STATE_TOPICS = (POSE, ODOM, SPIN_AXIS, AERO_ANGLES, AERO_ANGLES_LINEAR)
-
 # Ball state at up to 1-2 kHz: reliable so a recorder loses nothing; 1000 deep (1 s at 1 kHz)
 # so a subscriber that stalls for a moment (GC, disk) catches up instead of losing samples.
 STATE = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000,
