@@ -84,7 +84,10 @@ def release_from_args(args: argparse.Namespace) -> Release:
         key, sep, value = item.partition("=")
         if not sep:
             raise UsageError(f"--aero expects KEY=VALUE, got '{item}'")
-        aero[key.strip()] = yaml.safe_load(value)
+        try:
+            aero[key.strip()] = yaml.safe_load(value)
+        except yaml.YAMLError:
+            raise UsageError(f"--aero {key}: cannot read '{value}'") from None
     if args.wind is not None:
         aero["wind"] = list(args.wind)
     return Release(ball=args.ball, speed=args.speed, elevation_deg=args.elevation_deg,
@@ -100,9 +103,7 @@ def modes_report(release: Release) -> dict:
     flight = Flight.from_release(release)
     m = flight.modes
     aero = flight.aero or AeroModel().without_extras()
-    ball = flight.ball
-    dyn = dynamic_stability(ball.mass, ball.diameter, ball.inertia_spin, ball.inertia_transverse,
-                            ball.c_m_alpha, ball.air_density, m.speed, release.initial_state().spin, aero)
+    dyn = dynamic_stability(flight.ball, m.speed, release.initial_state().spin, aero)
     return {
         "ball": release.ball, "speed": m.speed, "flight_path_angle": m.flight_path_angle,
         "m_alpha": m.m_alpha, "h1": m.h1, "omega_fast": m.omega_fast, "omega_slow": m.omega_slow,

@@ -88,8 +88,7 @@ def test_air_density_from_altitude_and_temperature():
 def test_mccoy_factors_are_consistent():
     ball = get_preset("american")
     spin = 600 * 2 * math.pi / 60
-    d = dynamic_stability(ball.mass, ball.diameter, ball.inertia_spin, ball.inertia_transverse,
-                          ball.c_m_alpha, ball.air_density, 27.4, spin, AeroModel())
+    d = dynamic_stability(ball, 27.4, spin, AeroModel())
     modes = Flight.from_release(Release()).modes
     assert d.s_g == pytest.approx(modes.gyroscopic_stability_factor, rel=1e-12)
     # lambda_F + lambda_S = -H (per calibre), independent of P.
@@ -98,8 +97,7 @@ def test_mccoy_factors_are_consistent():
         0.40 - 0.055 - ball.mass * ball.diameter ** 2 / ball.inertia_transverse * -0.10)
     assert (d.fast_damping_rate + d.slow_damping_rate) * ball.diameter / 27.4 == pytest.approx(-h_nd, rel=1e-12)
     assert d.dynamically_stable and d.fast_damping_rate < 0 and d.slow_damping_rate < 0
-    undamped = dynamic_stability(ball.mass, ball.diameter, ball.inertia_spin, ball.inertia_transverse,
-                                 ball.c_m_alpha, ball.air_density, 27.4, spin, AeroModel().without_extras())
+    undamped = dynamic_stability(ball, 27.4, spin, AeroModel().without_extras())
     assert math.isnan(undamped.s_d) and not undamped.dynamically_stable
 
 

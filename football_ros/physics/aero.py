@@ -36,6 +36,8 @@ from typing import Any, Mapping
 
 import numpy as np
 
+from .presets import BallPreset
+
 R_DRY_AIR = 287.05  # J/(kg K)
 
 
@@ -142,10 +144,11 @@ class DynamicStability:
     slow_damping_rate: float
 
 
-def dynamic_stability(mass: float, diameter: float, inertia_spin: float, inertia_transverse: float,
-                      c_m_alpha: float, density: float, speed: float, spin: float,
-                      model: AeroModel) -> DynamicStability:
-    """McCoy's P, M, T, H and the mode damping rates for the terms switched on in ``model``."""
+def dynamic_stability(ball: BallPreset, speed: float, spin: float, model: AeroModel) -> DynamicStability:
+    """McCoy's P, M, T, H and the mode damping rates at ``speed`` [m/s] and ``spin`` [rad/s], for
+    the terms switched on in ``model`` (the ball's air density)."""
+    mass, diameter, density, c_m_alpha = ball.mass, ball.diameter, ball.air_density, ball.c_m_alpha
+    inertia_spin, inertia_transverse = ball.inertia_spin, ball.inertia_transverse
     area = math.pi * diameter ** 2 / 4.0
     p_nd = (inertia_spin / inertia_transverse) * spin * diameter / speed
     m_nd = density * area * diameter ** 3 / (2.0 * inertia_transverse) * c_m_alpha
