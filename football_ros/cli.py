@@ -68,26 +68,23 @@ def add_release_options(parser: argparse.ArgumentParser) -> None:
                    help="wind in field [m/s] (full model)")
 
 
+def _key_values(items: list[str], option: str, convert) -> dict:
+    """KEY=VALUE command-line items as a dict, each VALUE through ``convert``."""
+    out = {}
+    for item in items:
+        key, sep, value = item.partition("=")
+        if not sep:
+            raise UsageError(f"{option} expects KEY=VALUE, got '{item}'")
+        try:
+            out[key.strip()] = convert(value)
+        except (ValueError, yaml.YAMLError):
+            raise UsageError(f"{option} {key}: cannot read '{value}'") from None
+    return out
+
+
 def release_from_args(args: argparse.Namespace) -> Release:
     """Build a validated :class:`Release` from parsed options (raises ReleaseError/UsageError)."""
-    params = {}
-    for item in args.ball_param:
-        key, sep, value = item.partition("=")
-        if not sep:
-            raise UsageError(f"--ball-param expects KEY=VALUE, got '{item}'")
-        try:
-            params[key.strip()] = float(value)
-        except ValueError:
-            raise UsageError(f"--ball-param {key}: '{value}' is not a number") from None
-    aero = {}
-    for item in args.aero:
-        key, sep, value = item.partition("=")
-        if not sep:
-            raise UsageError(f"--aero expects KEY=VALUE, got '{item}'")
-        try:
-            aero[key.strip()] = yaml.safe_load(value)
-        except yaml.YAMLError:
-            raise UsageError(f"--aero {key}: cannot read '{value}'") from None
+    aero = _key_values(args.aero, "--aero", yaml.safe_load)
     if args.wind is not None:
         aero["wind"] = list(args.wind)
     return Release(ball=args.ball, speed=args.speed, elevation_deg=args.elevation_deg,
@@ -95,7 +92,7 @@ def release_from_args(args: argparse.Namespace) -> Release:
                    alpha0_deg=args.alpha0_deg, beta0_deg=args.beta0_deg,
                    alpha_rate_deg_s=args.alpha_rate_deg_s, beta_rate_deg_s=args.beta_rate_deg_s,
                    position=tuple(args.position), model=args.model, moment=args.moment,
-                   ball_params=params, aero=aero)
+                   ball_params=_key_values(args.ball_param, "--ball-param", float), aero=aero)
 
 
 def modes_report(release: Release) -> dict:
