@@ -81,7 +81,7 @@ def axis_of(y: np.ndarray) -> tuple:
     return (1.0 - 2.0 * (qy * qy + qz * qz), 2.0 * (qx * qy + qw * qz), 2.0 * (qx * qz - qw * qy))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def loads(v: tuple, s: tuple, h: tuple, h1: float, params: np.ndarray) -> tuple:
     """Acceleration a [m/s^2], dh/dt [rad/s^2] and dh1/dt of the ball (module docstring and
     :mod:`football_ros.physics.aero` give the terms). Shared by every kernel."""
