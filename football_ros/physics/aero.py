@@ -119,6 +119,15 @@ class AeroModel:
                        spin_damping=False, wind=(0.0, 0.0, 0.0))
 
 
+def resolve(ball: BallPreset, model: str, aero: AeroModel | None) -> tuple[BallPreset, AeroModel | None]:
+    """The ball and aero settings a ``model`` flies with: for ``full`` the given settings (or
+    the defaults) and the ball with their air density; for ``paper`` the ball as it is and None."""
+    if model != "full":
+        return ball, None
+    aero = aero or AeroModel()
+    return ball.with_overrides({"air_density": aero.density(ball.air_density)}), aero
+
+
 def _checked(name: str, value: Any, limits: tuple[float, float]) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
         raise ValueError(f"aero '{name}' must be a finite number, got {value!r}")

@@ -20,7 +20,7 @@ from numba import njit, prange
 from scipy.integrate._ivp import dop853_coefficients as _dop853  # the published tableau
 
 from . import dynamics as dyn
-from .aero import AeroModel
+from .aero import AeroModel, resolve
 from .presets import BallPreset
 
 _STAGES = _dop853.N_STAGES
@@ -106,8 +106,8 @@ BLOCK = 32
 @njit(parallel=True, cache=True)
 def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples, results):
     """Integrate every row of y0 (N, N_LEAN), block b of BLOCK rows with step steps[b];
-    results (N, 8) = landing x, y, time, landed, max|alpha|, max|beta|, max delta, final
-    spin momentum h1. ``samples`` (N, M, 2) gets alpha, beta every ``sample_every`` steps."""
+    results (N, 7) = landing x, y, time, landed, max|alpha|, max|beta|, max delta.
+    ``samples`` (N, M, 2) gets alpha, beta every ``sample_every`` steps."""
     n_balls = y0.shape[0]
     n_blocks = (n_balls + BLOCK - 1) // BLOCK
     for blk in prange(n_blocks):
@@ -155,7 +155,6 @@ def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples,
                     results[ball, 1] = _hermite(y[1, b], y[4, b], nxt[1, b], nxt[4, b], dt, hi)
                     results[ball, 2] = (i + hi) * dt
                     results[ball, 3] = 1.0
-                    results[ball, 7] = y[12, b]
                     flying[b] = False
                     left -= 1
                     continue
@@ -175,7 +174,6 @@ def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples,
             ball = first + b
             if flying[b]:
                 results[ball, 0], results[ball, 1] = y[0, b], y[1, b]
-                results[ball, 7] = y[12, b]
             results[ball, 4] = math.atan2(worst[0, b], worst[1, b])
             results[ball, 5] = math.asin(min(1.0, worst[2, b]))
             results[ball, 6] = math.acos(max(-1.0, min(1.0, worst[3, b])))
@@ -217,11 +215,7 @@ def simulate_batch(ball: BallPreset, states: dict[str, np.ndarray], model: str =
                    sample_count: int = 0) -> BatchResult:
     """Fly N balls (same ball and model, releases from ``states``) until each lands on z = ground
     or ``max_time`` [s] passes. ``step`` [s]: None = the default rule (module docstring)."""
-    if model == "full":
-        aero = aero or AeroModel()
-        ball = ball.with_overrides({"air_density": aero.density(ball.air_density)})
-    else:
-        aero = None
+    ball, aero = resolve(ball, model, aero)
     y0 = lean_states(ball, states)
     n = y0.shape[0]
     n_blocks = (n + BLOCK - 1) // BLOCK
@@ -242,7 +236,7 @@ def simulate_batch(ball: BallPreset, states: dict[str, np.ndarray], model: str =
         if every < 1 or abs(every * steps[0] - (sample_period or steps[0])) > 1e-9 * steps[0]:
             raise ValueError("sample_period must be a whole multiple of the step")
     samples = np.full((n, sample_count, 2), np.nan)
-    results = np.empty((n, 8))
+    results = np.empty((n, 7))
     _integrate_batch(np.ascontiguousarray(y0[order]), dyn.make_params(ball, moment, aero), steps, max_time,
                      ground, every, samples, results)
     unsorted = np.empty_like(results)

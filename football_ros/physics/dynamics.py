@@ -47,12 +47,12 @@ def make_params(ball: BallPreset, moment: str = "linear", aero: AeroModel | None
 
     k = rho S D C_Malpha / (2 I_t) [1/m^2], I_t/I_s, g [m/s^2], moment-curve flag, then the full
     model's rho S / (2 m) [1/m], coefficients, rho S D^2 / (2 I_t) [1/m], D [m] and wind [m/s].
-    The density is the ball's (see :meth:`Flight.__init__` for the full model's).
+    The density is the ball's (:func:`football_ros.physics.aero.resolve` sets the full model's).
     """
     params = np.zeros(N_PARAM)
     rho = ball.air_density
     area = ball.reference_area
-    params[P_MOMENT_K] = rho * area * ball.diameter * ball.c_m_alpha / (2.0 * ball.inertia_transverse)
+    params[P_MOMENT_K] = ball.moment_coefficient()
     params[P_SPIN_RATIO] = 1.0 / ball.inertia_ratio
     params[P_GRAVITY] = gravity
     params[P_SIN2DELTA] = 1.0 if moment == "sin2delta" else 0.0

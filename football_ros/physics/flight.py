@@ -18,7 +18,7 @@ import numpy as np
 from . import dynamics as dyn
 from .linear_theory import LinearModes, linear_modes
 from .presets import BallPreset
-from .aero import AeroModel
+from .aero import AeroModel, resolve
 from .release import MODELS, InitialState, Release
 
 DEFAULT_STEP = 1e-3
@@ -107,9 +107,7 @@ class Flight:
             raise ValueError(f"unknown model '{model}' (known: {', '.join(MODELS)})")
         if not (0.0 < step <= 0.05):
             raise ValueError(f"integration step must be in (0, 0.05] s, got {step}")
-        self.aero = (aero or AeroModel()) if model == "full" else None
-        if self.aero is not None:  # the full model's air density (plain value or altitude/temperature)
-            ball = ball.with_overrides({"air_density": self.aero.density(ball.air_density)})
+        ball, self.aero = resolve(ball, model, aero)
         self.ball, self.initial, self.model, self.moment, self.step = ball, initial, model, moment, step
         self.params = dyn.make_params(ball, moment, self.aero)
         self.modes = linear_modes(ball, initial)

@@ -74,9 +74,11 @@ def aero_angles(axis: np.ndarray, velocity: np.ndarray) -> np.ndarray:
     return np.stack([alpha, beta, delta], axis=-1)
 
 
-def axis_from_aero_angles(alpha: float, beta: float, velocity: np.ndarray) -> np.ndarray:
-    """Unit axis in ``field`` with the given alpha and beta [rad] against ``velocity``."""
-    comps = np.array([np.cos(beta) * np.cos(alpha), np.cos(beta) * np.sin(alpha), np.sin(beta)])
+def axis_from_aero_angles(alpha, beta, velocity: np.ndarray) -> np.ndarray:
+    """Unit axis in ``field`` with the given alpha and beta [rad] against ``velocity``
+    (alpha, beta broadcast with the leading axes of ``velocity``)."""
+    alpha, beta = np.asarray(alpha, dtype=float), np.asarray(beta, dtype=float)
+    comps = np.stack([np.cos(beta) * np.cos(alpha), np.cos(beta) * np.sin(alpha), np.sin(beta)], axis=-1)
     return from_velocity_frame(comps, velocity)
 
 
@@ -86,12 +88,14 @@ def flight_path_angle(velocity: np.ndarray) -> np.ndarray:
     return np.arctan2(v[..., 2], np.hypot(v[..., 0], v[..., 1]))
 
 
-def direction(speed: float, elevation: float, azimuth: float) -> np.ndarray:
+def direction(speed, elevation, azimuth) -> np.ndarray:
     """Velocity [m/s] in ``field`` from speed, elevation above the horizontal and azimuth [rad]
-    (azimuth from +x toward +y, i.e. counter-clockwise seen from above)."""
-    return speed * np.array([np.cos(elevation) * np.cos(azimuth),
-                             np.cos(elevation) * np.sin(azimuth),
-                             np.sin(elevation)])
+    (azimuth from +x toward +y, i.e. counter-clockwise seen from above); arrays broadcast to
+    (..., 3)."""
+    speed, elevation, azimuth = (np.asarray(x, dtype=float) for x in (speed, elevation, azimuth))
+    return speed[..., None] * np.stack([np.cos(elevation) * np.cos(azimuth),
+                                        np.cos(elevation) * np.sin(azimuth),
+                                        np.sin(elevation)], axis=-1)
 
 
 def quaternion_from_matrix(rot: np.ndarray) -> np.ndarray:

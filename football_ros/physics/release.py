@@ -248,14 +248,14 @@ def release_states(speed, elevation_deg, azimuth_deg, spin_rpm, alpha0_deg, beta
         beta_rate_deg_s)))
     speed, elev, azim, spin_rpm, alpha, beta, alpha_rate, beta_rate = arrays
     elev, azim, alpha, beta = (np.radians(x) for x in (elev, azim, alpha, beta))
-    velocity = speed[:, None] * np.stack([np.cos(elev) * np.cos(azim), np.cos(elev) * np.sin(azim),
-                                          np.sin(elev)], axis=-1)
-    e1, e2, e3 = frames.velocity_frame(velocity)
-    ca, sa, cb, sb = np.cos(alpha)[:, None], np.sin(alpha)[:, None], np.cos(beta)[:, None], np.sin(beta)[:, None]
-    axis = cb * ca * e1 + cb * sa * e2 + sb * e3
-    d_alpha = cb * (-sa * e1 + ca * e2)
-    d_beta = -sb * ca * e1 - sb * sa * e2 + cb * e3
-    axis_rate = np.radians(alpha_rate)[:, None] * d_alpha + np.radians(beta_rate)[:, None] * d_beta
+    velocity = frames.direction(speed, elev, azim)
+    axis = frames.axis_from_aero_angles(alpha, beta, velocity)
+    # d axis / d alpha and d axis / d beta, in the velocity frame held at its release value.
+    ca, sa, cb, sb = np.cos(alpha), np.sin(alpha), np.cos(beta), np.sin(beta)
+    d_alpha = np.stack([-cb * sa, cb * ca, np.zeros_like(ca)], axis=-1)
+    d_beta = np.stack([-sb * ca, -sb * sa, cb], axis=-1)
+    axis_rate = frames.from_velocity_frame(np.radians(alpha_rate)[:, None] * d_alpha
+                                           + np.radians(beta_rate)[:, None] * d_beta, velocity)
     position = np.broadcast_to(np.asarray(position, dtype=float), velocity.shape).copy()
     return {"position": position, "velocity": velocity, "axis": axis,
             "transverse_rate": np.cross(axis, axis_rate), "spin": spin_rpm * RPM}
