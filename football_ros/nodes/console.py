@@ -17,6 +17,16 @@ from . import messages as mb
 from .recorder import TOPICS
 
 
+def wait_for_answer(rclpy, node, answers: list, request_id: str, deadline: float):
+    """Spin ``node`` until ``answers`` holds the response named ``request_id`` or the monotonic
+    ``deadline`` passes; returns that response or None."""
+    while True:
+        answer = next((a for a in answers if a.name == request_id), None)
+        if answer is not None or time.monotonic() >= deadline:
+            return answer
+        rclpy.spin_once(node, timeout_sec=0.05)
+
+
 def _init(node_name: str):
     import rclpy
     rclpy.init()
@@ -84,9 +94,7 @@ def throw(argv: Sequence[str] | None = None) -> int:
                   f"{node.resolve_topic_name(qos.RELEASE_REQUEST)}", file=sys.stderr)
             return 1
         pub.publish(String(data=json.dumps(request)))
-        while time.monotonic() < end and not any(a.name == args.id for a in answers):
-            rclpy.spin_once(node, timeout_sec=0.05)
-        answer = next((a for a in answers if a.name == args.id), None)
+        answer = wait_for_answer(rclpy, node, answers, args.id, end)
         if answer is None:
             print(f"football-ros throw: error: no answer within {args.timeout:g} s", file=sys.stderr)
             return 1

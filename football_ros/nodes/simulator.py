@@ -254,9 +254,8 @@ class SimulatorNode(Node):
             landed_now = sample.landed and not run.landed_reported
             if landed_now:
                 run.landed_reported, run.last_hold_ns = True, wall_stamp_ns
-                p = sample.position
-                self._events.append(("OK", "landed", f"flight '{run.order.request_id}' landed at "
-                                     f"x = {p[0]:.3f} m, y = {p[1]:.3f} m after {sample.t:.4f} s"))
+                self._events.append(("OK", "landed", f"flight '{run.order.request_id}' "
+                                     + _landed_text(sample.position, sample.t)))
             self._publish_state(sample, stamp)
             self._maybe_publish_markers(run, sample, stamp, wall_stamp_ns, force=landed_now)
             events, self._events = self._events, []
@@ -305,8 +304,7 @@ class SimulatorNode(Node):
                 landing = flight.state_at(flight.landing_time)
                 values.update({"time_of_flight": flight.landing_time, "landing_x": float(landing[0]),
                                "landing_y": float(landing[1])})
-                message = (f"landed at x = {landing[0]:.3f} m, y = {landing[1]:.3f} m after "
-                           f"{flight.landing_time:.4f} s")
+                message = _landed_text(landing, flight.landing_time)
             else:
                 message = f"flying: t = {run.time:.3f} s"
             if not flight.modes.stable:
@@ -330,6 +328,10 @@ class SimulatorNode(Node):
         """Stop the pacing thread (called before the node is destroyed)."""
         self._stop.set()
         self._thread.join(timeout=2.0)
+
+
+def _landed_text(position, time_of_flight: float) -> str:
+    return f"landed at x = {position[0]:.3f} m, y = {position[1]:.3f} m after {time_of_flight:.4f} s"
 
 
 def _warm_up() -> None:

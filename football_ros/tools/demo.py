@@ -58,6 +58,7 @@ def run_demo(args: argparse.Namespace) -> int:
     from std_msgs.msg import String
 
     from ..nodes import qos
+    from ..nodes.console import wait_for_answer
     from ..nodes.messages import level_of
 
     release = release_from_args(args)
@@ -108,10 +109,7 @@ def run_demo(args: argparse.Namespace) -> int:
             request = dict(release.to_mapping(), id=f"demo-pass-{attempt}")
             _say(f"throwing: {json.dumps(request)}")
             requests.publish(String(data=json.dumps(request)))
-            t_wait = time.monotonic() + 2.0
-            while time.monotonic() < t_wait and not any(r.name == request["id"] for r in state["responses"]):
-                rclpy.spin_once(node, timeout_sec=0.05)
-            answer = next((r for r in state["responses"] if r.name == request["id"]), None)
+            answer = wait_for_answer(rclpy, node, state["responses"], request["id"], time.monotonic() + 2.0)
             if answer is None:
                 _say("no answer yet; sending again")
                 continue
