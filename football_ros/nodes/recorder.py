@@ -117,6 +117,7 @@ class RecorderNode(Node):
                                            serialization_format="cdr",
                                            offered_qos_profiles=[_bag_qos(p) for p in offered or [profile]])
         self._connections[topic] = conn
+        self.get_logger().info(f"recording '{topic}' (first message received)")
         return conn
 
     def _write(self, topic: str, cls, profile: QoSProfile, data: bytes) -> None:

@@ -10,6 +10,7 @@ import sys
 from typing import Callable, Sequence
 
 import rclpy
+from rclpy._rclpy_pybind11 import RCLError
 from rclpy.exceptions import InvalidParameterTypeException, ParameterException
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
@@ -31,6 +32,11 @@ def run_node(factory: Callable[[], Node], argv: Sequence[str] | None, program: s
         rclpy.spin(node)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
+    except RCLError:
+        # A signal can shut the context down between two executor iterations; rclpy then
+        # fails to build the next wait set instead of raising ExternalShutdownException.
+        if rclpy.ok():
+            raise
     finally:
         if node is not None:
             close = getattr(node, "close", None)
