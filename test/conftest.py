@@ -12,9 +12,10 @@ from pathlib import Path
 
 import pytest
 
-# One ROS domain for this test session, chosen from the PID so that parallel runs do not meet;
-# discovery stays on this machine. Set before rclpy is initialised anywhere in this process.
-os.environ["ROS_DOMAIN_ID"] = str(100 + os.getpid() % 100)
+# One ROS domain for this test session: FOOTBALL_ROS_TEST_DOMAIN if set (parallel checkouts give
+# each its own), else chosen from the PID so that parallel runs do not meet; discovery stays on
+# this machine. Set before rclpy is initialised anywhere in this process.
+os.environ["ROS_DOMAIN_ID"] = os.environ.get("FOOTBALL_ROS_TEST_DOMAIN") or str(100 + os.getpid() % 100)
 os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
 os.environ.setdefault("RCUTILS_LOGGING_BUFFERED_STREAM", "1")
 
