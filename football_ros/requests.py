@@ -1,12 +1,18 @@
-"""Release requests (text in) and flight hand-offs (release node -> simulator), no ROS needed.
+"""Release requests (text in) and flight orders (release node -> simulator), no ROS needed.
 
-A request is a YAML or JSON mapping of the release keys (``Release.FIELDS``) plus ``id``.
-Parsing is safe (``yaml.safe_load``, no aliases, bounded size); every failure raises
-:class:`RequestError` with a one-sentence reason and the best id that could be recovered.
+The request language is strict: the JSON-compatible subset of YAML. A request is one mapping of
+the release keys (``Release.FIELDS``) plus ``id``; values are plain scalars, flow or block
+mappings and sequences, nested at most ``MAX_DEPTH`` levels. Scalars read as JSON reads them:
+``true``/``false``, ``null``/``~``, decimal numbers (``12``, ``-3.5``, ``1e3``); anything else
+(``0x14``, ``2_0``, ``.inf``, ``yes``) is a string, so a number field refuses it. Tags
+(``!!float``, ``!!binary``, ...), anchors, aliases, merge keys (``<<``), duplicate keys and
+non-string keys are rejected. Every request up to the byte limit is decided in bounded time
+(libyaml's event parser, stopped at the first violation). Every failure raises
+:class:`RequestError` with a one-sentence reason naming the field and the best id recovered.
 
-A hand-off is the JSON the release node sends the simulator: the full rigid-body initial state
-in ``field`` plus ball, overrides, model and moment, so requests given as text or as an
-Odometry take one path.
+A flight order is the JSON the release node sends the simulator: the full rigid-body initial
+state in ``field`` plus ball, overrides, model and moment, so requests given as text or as an
+Odometry take one path; :meth:`FlightOrder.from_json` is the one validation both nodes apply.
 """
 
 from __future__ import annotations
@@ -27,29 +33,46 @@ from .physics.release import MODELS, MOMENT_CURVES
 
 MAX_REQUEST_BYTES = 65536
 MAX_ID_LENGTH = 128
+MAX_DEPTH = 4
+"""Nesting levels a request may use: request -> aero -> wind list needs 3."""
+MAX_ECHO = 60
+"""Characters of a user's value echoed in an error message."""
+MAX_DIGITS = 40
+"""Digits a number may have (longer ones are refused before any conversion)."""
+MAX_REASON = 400
+"""Characters of a rejection reason (a safety net over every echo of user text)."""
+ORDER_KEYS = ("id", "order", "ball", "ball_params", "model", "moment", "aero", "position",
+              "velocity", "orientation", "angular_velocity")
 _counter = itertools.count(1)
+_Parser = getattr(yaml, "CSafeLoader", yaml.SafeLoader)  # libyaml when available
 
 
 class RequestError(ValueError):
     """A rejected request: ``request_id`` (recovered or made up) and a one-sentence reason."""
 
     def __init__(self, request_id: str, reason: str) -> None:
-        super().__init__(reason)
+        super().__init__(capped(reason))
         self.request_id = request_id
 
 
-def made_up_id(prefix: str = "req") -> str:
-    """A fresh id for a request that brought none: ``req-<n>``."""
-    return f"{prefix}-{next(_counter)}"
+def capped(text: str, limit: int = MAX_REASON) -> str:
+    """Return ``text`` cut to ``limit`` characters (marked with '...')."""
+    return text if len(text) <= limit else text[:limit - 3] + '...'
 
 
-def brief(value: Any, limit: int = 60) -> str:
-    """repr of a value cut to ``limit`` characters, for error messages."""
-    text = repr(value)
-    return text if len(text) <= limit else text[:limit - 3] + "..."
+def made_up_id(prefix: str = 'req') -> str:
+    """Return a fresh id for a request that brought none: ``req-<n>``."""
+    return f'{prefix}-{next(_counter)}'
 
 
-def _check_id(raw: Any) -> str:
+def brief(value: Any, limit: int = MAX_ECHO) -> str:
+    """Return repr of a value cut to ``limit`` characters, for error messages."""
+    text = repr(value) if not isinstance(value, str) else repr(value[:limit + 1])
+    return text if len(text) <= limit else text[:limit - 3] + '...'
+
+
+def check_id(raw: Any) -> str:
+    """Validate a correlation id (string or integer, 1-128 printable characters)."""
     if isinstance(raw, bool) or not isinstance(raw, (str, int)):
         raise ValueError(f"'id' must be a string or an integer, got {brief(raw)}")
     text = str(raw)
@@ -58,69 +81,193 @@ def _check_id(raw: Any) -> str:
     return text
 
 
-class _Loader(yaml.SafeLoader):
-    """SafeLoader that also reads YAML 1.2 / JSON exponents without a dot (``1e9``) as floats."""
+_INT = re.compile(r'[-+]?[0-9]+')
+_FLOAT = re.compile(r'[-+]?(\.[0-9]+|[0-9]+(\.[0-9]*)?)([eE][-+]?[0-9]+)?')
+_NULL = ('null', '~', '')
+_BOOL = {'true': True, 'false': False}
 
 
-_Loader.add_implicit_resolver(
-    "tag:yaml.org,2002:float",
-    re.compile(r"""^(?:[-+]?(?:[0-9][0-9_]*)\.[0-9_]*(?:[eE][-+]?[0-9]+)?
-                |[-+]?(?:[0-9][0-9_]*)(?:[eE][-+]?[0-9]+)
-                |\.[0-9_]+(?:[eE][-+]?[0-9]+)?
-                |[-+]?\.(?:inf|Inf|INF)
-                |\.(?:nan|NaN|NAN))$""", re.X),
-    list("-+0123456789."))
+def _scalar(event: yaml.ScalarEvent) -> Any:
+    """Resolve a scalar as JSON would (plain scalars only; quoted ones are strings)."""
+    text = event.value
+    if not _plain(event):  # quoted or block scalar: always a string
+        return text
+    if text in _NULL:
+        return None
+    if text in _BOOL:
+        return _BOOL[text]
+    if _FLOAT.fullmatch(text):
+        if sum(c.isdigit() for c in text) > MAX_DIGITS and not ('e' in text or 'E' in text):
+            raise ValueError(f'the number {brief(text)} has more than {MAX_DIGITS} digits')
+        if _INT.fullmatch(text):
+            return int(text)
+        return float(text)  # an overflowing exponent gives inf, refused by the field's check
+    return text
 
 
-def _load_mapping(text: str) -> dict:
-    """Parse YAML/JSON text into a dict; aliases, non-mappings and bad syntax raise ValueError."""
+def _plain(event: yaml.ScalarEvent) -> bool:
+    """True for a plain (unquoted) scalar; libyaml reports its style as '' and PyYAML as None."""
+    return not event.style
+
+
+def _where(event) -> str:
+    mark = event.start_mark
+    return f' (line {mark.line + 1}, column {mark.column + 1})' if mark else ''
+
+
+class _Map:
+    """A mapping being built: its dict and the key waiting for a value (None: a key is next)."""
+
+    __slots__ = ('data', 'key')
+
+    def __init__(self) -> None:
+        self.data: dict = {}
+        self.key: str | None = None
+
+
+def _add(stack: list, value: Any, event) -> None:
+    """Put ``value`` into the innermost container, as a mapping key or value or a list item."""
+    top = stack[-1]
+    if isinstance(top, list):
+        top.append(value)
+    elif top.key is not None:
+        top.data[top.key] = value
+        top.key = None
+    elif not isinstance(value, str) or not isinstance(event, yaml.ScalarEvent):
+        raise ValueError(f'every key must be a string, got {brief(value)}{_where(event)}')
+    elif value == '<<' and _plain(event):
+        raise ValueError(f'YAML merge keys (<<) are not accepted{_where(event)}')
+    elif value in top.data:
+        raise ValueError(f'duplicate key {brief(value)}{_where(event)}')
+    else:
+        top.key = value
+
+
+class StrictParseError(ValueError):
+    """A request text outside the strict language; ``partial`` holds the top-level mapping read
+    before the problem (so that the request's id can still be answered)."""
+
+    def __init__(self, reason: str, partial: dict) -> None:
+        super().__init__(reason)
+        self.partial = partial
+
+
+def _path(stack: list) -> str:
+    """Where in the document the parser is, e.g. " in 'aero.wind[1]'"."""
+    parts = []
+    for item in stack:
+        if isinstance(item, _Map):
+            if item.key is None:
+                break
+            parts.append(('.' if parts else '') + item.key)
+        else:
+            parts.append(f'[{len(item)}]')
+    return f" in '{''.join(parts)}'" if parts else ''
+
+
+def load_strict(text: str) -> Any:
+    """Parse ``text`` in the strict request language (module docstring).
+
+    Returns plain data (dict, list, str, int, float, bool, None); an empty text gives ``{}``.
+    Raises :class:`StrictParseError` (a ValueError) naming where and what; the parse stops at the
+    first violation, so its cost is bounded by the text's size.
+    """
+    stack: list = []
+    result: Any = None
+    documents = 0
     try:
-        for event in yaml.parse(text, Loader=_Loader):
-            if isinstance(event, yaml.AliasEvent):
-                raise ValueError("YAML aliases are not accepted")
-        data = yaml.load(text, Loader=_Loader)  # a SafeLoader: plain data only
-    except yaml.YAMLError as exc:
-        where = getattr(exc, "problem_mark", None)
-        at = f" at line {where.line + 1}, column {where.column + 1}" if where else ""
-        problem = getattr(exc, "problem", None) or type(exc).__name__
-        raise ValueError(f"malformed YAML/JSON{at}: {problem}") from None
-    except RecursionError:
-        raise ValueError("malformed YAML/JSON: nested too deeply") from None
-    if data is None:
-        data = {}
-    if not isinstance(data, dict):
-        raise ValueError(f"the request must be a mapping of release keys, got {type(data).__name__}")
-    if not all(isinstance(k, str) for k in data):
-        raise ValueError("every key of the request must be a string")
-    return data
+        for event in yaml.parse(text, Loader=_Parser):
+            if isinstance(event, (yaml.StreamStartEvent, yaml.StreamEndEvent, yaml.DocumentEndEvent)):
+                continue
+            if isinstance(event, yaml.DocumentStartEvent):
+                documents += 1
+                if documents > 1:
+                    raise ValueError('a request must be a single YAML/JSON document')
+                continue
+            if isinstance(event, yaml.AliasEvent) or getattr(event, 'anchor', None) is not None:
+                raise ValueError(f'YAML anchors and aliases are not accepted{_where(event)}')
+            if isinstance(event, (yaml.MappingEndEvent, yaml.SequenceEndEvent)):
+                done = stack.pop()
+                value = done.data if isinstance(done, _Map) else done
+            elif event.tag is not None and not (
+                    isinstance(event, yaml.CollectionStartEvent) and event.implicit):
+                raise ValueError(f'YAML tags such as {brief(event.tag)} are not accepted{_where(event)}')
+            elif isinstance(event, yaml.ScalarEvent):
+                value = _scalar(event)
+            elif len(stack) >= MAX_DEPTH:
+                raise ValueError(f'the request is nested more than {MAX_DEPTH} levels deep{_where(event)}')
+            else:
+                stack.append(_Map() if isinstance(event, yaml.MappingStartEvent) else [])
+                continue
+            if stack:
+                _add(stack, value, event)
+            else:
+                result = value
+    except (ValueError, yaml.YAMLError, RecursionError) as exc:
+        partial = stack[0].data if stack and isinstance(stack[0], _Map) else {}
+        if isinstance(exc, yaml.YAMLError):
+            where = getattr(exc, 'problem_mark', None)
+            at = f' at line {where.line + 1}, column {where.column + 1}' if where else ''
+            problem = getattr(exc, 'problem', None) or type(exc).__name__
+            reason = f'malformed YAML/JSON{at}: {problem}'
+        elif isinstance(exc, RecursionError):
+            reason = 'malformed YAML/JSON: nested too deeply'
+        else:
+            reason = str(exc)
+        raise StrictParseError(reason + _path(stack), partial) from None
+    return {} if result is None else result
 
 
 def parse_release_request(text: str, max_bytes: int = MAX_REQUEST_BYTES) -> tuple[str, Release]:
-    """Parse a release request; returns (id, Release) or raises RequestError."""
+    """Parse a release request; return (id, Release) or raise RequestError."""
     if not isinstance(text, str):
-        raise RequestError(made_up_id(), "the request must be text")
-    size = len(text.encode("utf-8", errors="replace"))
+        raise RequestError(made_up_id(), 'the request must be text')
+    size = len(text.encode('utf-8', errors='replace'))
     if size > max_bytes:
-        raise RequestError(made_up_id(), f"the request is {size} bytes, more than the {max_bytes} accepted")
+        raise RequestError(made_up_id(), f'the request is {size} bytes, more than the {max_bytes} accepted')
     try:
-        data = _load_mapping(text)
-    except ValueError as exc:
-        raise RequestError(made_up_id(), str(exc)) from None
+        data = load_strict(text)
+    except StrictParseError as exc:
+        raise RequestError(_recovered_id(exc.partial), str(exc)) from None
+    if not isinstance(data, dict):
+        raise RequestError(made_up_id(), 'the request must be a mapping of release keys, '
+                                         f'got {type(data).__name__}')
     try:
-        request_id = _check_id(data.pop("id")) if "id" in data else made_up_id()
+        request_id = check_id(data.pop('id')) if 'id' in data else made_up_id()
     except ValueError as exc:
         raise RequestError(made_up_id(), str(exc)) from None
     try:
         return request_id, Release.from_mapping(data)
-    except ReleaseError as exc:
+    except (TypeError, ValueError) as exc:  # ReleaseError, or a wrongly typed entry
         raise RequestError(request_id, str(exc)) from None
-    except (TypeError, ValueError) as exc:  # e.g. a wrongly typed ball_params entry
-        raise RequestError(request_id, f"invalid release: {exc}") from None
+
+
+def _recovered_id(partial: dict) -> str:
+    """The id of a request that could not be read to its end, if its valid 'id' came first."""
+    try:
+        return check_id(partial['id'])
+    except (KeyError, ValueError):
+        return made_up_id()
+
+
+def _vector(data: dict, key: str, size: int) -> list[float]:
+    value = data.get(key)
+    if (not isinstance(value, list) or len(value) != size
+            or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)):
+        raise ValueError(f"'{key}' must be a list of {size} numbers, got {brief(value)}")
+    try:
+        return [float(v) for v in value]
+    except OverflowError:
+        raise ValueError(f"'{key}' holds a number too large for a float") from None
 
 
 @dataclass(frozen=True)
 class FlightOrder:
-    """What the simulator needs to fly a ball: id, ball, model, moment and initial state."""
+    """What the simulator needs to fly a ball: ids, ball, model, moment and initial state.
+
+    ``request_id`` is the client's id; ``order_id`` names this hand-off uniquely (the
+    simulator's acknowledgement carries it), empty for orders that bring none.
+    """
 
     request_id: str
     ball_name: str
@@ -129,56 +276,83 @@ class FlightOrder:
     moment: str
     initial: InitialState
     aero: dict = field(default_factory=dict)
+    order_id: str = ''
 
     def ball(self) -> BallPreset:
         return get_preset(self.ball_name, self.ball_params)
 
     def flight(self, step: float, model: str | None = None) -> Flight:
-        """The Flight this order means (``model`` overrides the ordered one)."""
+        """Return the Flight this order means (``model`` overrides the ordered one).
+
+        Raises ValueError (ReleaseError) when it cannot be flown with this ``step`` [s].
+        """
         model = model or self.model
-        aero = AeroModel.from_mapping(self.aero) if model == "full" else None
+        aero = AeroModel.from_mapping(self.aero) if model == 'full' else None
         return Flight(self.ball(), self.initial, model, self.moment, step, aero)
 
     @staticmethod
-    def from_release(request_id: str, release: Release) -> "FlightOrder":
+    def from_release(request_id: str, release: Release, order_id: str = '') -> 'FlightOrder':
         return FlightOrder(request_id, release.ball, dict(release.ball_params), release.model,
-                           release.moment, release.initial_state(), dict(release.aero))
+                           release.moment, release.initial_state(), dict(release.aero), order_id)
 
     def to_json(self) -> str:
         st = self.initial
-        return json.dumps({
-            "id": self.request_id, "ball": self.ball_name, "ball_params": self.ball_params,
-            "model": self.model, "moment": self.moment, "aero": self.aero,
-            "position": st.position.tolist(), "velocity": st.velocity.tolist(),
-            "orientation": st.attitude.tolist(), "angular_velocity": st.angular_velocity().tolist(),
-        })
+        data = {
+            'id': self.request_id, 'ball': self.ball_name, 'ball_params': self.ball_params,
+            'model': self.model, 'moment': self.moment, 'aero': self.aero,
+            'position': st.position.tolist(), 'velocity': st.velocity.tolist(),
+            'orientation': st.attitude.tolist(), 'angular_velocity': st.angular_velocity().tolist(),
+        }
+        if self.order_id:
+            data['order'] = self.order_id
+        return json.dumps(data)
 
     @staticmethod
-    def from_json(text: str) -> "FlightOrder":
-        """Inverse of :meth:`to_json`; validates everything again (raises ValueError)."""
-        try:
-            data = json.loads(text)
-            if not isinstance(data, dict):
-                raise ValueError("a flight order must be a JSON object")
-            if data.get("model") not in MODELS or data.get("moment") not in MOMENT_CURVES:
-                raise ValueError(f"bad model/moment {brief(data.get('model'))}/{brief(data.get('moment'))}")
-            ball_params = data.get("ball_params") or {}
-            if not isinstance(ball_params, dict):
-                raise ValueError("ball_params must be a mapping")
-            get_preset(data.get("ball"), ball_params)
-            aero = data.get("aero") or {}
-            AeroModel.from_mapping(aero)
-            initial = InitialState.from_rigid_body(data["position"], data["velocity"],
-                                                   data["orientation"], data["angular_velocity"])
-            return FlightOrder(_check_id(data["id"]), data["ball"], ball_params, data["model"],
-                               data["moment"], initial, aero)
-        except (KeyError, TypeError, AttributeError, json.JSONDecodeError) as exc:
-            raise ValueError(f"malformed flight order: {brief(exc)}") from None
+    def from_json(text: str, max_bytes: int = MAX_REQUEST_BYTES) -> 'FlightOrder':
+        """Inverse of :meth:`to_json`: the one validation of a hand-off (raises ValueError).
+
+        The release node applies it to the text it sends and the simulator to the text it
+        receives, so both judge an order by the same rules.
+        """
+        if not isinstance(text, str) or len(text.encode('utf-8', errors='replace')) > max_bytes:
+            raise ValueError(f'a flight order must be JSON text of at most {max_bytes} bytes')
+        data = load_strict(text)
+        if not isinstance(data, dict):
+            raise ValueError('a flight order must be a JSON object')
+        unknown = sorted(set(data) - set(ORDER_KEYS))
+        if unknown:
+            raise ValueError(f"unknown flight-order key(s) {brief(', '.join(unknown))}")
+        missing = [k for k in ('id', 'position', 'velocity', 'orientation', 'angular_velocity')
+                   if k not in data]
+        if missing:
+            raise ValueError(f"the flight order lacks {', '.join(missing)}")
+        request_id = check_id(data['id'])
+        order_id = check_id(data['order']) if 'order' in data else ''
+        ball = data.get('ball', 'american')
+        model = data.get('model', 'paper')
+        moment = data.get('moment', 'linear')
+        if model not in MODELS:
+            raise ValueError(f"'model' must be one of {', '.join(MODELS)}, got {brief(model)}")
+        if moment not in MOMENT_CURVES:
+            raise ValueError(f"'moment' must be one of {', '.join(MOMENT_CURVES)}, got {brief(moment)}")
+        ball_params = data.get('ball_params') or {}
+        aero = data.get('aero') or {}
+        for key, value in (('ball_params', ball_params), ('aero', aero)):
+            if not isinstance(value, dict):
+                raise ValueError(f"'{key}' must be a mapping, got {brief(value)}")
+        if aero and model != 'full':
+            raise ValueError("'aero' settings need model: full")
+        get_preset(ball, ball_params)
+        AeroModel.from_mapping(aero)
+        initial = InitialState.from_rigid_body(_vector(data, 'position', 3), _vector(data, 'velocity', 3),
+                                               _vector(data, 'orientation', 4),
+                                               _vector(data, 'angular_velocity', 3))
+        return FlightOrder(request_id, ball, ball_params, model, moment, initial, aero, order_id)
 
 
 def flight_summary(times: np.ndarray, positions: np.ndarray, landed: bool) -> dict[str, float]:
-    """time_of_flight [s], range [m] (horizontal distance from the release), apex height [m]."""
+    """Return time_of_flight [s], range [m] (horizontal distance from the release), apex height [m]."""
     horizontal = positions[-1, :2] - positions[0, :2]
-    return {"time_of_flight": float(times[-1]) if landed else math.nan,
-            "range": float(np.hypot(*horizontal)) if landed else math.nan,
-            "apex_height": float(np.max(positions[:, 2]))}
+    return {'time_of_flight': float(times[-1]) if landed else math.nan,
+            'range': float(np.hypot(*horizontal)) if landed else math.nan,
+            'apex_height': float(np.max(positions[:, 2]))}

@@ -6,6 +6,7 @@ import time
 from collections import Counter
 from pathlib import Path
 
+import numpy as np
 import pytest
 from diagnostic_msgs.msg import DiagnosticStatus
 from geometry_msgs.msg import PoseStamped
@@ -14,6 +15,7 @@ from std_msgs.msg import String
 
 from football_ros.nodes import qos
 from football_ros.physics import Flight, Release
+from football_ros.physics.frames import quaternion_to_matrix
 
 OK, WARN, ERROR = 0, 1, 2  # DiagnosticStatus levels (bytes in rclpy, compared as ints)
 REQUIRED_VALUES = {"omega_fast", "omega_slow", "critical_spin_rpm", "equilibrium_sideslip", "stable",
@@ -110,8 +112,8 @@ def test_without_simulator_the_answer_says_so(start_node, client):
 
 
 BAD_REQUESTS = [
-    ("{id: b1, speed: .nan}", "b1", "finite"),
-    ("{id: b2, speed: -.inf}", "b2", "finite"),
+    ("{id: b1, speed: .nan}", "b1", "must be a number"),
+    ("{id: b2, speed: -1e999}", "b2", "finite"),
     ("{id: b3, speed: -12}", "b3", "outside"),
     ("{id: b4, speed: 3000}", "b4", "outside"),
     ("{id: b5, spin_rpm: 1e7}", "b5", "outside"),
@@ -124,7 +126,13 @@ BAD_REQUESTS = [
     ("{id: b12, aero: {drag: false}}", "b12", "need model: full"),
     ("{id: [oops", None, "malformed"),
     ("[1, 2, 3]", None, "mapping"),
-    ("!!python/object/apply:os.system ['echo pwned']", None, "malformed"),
+    ("!!python/object/apply:os.system ['echo pwned']", None, "tags"),
+    ("{id: b13, speed: 0x14}", "b13", "must be a number"),
+    ("{id: b14, speed: 20, speed: 21}", "b14", "duplicate key"),
+    ("{id: b15, aero: {wind: [[[[1]]]]}}", "b15", "nested"),
+    ("{id: b16, spin_rpm: " + "9" * 400 + "}", "b16", "digits"),
+    ("{id: b17, ball: '" + "x" * 50000 + "'}", "b17", "unknown ball preset"),
+    ("{id: b18, alpha0_deg: 50, beta0_deg: 50}", "b18", "axis offset"),
     ("a: &a [1]\nb: *a", None, "aliases"),
     ("x" * 100000, None, "bytes"),
 ]
@@ -140,6 +148,7 @@ def test_each_bad_input_class_gets_one_error_and_nothing_else_changes(start_node
     for (text, rid, reason), resp in zip(BAD_REQUESTS, responses):
         assert level(resp) == ERROR, (text[:40], resp.message)
         assert reason in resp.message, (text[:40], resp.message)
+        assert len(resp.message) <= 420 and "internal error" not in resp.message
         assert resp.name == rid if rid else resp.name.startswith("req-")
     assert simulator.log().count("released at") == flights_before  # no flight was started
     log = release.log()
@@ -149,41 +158,64 @@ def test_each_bad_input_class_gets_one_error_and_nothing_else_changes(start_node
     assert level(good) == OK
 
 
-def _state_request(release: Release, sec: int, ball: str = "american") -> Odometry:
+def _state_request(release: Release, sec: int, child: str = "football") -> Odometry:
+    """The release as an Odometry: twist in the body frame (child ``football``) or, for child
+    ``field``, in the field frame."""
     st = release.initial_state()
-    msg = Odometry(child_frame_id=ball)
+    msg = Odometry(child_frame_id=child)
     msg.header.frame_id = "field"
     msg.header.stamp.sec, msg.header.stamp.nanosec = sec, 5
     p, q = msg.pose.pose.position, msg.pose.pose.orientation
     p.x, p.y, p.z = map(float, st.position)
     q.x, q.y, q.z, q.w = map(float, st.attitude)
+    to_twist = np.eye(3) if child == "field" else quaternion_to_matrix(st.attitude).T
     lin, ang = msg.twist.twist.linear, msg.twist.twist.angular
-    lin.x, lin.y, lin.z = map(float, st.velocity)
-    ang.x, ang.y, ang.z = map(float, st.angular_velocity())
+    lin.x, lin.y, lin.z = map(float, to_twist @ st.velocity)
+    ang.x, ang.y, ang.z = map(float, to_twist @ st.angular_velocity())
     return msg
 
 
 def test_typed_state_request(start_node, client):
+    """Any Odometry of the ball is a release: body-frame twist (the simulator's own odom fed
+    back included) or field-frame twist; the preset comes from the state_ball parameter."""
     start_node("simulator")
-    start_node("release")
+    start_node("release", "--ros-args", "-p", "state_ball:=rugby")
     connect(client)
+    client.subscribe(Odometry, qos.ODOM, qos.STATE)
     client.wait_for_subscribers(client.states)
     release = Release(ball="rugby", alpha0_deg=2.0, beta_rate_deg_s=-15.0)
-    client.states.publish(_state_request(release, 42, "rugby"))
-    bad = _state_request(release, 43, "rugby")
+    client.states.publish(_state_request(release, 42))
+    client.states.publish(_state_request(release, 45, "field"))
+    bad = _state_request(release, 43)
     bad.twist.twist.linear.x = math.nan
     client.states.publish(bad)
     client.states.publish(_state_request(release, 44, "frisbee"))
-    client.wait_for(lambda: len(client.get(qos.RELEASE_RESPONSE)) >= 3, 10.0, "3 responses")
+    client.wait_for(lambda: len(client.get(qos.RELEASE_RESPONSE)) >= 4, 10.0, "4 responses")
     by_id = {r.name: r for r in client.get(qos.RELEASE_RESPONSE)}
-    ok = by_id["state:42.000000005"]
-    assert level(ok) == OK
     expected = Flight.from_release(release)
-    assert float(values(ok)["equilibrium_sideslip"]) == pytest.approx(expected.modes.equilibrium_sideslip,
-                                                                       rel=1e-9)
-    assert float(values(ok)["omega_slow"]) == pytest.approx(expected.modes.omega_slow, rel=1e-9)
+    for name in ("state:42.000000005", "state:45.000000005"):
+        ok = by_id[name]
+        assert level(ok) == OK, ok.message
+        assert float(values(ok)["equilibrium_sideslip"]) == pytest.approx(
+            expected.modes.equilibrium_sideslip, rel=1e-9)
+        assert float(values(ok)["omega_slow"]) == pytest.approx(expected.modes.omega_slow, rel=1e-9)
     assert level(by_id["state:43.000000005"]) == ERROR and "finite" in by_id["state:43.000000005"].message
-    assert level(by_id["state:44.000000005"]) == ERROR and "preset" in by_id["state:44.000000005"].message
+    assert level(by_id["state:44.000000005"]) == ERROR and "child_frame_id" in by_id["state:44.000000005"].message
+    # The simulator's own odometry, fed back, starts the same flight from that instant.
+    client.wait_for(lambda: len(client.get(qos.ODOM)) > 20, 10.0, "odometry")
+    odom = client.get(qos.ODOM)[20]
+    odom.header.stamp.sec, odom.header.stamp.nanosec = 46, 5
+    client.states.publish(odom)
+    client.wait_for(lambda: any(r.name == "state:46.000000005" for r in client.get(qos.RELEASE_RESPONSE)),
+                    10.0, "the fed-back odometry's answer")
+    [fed] = [r for r in client.get(qos.RELEASE_RESPONSE) if r.name == "state:46.000000005"]
+    assert level(fed) == OK, fed.message
+    # The paper model has no drag: x = vx t gives the odometry's flight time.
+    t = odom.pose.pose.position.x / release.initial_state().velocity[0]
+    full = expected.simulate()
+    assert float(values(fed)["time_of_flight"]) == pytest.approx(full.times[-1] - t, abs=1e-6)
+    assert float(values(fed)["landing_x"]) == pytest.approx(full.positions[-1, 0], abs=1e-5)
+    assert float(values(fed)["landing_y"]) == pytest.approx(full.positions[-1, 1], abs=1e-5)
 
 
 def _rss_kb(pid: int) -> int:

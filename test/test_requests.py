@@ -29,7 +29,13 @@ def test_yaml_and_json_forms_are_equivalent():
 
 
 @pytest.mark.parametrize("text, reason", [
-    ("{id: x, speed: .nan}", "finite"), ("{id: x, speed: .inf}", "finite"),
+    ("{id: x, speed: .nan}", "must be a number"), ("{id: x, speed: 1e999}", "finite"),
+    ("{id: x, speed: 0x14}", "must be a number"), ("{id: x, speed: 2_0}", "must be a number"),
+    ("{id: x, speed: 1" + "0" * 60 + "}", "digits"), ("{id: x, spin_rpm: " + "9" * 39 + "}", "outside"),
+    ("{id: x, speed: 20, speed: 21}", "duplicate key"), ("{id: x, speed: !!float 20}", "tags"),
+    ("{id: x, ball_params: !!binary aGk=}", "tags"), ("{id: x, position: !!set {a, b}}", "tags"),
+    ("{id: x, speed: 2001-01-01}", "must be a number"), ("{id: x, alpha0_deg: 55, beta0_deg: 55}", "axis offset"),
+    ("{id: x, aero: {wind: [[[1]]]}}", "nested"),
     ("{id: x, speed: -1}", "outside"), ("{id: x, speed: 1e9}", "outside"),
     ("{id: x, spin_rpm: 99999}", "outside"), ("{id: x, elevation_deg: 91}", "outside"),
     ("{id: x, beta0_deg: -75}", "outside"), ("{id: x, ball: soccer}", "unknown ball preset"),
@@ -46,7 +52,9 @@ def test_bad_values_keep_the_id_and_name_the_problem(text, reason):
 
 @pytest.mark.parametrize("text, reason", [
     ("id: [unclosed", "malformed"), ("- just\n- a list", "mapping"), ("42", "mapping"),
-    ("a: &x [1]\nb: *x", "aliases"), ("!!python/object:os.system {}", "malformed"),
+    ("a: &x [1]\nb: *x", "aliases"), ("!!python/object:os.system {}", "tags"),
+    ("<<: {speed: 20}", "merge keys"), ("{id: a}\n---\n{id: b}", "single"),
+    ("[" * 30000 + "]" * 30000, "nest"), ("{? [a] : 1}", "key must be a string"),
     ("{1: 2}", "string"), ("{id: [1, 2]}", "'id'"), ("{id: ''}", "'id'"),
     ("x" * 70000, "bytes"), ("{id: \"a\\x00b\"}", "printable"),
 ])
@@ -114,11 +122,51 @@ def test_fuzz_arbitrary_text(text):
     _outcome(text)
 
 
+def _offset_deg(alpha0, beta0):
+    """Total angle between axis and velocity of an (alpha0, beta0) offset [deg]."""
+    return math.degrees(math.acos(math.cos(math.radians(alpha0)) * math.cos(math.radians(beta0))))
+
+
 @settings(max_examples=200, deadline=None)
 @given(st.floats(1.0, 60.0), st.floats(-80.0, 80.0).filter(lambda e: e > 0.5),
-       st.floats(-3000.0, 3000.0), st.floats(-60.0, 60.0), st.floats(-60.0, 60.0))
-def test_fuzz_valid_ranges_are_accepted(speed, elevation, spin, alpha0, beta0):
+       st.floats(-3000.0, 3000.0), st.floats(-60.0, 60.0), st.floats(-60.0, 60.0),
+       st.floats(-3600.0, 3600.0), st.floats(-3600.0, 3600.0))
+def test_fuzz_valid_ranges_are_accepted_and_every_accepted_release_is_a_valid_order(
+        speed, elevation, spin, alpha0, beta0, alpha_rate, beta_rate):
+    """One truth: a release accepted field by field is also accepted as a flight order, and the
+    combined limits (total axis offset, transverse rate) decide exactly as the order's do."""
     text = json.dumps({"id": "ok", "speed": speed, "elevation_deg": elevation, "spin_rpm": spin,
-                       "alpha0_deg": alpha0, "beta0_deg": beta0})
+                       "alpha0_deg": alpha0, "beta0_deg": beta0, "alpha_rate_deg_s": alpha_rate,
+                       "beta_rate_deg_s": beta_rate})
     release = _outcome(text)
-    assert release is not None and math.isclose(release.speed, speed)
+    combined_ok = _offset_deg(alpha0, beta0) <= 60.0 and math.hypot(alpha_rate, beta_rate) <= 3600.0
+    if release is None:
+        assert not combined_ok or min(abs(_offset_deg(alpha0, beta0) - 60.0),
+                                      abs(math.hypot(alpha_rate, beta_rate) - 3600.0)) < 1e-6
+        return
+    assert math.isclose(release.speed, speed)
+    order = FlightOrder.from_release("ok", release, "o-1")
+    back = FlightOrder.from_json(order.to_json())
+    assert back.order_id == "o-1" and np.allclose(back.initial.velocity, order.initial.velocity)
+
+
+@pytest.mark.parametrize("speed, elevation", [(60.0, 80.0), (60.0, -80.0), (1.0, 80.0), (60.0, 45.0)])
+def test_edges_of_the_ranges_survive_the_hand_off(speed, elevation):
+    """Round-off in the derived state must not refuse a release at the edge of a range."""
+    release = Release(speed=speed, elevation_deg=elevation, position=(0.0, 0.0, 2.0), spin_rpm=3000.0,
+                      alpha0_deg=60.0)
+    assert FlightOrder.from_json(FlightOrder.from_release("e", release).to_json()).request_id == "e"
+
+
+@pytest.mark.parametrize("patch, reason", [
+    ({"velocity": [1e308, 1e308, 0]}, "speed"), ({"velocity": "fast"}, "velocity"),
+    ({"orientation": [0, 0, 0, 0]}, "unit quaternion"), ({"position": [0, 0, -1]}, "position"),
+    ({"ball_params": {"mass": 0}}, "mass"), ({"model": "warp"}, "model"),
+    ({"aero": {"c_d0": 1}}, "model: full"), ({"extra": 1}, "unknown flight-order key"),
+    ({"id": ""}, "'id'"), ({"angular_velocity": [1e400, 0, 0]}, "finite"),
+])
+def test_bad_orders_name_the_field(patch, reason):
+    data = json.loads(FlightOrder.from_release("b", Release()).to_json())
+    data.update(patch)
+    with pytest.raises(ValueError, match=reason):
+        FlightOrder.from_json(json.dumps(data).replace("Infinity", "1e400"))

@@ -15,6 +15,7 @@ RELEASE_REQUEST = "football/release/request"
 RELEASE_RESPONSE = "football/release/response"
 RELEASE_STATE = "football/release/state"
 FLIGHT_ORDER = "football/flight/order"
+FLIGHT_ACK = "football/flight/ack"
 RESET_SERVICE = "football/reset"
 PAUSE_SERVICE = "football/pause"
 
@@ -32,7 +33,7 @@ CLOCK_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
 # Requests and responses: reliable and deep, so a burst of requests is answered one by one.
 REQUEST = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000,
                      reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
-# Flight orders (release node -> simulator): reliable, volatile: a simulator that is not there
-# when a release is accepted must not fly it later.
-ORDER = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
-                   reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
+# Flight orders (release node -> simulator) and their acknowledgements (simulator -> release
+# node): reliable, volatile (a simulator that is not there when a release is accepted must not
+# fly it later), as deep as the requests so that a burst is not cut short in transit.
+ORDER = REQUEST

@@ -1,16 +1,26 @@
 """Release node: release conditions in, one accept/reject answer out, flight order to the simulator.
 
-Requests: ``football/release/request`` (std_msgs/String, YAML or JSON mapping) or
-``football/release/state`` (nav_msgs/Odometry, the full rigid-body release state). Every
-request gets exactly one ``football/release/response`` (diagnostic_msgs/DiagnosticStatus) with
-name = the request id. An accepted release is sent to the simulator on ``football/flight/order``
-and replaces any flight in the air. Contract and ranges: msg_docs/release.md.
+Requests: ``football/release/request`` (std_msgs/String, strict YAML/JSON mapping) or
+``football/release/state`` (nav_msgs/Odometry, the ball's rigid-body state). Every request gets
+exactly one ``football/release/response`` (diagnostic_msgs/DiagnosticStatus, name = the request
+id). A valid release becomes a flight order on ``football/flight/order``; the answer waits for
+the simulator's acknowledgement on ``football/flight/ack``, so OK means "the simulator has
+started this flight", and a refusal or silence (``ack_timeout``, wall time) is an ERROR.
+
+Threads: the executor thread reads requests cheaply (strict parse, field checks) and queues them;
+a worker thread predicts the flight and sends the order; acknowledgements come back on the
+executor. A request that finds the queue full is answered "busy" at once. Contract: msg_docs/.
 """
 
 from __future__ import annotations
 
 import math
+import os
+import queue
+import threading
+import time
 import traceback
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -20,17 +30,21 @@ from rcl_interfaces.msg import SetParametersResult
 from rclpy.node import Node
 from std_msgs.msg import String
 
-from ..physics import Flight, InitialState, ReleaseError, get_preset
-from ..physics.frames import FIELD_FRAME
-from ..requests import (MAX_REQUEST_BYTES, FlightOrder, RequestError, flight_summary,
+from ..physics import Flight, InitialState, Release, ReleaseError, get_preset
+from ..physics.frames import BODY_FRAME, FIELD_FRAME, quaternion_to_matrix
+from ..physics.release import MODELS, MOMENT_CURVES
+from ..requests import (MAX_REQUEST_BYTES, FlightOrder, RequestError, brief, capped, flight_summary,
                         parse_release_request)
 from . import messages as mb
 from . import qos
 from .params import declare
 from .runner import run_node
 
-NODE_NAME = "football_release"
+NODE_NAME = 'football_release'
+HARDWARE_ID = 'football_ros/release'
 PREDICTION_HORIZON_S = 60.0
+MAX_PENDING = 256
+"""Orders waiting for the simulator's acknowledgement at most (more: answered 'busy')."""
 
 
 def prediction(flight: Flight) -> dict[str, object]:
@@ -38,118 +52,293 @@ def prediction(flight: Flight) -> dict[str, object]:
     m = flight.modes
     trajectory = flight.simulate(rate=100.0, duration=PREDICTION_HORIZON_S)
     values: dict[str, object] = {
-        "omega_fast": m.omega_fast, "omega_slow": m.omega_slow, "critical_spin_rpm": m.critical_spin_rpm,
-        "equilibrium_sideslip": m.equilibrium_sideslip, "stable": m.stable, "m_alpha": m.m_alpha,
-        "h1": m.h1, "gyroscopic_stability_factor": m.gyroscopic_stability_factor,
+        'omega_fast': m.omega_fast, 'omega_slow': m.omega_slow, 'critical_spin_rpm': m.critical_spin_rpm,
+        'equilibrium_sideslip': m.equilibrium_sideslip, 'stable': m.stable, 'm_alpha': m.m_alpha,
+        'h1': m.h1, 'gyroscopic_stability_factor': m.gyroscopic_stability_factor,
     }
     values.update(flight_summary(trajectory.times, trajectory.positions, trajectory.landed))
     if trajectory.landed:
-        values.update({"landing_x": float(trajectory.positions[-1, 0]),
-                       "landing_y": float(trajectory.positions[-1, 1])})
+        values.update({'landing_x': float(trajectory.positions[-1, 0]),
+                       'landing_y': float(trajectory.positions[-1, 1])})
     return values
 
 
+@dataclass
+class _Work:
+    """A request read and checked, waiting for the worker: its id and its flight order."""
+
+    request_id: str
+    order: FlightOrder | None = None
+    release: Release | None = None
+
+
+@dataclass
+class _Pending:
+    """An order sent to the simulator, waiting for its acknowledgement."""
+
+    request_id: str
+    deadline: float          # time.monotonic() [s]
+    text: str                # the accepted answer's sentence
+    stable: bool
+    values: dict
+
+
 class ReleaseNode(Node):
-    """Validates release requests, answers each one, and orders accepted flights."""
+    """Validates release requests, orders accepted flights and answers each request once."""
 
     def __init__(self) -> None:
         super().__init__(NODE_NAME)
-        self.max_request_bytes = declare(self, "max_request_bytes", MAX_REQUEST_BYTES,
-                                         "Largest accepted request text [bytes]", (64, 1 << 20))
-        self.integration_step = declare(self, "integration_step", 0.001,
-                                        "Integration step of the landing prediction [s]", (1e-5, 0.01))
-        self.add_on_set_parameters_callback(self._on_parameters)  # ranges: enforced by descriptors
+        self.max_request_bytes = declare(self, 'max_request_bytes', MAX_REQUEST_BYTES,
+                                         'Largest accepted request text [bytes]', (64, 1 << 20))
+        self.integration_step = declare(self, 'integration_step', 0.001,
+                                        'Integration step of the landing prediction [s]', (5e-4, 0.01))
+        self.ack_timeout = declare(self, 'ack_timeout', 1.0,
+                                   "Wall time to wait for the simulator's acknowledgement [s]", (0.1, 10.0))
+        self.queue_depth = declare(self, 'queue_depth', 64,
+                                   'Requests waiting for the worker at most; more are answered busy',
+                                   (1, 1000), read_only=True)
+        self.state_ball = declare(self, 'state_ball', 'american',
+                                  'Ball preset of releases given as an Odometry on football/release/state')
+        self.state_model = declare(self, 'state_model', 'paper', 'Model of Odometry releases: paper or full')
+        self.state_moment = declare(self, 'state_moment', 'linear',
+                                    'Moment curve of Odometry releases: linear or sin2delta')
+        self.body_frame_id = declare(self, 'body_frame_id', BODY_FRAME,
+                                     'Body frame an Odometry release may give its twist in')
+        for name, value in (('state_ball', self.state_ball), ('state_model', self.state_model),
+                            ('state_moment', self.state_moment)):
+            problem = self._check_choice(name, value)
+            if problem:
+                raise ValueError(problem)
+        self.add_on_set_parameters_callback(self._on_parameters)
+        self._token = os.urandom(3).hex()   # order ids unique across release nodes on a domain
+        self._sequence = 0
+        self._lock = threading.Lock()       # pending orders and the response publisher
+        self._pending: dict[str, _Pending] = {}
+        self._other_simulators: set[str] = set()
+        self._work: queue.Queue[_Work] = queue.Queue(maxsize=self.queue_depth)
+        self.counts = {'accepted': 0, 'rejected': 0, 'busy': 0}
         self._responses = self.create_publisher(DiagnosticStatus, qos.RELEASE_RESPONSE, qos.REQUEST)
         self._orders = self.create_publisher(String, qos.FLIGHT_ORDER, qos.ORDER)
+        prediction(Flight.from_release(Release()))  # compile the prediction before 'ready'
+        self.create_subscription(DiagnosticStatus, qos.FLIGHT_ACK, self._on_ack, qos.REQUEST)
         self.create_subscription(String, qos.RELEASE_REQUEST, self._on_request, qos.REQUEST)
         self.create_subscription(Odometry, qos.RELEASE_STATE, self._on_state, qos.REQUEST)
-        self.counts = {"accepted": 0, "rejected": 0}
+        self._stop = threading.Event()
+        self._worker = threading.Thread(target=self._serve, name='football-release-worker', daemon=True)
+        self._worker.start()
         self.get_logger().info(
             f"ready: requests on '{self.resolve_topic_name(qos.RELEASE_REQUEST)}' and "
             f"'{self.resolve_topic_name(qos.RELEASE_STATE)}', answers on "
             f"'{self.resolve_topic_name(qos.RELEASE_RESPONSE)}'")
 
+    # --- parameters ------------------------------------------------------------------------
+    @staticmethod
+    def _check_choice(name: str, value) -> str | None:
+        choices = {'state_ball': None, 'state_model': MODELS, 'state_moment': MOMENT_CURVES}
+        if name == 'state_ball':
+            try:
+                get_preset(value)
+            except ValueError as exc:
+                return f'{name}: {exc}'
+        elif name in choices and value not in choices[name]:
+            return f"{name} must be one of {', '.join(choices[name])}, got {brief(value)}"
+        return None
+
     def _on_parameters(self, params) -> SetParametersResult:
         for p in params:
-            if p.name != "use_sim_time":
+            problem = self._check_choice(p.name, p.value)
+            if p.name == 'body_frame_id' and not p.value:
+                problem = 'body_frame_id must not be empty'
+            if problem:
+                return SetParametersResult(successful=False, reason=problem)
+        for p in params:
+            if p.name != 'use_sim_time':
                 setattr(self, p.name, p.value)
         return SetParametersResult(successful=True)
 
+    # --- executor thread: read, check, queue -------------------------------------------------
     def _on_request(self, msg: String) -> None:
-        request_id = "unknown"
         try:
             request_id, release = parse_release_request(msg.data, self.max_request_bytes)
-            answer = self._decide(FlightOrder.from_release(request_id, release))
         except RequestError as exc:
-            answer = self._rejection(exc.request_id, str(exc))
+            self._reject(exc.request_id, str(exc))
+            return
         except Exception as exc:  # never let one request take the node down
-            answer = self._internal_error(request_id, exc)
-        self._respond(*answer)
+            self._internal_error('unknown', exc)
+            return
+        self._enqueue(_Work(request_id, release=release))
 
     def _on_state(self, msg: Odometry) -> None:
         stamp = msg.header.stamp
-        request_id = f"state:{stamp.sec}.{stamp.nanosec:09d}"
+        request_id = f'state:{stamp.sec}.{stamp.nanosec:09d}'
         try:
-            if msg.header.frame_id not in ("", FIELD_FRAME):
-                raise ReleaseError(f"header.frame_id must be '{FIELD_FRAME}' (or empty), "
-                                   f"got '{msg.header.frame_id[:40]}'")
-            ball = msg.child_frame_id or "american"
-            get_preset(ball)
-            pose, twist = msg.pose.pose, msg.twist.twist
-            initial = InitialState.from_rigid_body(
-                mb.vector_of(pose.position), mb.vector_of(twist.linear),
-                [pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w],
-                mb.vector_of(twist.angular))
-            answer = self._decide(FlightOrder(request_id, ball, {}, "paper", "linear", initial))
+            order = self._order_from_odometry(request_id, msg)
         except (ReleaseError, ValueError) as exc:
-            answer = self._rejection(request_id, str(exc))
+            self._reject(request_id, str(exc))
+            return
         except Exception as exc:
-            answer = self._internal_error(request_id, exc)
-        self._respond(*answer)
+            self._internal_error(request_id, exc)
+            return
+        self._enqueue(_Work(request_id, order=order))
 
-    def _decide(self, order: FlightOrder) -> tuple[str, str, str, dict]:
-        """Accept (and order the flight) or reject; returns the answer to publish."""
+    def _order_from_odometry(self, request_id: str, msg: Odometry) -> FlightOrder:
+        """The flight order an Odometry of the ball means (twist per the Odometry convention)."""
+        frame, child = msg.header.frame_id, msg.child_frame_id
+        if frame not in ('', FIELD_FRAME):
+            raise ReleaseError(f"header.frame_id must be '{FIELD_FRAME}' (or empty), got {brief(frame)}")
+        if child not in ('', self.body_frame_id, FIELD_FRAME):
+            raise ReleaseError(f"child_frame_id must be the ball's body frame '{self.body_frame_id}' "
+                               f"(twist in the body frame) or '{FIELD_FRAME}' (twist in the field), "
+                               f'got {brief(child)}')
+        pose, twist = msg.pose.pose, msg.twist.twist
+        quat = np.array([pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w])
+        linear, angular = mb.vector_of(twist.linear), mb.vector_of(twist.angular)
+        if child != FIELD_FRAME:  # the body frame's components: rotate into the field
+            if not np.all(np.isfinite(quat)) or not np.linalg.norm(quat) > 0.0:
+                raise ReleaseError(f'orientation must be 4 finite numbers of a unit quaternion, got {list(quat)}')
+            rotation = quaternion_to_matrix(quat / np.linalg.norm(quat))
+            linear, angular = rotation @ linear, rotation @ angular
+        initial = InitialState.from_rigid_body(mb.vector_of(pose.position), linear, quat, angular)
+        return FlightOrder(request_id, self.state_ball, {}, self.state_model, self.state_moment, initial)
+
+    def _enqueue(self, work: _Work) -> None:
         try:
+            self._work.put_nowait(work)
+        except queue.Full:
+            self.counts['busy'] += 1
+            self._respond(work.request_id, 'ERROR',
+                          f'busy: {self.queue_depth} requests are waiting; send it again later',
+                          {'busy': True}, log=False)
+
+    # --- worker thread: predict, order, expire ---------------------------------------------
+    def _serve(self) -> None:
+        while not self._stop.is_set():
+            try:
+                work = self._work.get(timeout=0.05)
+            except queue.Empty:
+                work = None
+            if work is not None:
+                try:
+                    self._order(work)
+                except Exception as exc:
+                    self._internal_error(work.request_id, exc)
+            self._expire()
+
+    def _order(self, work: _Work) -> None:
+        """Validate the order as the simulator will, predict it, send it and wait for the ack."""
+        with self._lock:
+            self._sequence += 1
+            order_id = f'{self._token}-{self._sequence}'
+            busy = len(self._pending) >= MAX_PENDING
+        if busy:
+            self.counts['busy'] += 1
+            self._respond(work.request_id, 'ERROR', f'busy: {MAX_PENDING} flight orders await the '
+                          "simulator's acknowledgement; send it again later", {'busy': True}, log=False)
+            return
+        order = work.order
+        try:
+            if order is None:
+                order = FlightOrder.from_release(work.request_id, work.release, order_id)
+            else:
+                order = replace(order, order_id=order_id)
+            text = order.to_json()
+            FlightOrder.from_json(text)  # the simulator's own rules: one validation, one truth
             flight = order.flight(self.integration_step)
         except ValueError as exc:
-            return self._rejection(order.request_id, str(exc))
+            self._reject(work.request_id, str(exc))
+            return
         values = prediction(flight)
         if self._orders.get_subscription_count() == 0:
-            return self._rejection(order.request_id, "valid release, but no simulator is listening on "
-                                   f"'{self.resolve_topic_name(qos.FLIGHT_ORDER)}' (start: ros2 run "
-                                   "football_ros simulator)", values)
-        self._orders.publish(String(data=order.to_json()))
+            self._reject(work.request_id, 'valid release, but no simulator is listening on '
+                         f"'{self.resolve_topic_name(qos.FLIGHT_ORDER)}' (start one: "
+                         "'ros2 run football_ros simulator' or 'football-ros simulator')", values)
+            return
+        tof = values['time_of_flight']
         stable = flight.modes.stable
-        tof = values["time_of_flight"]
-        text = (f"accepted: {order.ball_name} at {np.linalg.norm(order.initial.velocity):.2f} m/s; "
-                + (f"lands at {values['range']:.2f} m after {tof:.3f} s" if not math.isnan(tof)
-                   else f"still flying after {PREDICTION_HORIZON_S:g} s")
-                + ("" if stable else "; WARNING: gyroscopically unstable "
-                   f"(spin below {values['critical_spin_rpm']:.0f} rpm), the ball will tumble"))
-        self.counts["accepted"] += 1
-        if stable:
-            self.get_logger().info(f"request '{order.request_id}' {text}")
-        else:
-            self.get_logger().warning(f"request '{order.request_id}' {text}")
-        return order.request_id, "OK" if stable else "WARN", text, values
+        sentence = (f'{order.ball_name} at {np.linalg.norm(order.initial.velocity):.2f} m/s; '
+                    + (f"lands at {values['range']:.2f} m after {tof:.3f} s" if not math.isnan(tof)
+                       else f'still flying after {PREDICTION_HORIZON_S:g} s')
+                    + ('' if stable else '; WARNING: gyroscopically unstable '
+                       f"(spin below {values['critical_spin_rpm']:.0f} rpm), the ball will tumble"))
+        with self._lock:
+            self._pending[order_id] = _Pending(work.request_id, time.monotonic() + self.ack_timeout,
+                                               sentence, stable, values)
+        self._orders.publish(String(data=text))
 
-    def _rejection(self, request_id: str, reason: str, values: dict | None = None):
-        self.counts["rejected"] += 1
-        self.get_logger().warning(f"request '{request_id}' rejected: {reason}")
-        return request_id, "ERROR", f"rejected: {reason}", values or {}
+    def _expire(self) -> None:
+        now = time.monotonic()
+        with self._lock:
+            late = [(oid, p) for oid, p in self._pending.items() if p.deadline <= now]
+            for oid, _ in late:
+                del self._pending[oid]
+        for _, pending in late:
+            self._reject(pending.request_id, f'no simulator acknowledged the flight order within '
+                         f'{self.ack_timeout:g} s (is the simulator running?)', pending.values)
 
-    def _internal_error(self, request_id: str, exc: Exception):
+    # --- executor thread: acknowledgements ---------------------------------------------------
+    def _on_ack(self, msg: DiagnosticStatus) -> None:
+        try:
+            with self._lock:
+                pending = self._pending.pop(msg.name, None)
+            simulator = msg.hardware_id[:120]
+            if pending is None:
+                if msg.name.startswith(self._token + '-') and simulator not in self._other_simulators \
+                        and len(self._other_simulators) < 16:
+                    self._other_simulators.add(simulator)
+                    self.get_logger().warning(
+                        f"flight order '{msg.name[:40]}' was acknowledged again, by '{simulator}': more "
+                        'than one simulator listens to the flight orders (or its answer came too late)')
+                return
+            values = dict(pending.values, simulator=simulator)
+            if mb.level_of(msg) == 'ERROR':
+                self._reject(pending.request_id, f'the simulator refused the flight: {msg.message}', values)
+                return
+            level = 'OK' if pending.stable else 'WARN'
+            self.counts['accepted'] += 1
+            self._respond(pending.request_id, level, f'accepted: {pending.text}', values)
+        except Exception as exc:
+            self._internal_error(msg.name[:40] or 'unknown', exc)
+
+    # --- answers -----------------------------------------------------------------------------
+    def _reject(self, request_id: str, reason: str, values: dict | None = None) -> None:
+        self.counts['rejected'] += 1
+        self._respond(request_id, 'ERROR', f'rejected: {capped(reason)}', values or {})
+
+    def _internal_error(self, request_id: str, exc: Exception) -> None:
         self.get_logger().error(f"request '{request_id}': internal error\n{traceback.format_exc()}")
-        return self._rejection(request_id, f"internal error ({type(exc).__name__}: {exc})")
+        self._reject(request_id, f'internal error ({type(exc).__name__}); the node logged the details')
 
-    def _respond(self, request_id: str, level: str, message: str, values: dict) -> None:
-        self._responses.publish(mb.diagnostic_status(request_id, level, message, values,
-                                                     hardware_id="football_ros/release"))
+    def _respond(self, request_id: str, level: str, message: str, values: dict, log: bool = True) -> None:
+        if log and level == 'OK':
+            self.get_logger().info(f"request '{request_id}' {message}")
+        elif log:  # rclpy fixes one severity per call site
+            self.get_logger().warning(f"request '{request_id}' {message}")
+        status = mb.diagnostic_status(request_id, level, message, values, hardware_id=HARDWARE_ID)
+        with self._lock:
+            self._responses.publish(status)
+
+    def close(self) -> None:
+        """Stop the worker; answer what is still queued or awaiting an acknowledgement."""
+        self._stop.set()
+        self._worker.join(timeout=2.0)
+        left = []
+        while True:
+            try:
+                left.append(self._work.get_nowait().request_id)
+            except queue.Empty:
+                break
+        with self._lock:
+            left += [p.request_id for p in self._pending.values()]
+            self._pending.clear()
+        if not self.context.ok():
+            return
+        for request_id in left:
+            self._reject(request_id, 'the release node is shutting down')
 
 
 def main(argv=None) -> int:
-    return run_node(ReleaseNode, argv, "release")
+    return run_node(ReleaseNode, argv, 'release')
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     raise SystemExit(main())

@@ -16,10 +16,11 @@ import math
 import sys
 import threading
 import time
+import traceback
 from dataclasses import dataclass, field
 
 import numpy as np
-from diagnostic_msgs.msg import DiagnosticArray
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from geometry_msgs.msg import PoseStamped, Vector3Stamped
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import SetParametersResult
@@ -33,7 +34,7 @@ from ..physics import Release
 from ..physics.release import RPM
 from ..physics.flight import BallSample, Flight
 from ..physics.frames import BODY_FRAME, FIELD_FRAME
-from ..requests import FlightOrder
+from ..requests import FlightOrder, capped, load_strict
 from . import messages as mb
 from . import qos
 from .params import declare
@@ -107,6 +108,7 @@ class SimulatorNode(Node):
         self._markers_pub = self.create_publisher(MarkerArray, qos.MARKERS, qos.MARKERS_QOS)
         self._diag_pub = self.create_publisher(DiagnosticArray, qos.DIAGNOSTICS, qos.DIAGNOSTICS_QOS)
         self._clock_pub = self.create_publisher(Clock, qos.CLOCK, qos.CLOCK_QOS)
+        self._ack_pub = self.create_publisher(DiagnosticStatus, qos.FLIGHT_ACK, qos.ORDER)
         self.create_subscription(String, qos.FLIGHT_ORDER, self._on_order, qos.ORDER)
         self.create_service(Trigger, qos.RESET_SERVICE, self._on_reset)
         self.create_service(SetBool, qos.PAUSE_SERVICE, self._on_pause)
@@ -153,13 +155,32 @@ class SimulatorNode(Node):
         run.trail = collections.deque(run.trail, maxlen=max(self.trail_length, 1))
 
     def _on_order(self, msg: String) -> None:
+        """Fly a valid order and acknowledge it (OK), or refuse it with the reason (ERROR).
+
+        Every order gets exactly one acknowledgement on football/flight/ack, named by the
+        order's ``order`` id (else its ``id``): the release node answers its client from it.
+        """
+        name = 'unknown'
         try:
+            name = _order_name(msg.data)
             order = FlightOrder.from_json(msg.data)
             flight = order.flight(self.integration_step, self._model_override())
         except ValueError as exc:
-            self.get_logger().error(f"ignored a flight order: {exc}")
+            reason = capped(str(exc))
+            self.get_logger().error(f"refused flight order '{name}': {reason}")
+            self._acknowledge(name, 'ERROR', reason, {})
+            return
+        except Exception as exc:  # never let one order take the simulator down
+            self.get_logger().error(f"flight order '{name}': internal error\n{traceback.format_exc()}")
+            self._acknowledge(name, 'ERROR', f'internal error ({type(exc).__name__})', {})
             return
         self._start(order, flight)
+        self._acknowledge(name, 'OK', f"flying '{order.request_id}'",
+                          {'request_id': order.request_id, 'model': flight.model})
+
+    def _acknowledge(self, name: str, level: str, message: str, values: dict) -> None:
+        self._ack_pub.publish(mb.diagnostic_status(name, level, message, values,
+                                                   hardware_id=self.get_fully_qualified_name()))
 
     def _start(self, order: FlightOrder, flight: Flight) -> None:
         modes = flight.modes
@@ -187,7 +208,12 @@ class SimulatorNode(Node):
         if order is None:
             response.success, response.message = False, "no flight to reset: nothing was released yet"
             return response
-        self._start(order, order.flight(self.integration_step, self._model_override()))
+        try:
+            flight = order.flight(self.integration_step, self._model_override())
+        except ValueError as exc:
+            response.success, response.message = False, f'cannot restart: {capped(str(exc))}'
+            return response
+        self._start(order, flight)
         response.success, response.message = True, f"flight '{order.request_id}' restarted from its release"
         return response
 
@@ -328,6 +354,20 @@ class SimulatorNode(Node):
         """Stop the pacing thread (called before the node is destroyed)."""
         self._stop.set()
         self._thread.join(timeout=2.0)
+
+
+def _order_name(text: str) -> str:
+    """The ``order`` (else ``id``) of a flight order's text, for acknowledging even a bad one."""
+    try:
+        data = load_strict(text) if isinstance(text, str) and len(text) <= 1 << 20 else None
+    except ValueError as exc:
+        data = getattr(exc, 'partial', None)
+    if isinstance(data, dict):
+        for key in ('order', 'id'):
+            value = data.get(key)
+            if isinstance(value, (str, int)) and not isinstance(value, bool) and str(value).isprintable():
+                return str(value)[:128] or 'unknown'
+    return 'unknown'
 
 
 def _landed_text(position, time_of_flight: float) -> str:

@@ -40,27 +40,44 @@ LIMITS: dict[str, tuple[float, float]] = {
 }
 
 
+DERIVED_SLACK = 1e-9
+"""Round-off allowance (fraction of a range) for quantities derived from a rigid-body state."""
+
+
 class ReleaseError(ValueError):
     """A release that cannot be flown; the message says why in one sentence."""
 
 
-def check_range(name: str, value: Any, limits_key: str | None = None) -> float:
-    """Return ``value`` as a float if it is a finite number inside ``LIMITS``, else raise."""
+def check_range(name: str, value: Any, limits_key: str | None = None, slack: float = 0.0) -> float:
+    """Return ``value`` as a float if it is a finite number inside ``LIMITS``, else raise.
+
+    ``slack`` widens the range by that fraction of its span (for quantities derived from other
+    numbers, whose round-off must not turn an accepted release into a refused one).
+    """
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise ReleaseError(f"'{name}' must be a number, got {type(value).__name__} {value!r}")
-    value = float(value)
+        raise ReleaseError(f"'{name}' must be a number, got {type(value).__name__} {_brief(value)}")
+    lo, hi = LIMITS[limits_key or name]
+    try:
+        value = float(value)
+    except OverflowError:
+        raise ReleaseError(f"'{name}' is outside the accepted range [{lo:g}, {hi:g}]") from None
     if not math.isfinite(value):
         raise ReleaseError(f"'{name}' must be finite, got {value}")
-    lo, hi = LIMITS[limits_key or name]
-    if not lo <= value <= hi:
+    pad = slack * (hi - lo)
+    if not lo - pad <= value <= hi + pad:
         raise ReleaseError(f"'{name}' = {value:g} is outside the accepted range [{lo:g}, {hi:g}]")
-    return value
+    return min(max(value, lo), hi)
+
+
+def _brief(value: Any, limit: int = 60) -> str:
+    text = repr(value)
+    return text if len(text) <= limit else text[:limit - 3] + '...'
 
 
 def check_position(position: Any) -> tuple[float, float, float]:
     """Validate a release position [x, y, z] in ``field`` [m]."""
     if not isinstance(position, (list, tuple, np.ndarray)) or len(position) != 3:
-        raise ReleaseError(f"'position' must be a list [x, y, z] of 3 numbers, got {position!r}")
+        raise ReleaseError(f"'position' must be a list [x, y, z] of 3 numbers, got {_brief(position)}")
     x = check_range("position[0]", position[0], "position_xy")
     y = check_range("position[1]", position[1], "position_xy")
     z = check_range("position[2]", position[2], "position_z")
@@ -107,20 +124,20 @@ class InitialState:
             arrays.append(arr)
         pos, vel, quat, omega = arrays
         check_position(list(pos))
-        check_range("speed", float(np.linalg.norm(vel)))
-        check_range("elevation_deg", math.degrees(float(frames.flight_path_angle(vel))))
+        check_range("speed", float(np.linalg.norm(vel)), slack=DERIVED_SLACK)
+        check_range("elevation_deg", math.degrees(float(frames.flight_path_angle(vel))), slack=DERIVED_SLACK)
         norm = np.linalg.norm(quat)
         if abs(norm - 1.0) > 1e-3:
             raise ReleaseError(f"orientation must be a unit quaternion, |q| = {norm:.6g}")
         quat = quat / norm
         axis = frames.body_x_axis(quat)
         delta = math.degrees(float(frames.aero_angles(axis, vel)[2]))
-        check_range("axis offset from the velocity (deg)", delta, "axis_offset_deg")
+        check_range("axis offset from the velocity (deg)", delta, "axis_offset_deg", DERIVED_SLACK)
         spin = float(np.dot(omega, axis))
-        check_range("spin_rpm", spin / RPM)
+        check_range("spin_rpm", spin / RPM, slack=DERIVED_SLACK)
         transverse = omega - spin * axis
         check_range("transverse angular rate (deg/s)", math.degrees(float(np.linalg.norm(transverse))),
-                    "transverse_rate_deg_s")
+                    "transverse_rate_deg_s", DERIVED_SLACK)
         if pos[2] <= 0.0 and vel[2] <= 0.0:
             raise ReleaseError("a release on the ground (z = 0) must go up (positive elevation)")
         return InitialState(pos, vel, axis, transverse, spin, quat)
@@ -170,11 +187,15 @@ class Release:
         if self.position[2] <= 0.0 and self.elevation_deg <= 0.0:
             raise ReleaseError("a release on the ground (z = 0) must go up (positive elevation)")
         self.aero_model()  # validates aero
+        # The combined limits (total axis offset, transverse rate) of the state it starts: the
+        # rules the simulator applies to every flight order, so that one truth decides.
+        st = self.initial_state()
+        InitialState.from_rigid_body(st.position, st.velocity, st.attitude, st.angular_velocity())
 
     def aero_model(self) -> AeroModel | None:
         """The full model's settings (None for the paper's model)."""
         if not isinstance(self.aero, Mapping):
-            raise ReleaseError(f"'aero' must be a mapping, got {self.aero!r}"[:120])
+            raise ReleaseError(f"'aero' must be a mapping, got {_brief(self.aero)}")
         if self.model != "full":
             if self.aero:
                 raise ReleaseError("'aero' settings need model: full")
@@ -187,9 +208,9 @@ class Release:
     def preset(self) -> BallPreset:
         """The ball with ``ball_params`` applied."""
         if not isinstance(self.ball, str):
-            raise ReleaseError(f"'ball' must be a preset name, got {self.ball!r}")
+            raise ReleaseError(f"'ball' must be a preset name, got {_brief(self.ball)}")
         if not isinstance(self.ball_params, Mapping):
-            raise ReleaseError(f"'ball_params' must be a mapping, got {self.ball_params!r}")
+            raise ReleaseError(f"'ball_params' must be a mapping, got {_brief(self.ball_params)}")
         try:
             return get_preset(self.ball, self.ball_params)
         except (ValueError, TypeError) as exc:
@@ -200,11 +221,11 @@ class Release:
         """Build from a mapping of the release keys; unknown keys raise ReleaseError."""
         unknown = sorted(set(data) - set(cls.FIELDS))
         if unknown:
-            raise ReleaseError(f"unknown key(s) {', '.join(map(repr, unknown))}; "
+            raise ReleaseError(f"unknown key(s) {_brief(', '.join(map(repr, unknown)))}; "
                                f"known: {', '.join(cls.FIELDS)}")
         for key in ("ball", "model", "moment"):
             if key in data and not isinstance(data[key], str):
-                raise ReleaseError(f"'{key}' must be a string, got {data[key]!r}")
+                raise ReleaseError(f"'{key}' must be a string, got {_brief(data[key])}")
         kwargs = dict(data)
         for key in ("ball_params", "aero"):
             if key in kwargs and kwargs[key] is None:
