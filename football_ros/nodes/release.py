@@ -34,7 +34,7 @@ from ..physics import Flight, InitialState, Release, ReleaseError, get_preset
 from ..physics.frames import BODY_FRAME, FIELD_FRAME, quaternion_to_matrix
 from ..physics.release import MODELS, MOMENT_CURVES
 from ..requests import (MAX_REQUEST_BYTES, FlightOrder, RequestError, brief, capped, flight_summary,
-                        parse_release_request)
+                        read_request, release_from_request)
 from . import messages as mb
 from . import qos
 from .params import declare
@@ -43,7 +43,7 @@ from .runner import run_node
 NODE_NAME = 'football_release'
 HARDWARE_ID = 'football_ros/release'
 PREDICTION_HORIZON_S = 60.0
-MAX_PENDING = 256
+MAX_PENDING = 64
 """Orders waiting for the simulator's acknowledgement at most (more: answered 'busy')."""
 
 
@@ -65,11 +65,11 @@ def prediction(flight: Flight) -> dict[str, object]:
 
 @dataclass
 class _Work:
-    """A request read and checked, waiting for the worker: its id and its flight order."""
+    """A request read, waiting for the worker: its id and its keys or its flight order."""
 
     request_id: str
     order: FlightOrder | None = None
-    release: Release | None = None
+    keys: dict | None = None
 
 
 @dataclass
@@ -159,14 +159,14 @@ class ReleaseNode(Node):
     # --- executor thread: read, check, queue -------------------------------------------------
     def _on_request(self, msg: String) -> None:
         try:
-            request_id, release = parse_release_request(msg.data, self.max_request_bytes)
+            request_id, keys = read_request(msg.data, self.max_request_bytes)
         except RequestError as exc:
             self._reject(exc.request_id, str(exc))
             return
         except Exception as exc:  # never let one request take the node down
             self._internal_error('unknown', exc)
             return
-        self._enqueue(_Work(request_id, release=release))
+        self._enqueue(_Work(request_id, keys=keys))
 
     def _on_state(self, msg: Odometry) -> None:
         stamp = msg.header.stamp
@@ -238,7 +238,8 @@ class ReleaseNode(Node):
         order = work.order
         try:
             if order is None:
-                order = FlightOrder.from_release(work.request_id, work.release, order_id)
+                release = release_from_request(work.request_id, work.keys)
+                order = FlightOrder.from_release(work.request_id, release, order_id)
             else:
                 order = replace(order, order_id=order_id)
             text = order.to_json()

@@ -201,7 +201,7 @@ def crossed_ground(before: np.ndarray, after: np.ndarray, ground: float) -> bool
     return before[R + 2] > ground and after[R + 2] <= ground and after[V + 2] < 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)  # the release node predicts beside its executor
 def propagate(y0: np.ndarray, dt: float, params: np.ndarray, sample_period: float,
               duration: float, ground: float) -> tuple:
     """Integrate from ``y0`` at t = 0 and sample at multiples of ``sample_period`` [s].
