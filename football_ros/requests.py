@@ -6,7 +6,8 @@ mappings and sequences, nested at most ``MAX_DEPTH`` levels. Scalars read as JSO
 ``true``/``false``, ``null``/``~``, decimal numbers (``12``, ``-3.5``, ``1e3``); anything else
 (``0x14``, ``2_0``, ``.inf``, ``yes``) is a string, so a number field refuses it. Tags
 (``!!float``, ``!!binary``, ...), anchors, aliases, merge keys (``<<``), duplicate keys and
-non-string keys are rejected. Every request up to the byte limit is decided in bounded time
+non-string keys are rejected, and so are mappings or lists of more than ``MAX_ITEMS``
+entries. Every request up to the byte limit is decided in bounded time
 (libyaml's event parser, stopped at the first violation). Every failure raises
 :class:`RequestError` with a one-sentence reason naming the field and the best id recovered.
 
@@ -35,6 +36,8 @@ MAX_REQUEST_BYTES = 65536
 MAX_ID_LENGTH = 128
 MAX_DEPTH = 4
 """Nesting levels a request may use: request -> aero -> wind list needs 3."""
+MAX_ITEMS = 64
+"""Entries a mapping or items a list may hold (a release has 15 keys; lists hold 3 or 4)."""
 MAX_ECHO = 60
 """Characters of a user's value echoed in an error message."""
 MAX_DIGITS = 40
@@ -128,6 +131,8 @@ class _Map:
 def _add(stack: list, value: Any, event) -> None:
     """Put ``value`` into the innermost container, as a mapping key or value or a list item."""
     top = stack[-1]
+    if len(top.data if isinstance(top, _Map) else top) >= MAX_ITEMS:
+        raise ValueError(f'a mapping or list may hold at most {MAX_ITEMS} entries{_where(event)}')
     if isinstance(top, list):
         top.append(value)
     elif top.key is not None:
@@ -172,6 +177,10 @@ def load_strict(text: str) -> Any:
     Raises :class:`StrictParseError` (a ValueError) naming where and what; the parse stops at the
     first violation, so its cost is bounded by the text's size.
     """
+    if text.lstrip()[:1] in ('{', '[', '"'):
+        value = _load_json(text)  # JSON reads as json does (e.g. escaped surrogate pairs)
+        if value is not None:
+            return value
     stack: list = []
     result: Any = None
     documents = 0
@@ -255,6 +264,45 @@ def parse_release_request(text: str, max_bytes: int = MAX_REQUEST_BYTES) -> tupl
     """Parse a release request; return (id, Release) or raise RequestError."""
     request_id, data = read_request(text, max_bytes)
     return request_id, release_from_request(request_id, data)
+
+
+class _NotStrict(Exception):
+    """Raised inside :func:`_load_json` for JSON outside the strict language."""
+
+
+def _json_pairs(pairs: list) -> dict:
+    if len(pairs) > MAX_ITEMS or len({key for key, _ in pairs}) != len(pairs):
+        raise _NotStrict
+    return dict(pairs)
+
+
+def _json_number(text: str) -> float | int:
+    if sum(c.isdigit() for c in text) > MAX_DIGITS and 'e' not in text.lower():
+        raise _NotStrict
+    return int(text) if _INT.fullmatch(text) else float(text)
+
+
+def _json_constant(_name: str) -> None:
+    raise _NotStrict  # NaN, Infinity
+
+
+def _within_limits(value: Any, depth: int = 0) -> bool:
+    if isinstance(value, (dict, list)):
+        items = value.values() if isinstance(value, dict) else value
+        return depth < MAX_DEPTH and len(value) <= MAX_ITEMS and all(
+            _within_limits(v, depth + 1) for v in items)
+    return True
+
+
+def _load_json(text: str) -> Any:
+    """Strict JSON, or None when the text is not JSON within the language's limits (the YAML
+    path then reads it, or says precisely what is wrong)."""
+    try:
+        value = json.loads(text, object_pairs_hook=_json_pairs, parse_int=_json_number,
+                           parse_float=_json_number, parse_constant=_json_constant)
+    except (_NotStrict, ValueError, RecursionError):
+        return None
+    return value if _within_limits(value) and value is not None else None
 
 
 def _recovered_id(partial: dict) -> str:

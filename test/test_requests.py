@@ -10,7 +10,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from football_ros.physics import Release
-from football_ros.requests import FlightOrder, RequestError, parse_release_request
+from football_ros.requests import (ORDER_KEYS, FlightOrder, RequestError, StrictParseError, load_strict,
+                                   parse_release_request)
 
 
 def test_defaults_and_id():
@@ -170,3 +171,66 @@ def test_bad_orders_name_the_field(patch, reason):
     data.update(patch)
     with pytest.raises(ValueError, match=reason):
         FlightOrder.from_json(json.dumps(data).replace("Infinity", "1e400"))
+
+
+# --- the strict request language --------------------------------------------------------------
+json_scalars = st.one_of(st.none(), st.booleans(), st.integers(-10**30, 10**30),
+                         st.floats(allow_nan=False, allow_infinity=False),
+                         st.text(st.characters(blacklist_categories=("Cs",)), max_size=20))
+json_data = st.recursive(json_scalars, lambda inner: st.one_of(
+    st.lists(inner, max_size=5),
+    st.dictionaries(st.text(st.characters(blacklist_categories=("Cs",)), max_size=8), inner, max_size=5)),
+    max_leaves=12)
+
+
+def _depth(value) -> int:
+    if isinstance(value, dict):
+        return 1 + max((_depth(v) for v in value.values()), default=0)
+    if isinstance(value, list):
+        return 1 + max((_depth(v) for v in value), default=0)
+    return 0
+
+
+@settings(max_examples=400, deadline=None)
+@given(json_data)
+def test_fuzz_json_reads_as_json_does(data):
+    """Every JSON document within the limits reads exactly as json.loads reads it."""
+    text = json.dumps(data)
+    if _depth(data) > 4:
+        with pytest.raises(ValueError, match="nest"):
+            load_strict(text)
+        return
+    assert load_strict(text) == (json.loads(text) if data is not None else {})
+
+
+@settings(max_examples=400, deadline=None)
+@given(st.text(max_size=200))
+def test_fuzz_any_text_is_read_or_refused_with_a_reason(text):
+    try:
+        value = load_strict(text)
+    except StrictParseError as exc:
+        assert str(exc) and isinstance(exc.partial, dict)
+        return
+    assert isinstance(value, (dict, list, str, int, float, bool, type(None)))
+
+
+order_values = st.one_of(json_scalars, st.lists(json_scalars, max_size=5),
+                         st.lists(st.floats(-1e3, 1e3), min_size=3, max_size=4),
+                         st.dictionaries(st.sampled_from(["mass", "c_m_alpha", "wind", "drag", "x"]),
+                                         json_scalars, max_size=3))
+
+
+@settings(max_examples=400, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.dictionaries(st.sampled_from(ORDER_KEYS + ("extra",)), order_values, max_size=4))
+def test_fuzz_flight_orders_are_flown_or_refused_with_a_reason(patch):
+    """The hand-off's one validation: a mutated order is a flyable FlightOrder or a ValueError."""
+    data = json.loads(FlightOrder.from_release("f", Release()).to_json())
+    data.update(patch)
+    try:
+        order = FlightOrder.from_json(json.dumps(data))
+        flight = order.flight(0.001)
+    except ValueError as exc:
+        assert str(exc)
+        return
+    sample = flight.sample(0.05)
+    assert np.all(np.isfinite(sample.position)) and np.all(np.isfinite(sample.aero_angles))
