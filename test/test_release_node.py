@@ -151,7 +151,12 @@ def test_each_bad_input_class_gets_one_error_and_nothing_else_changes(start_node
     flights_before = simulator.log().count("released at")
     responses = ask(client, [text for text, _, _ in BAD_REQUESTS])
     assert len(responses) == len(BAD_REQUESTS)
-    for (text, rid, reason), resp in zip(BAD_REQUESTS, responses):
+    # Requests that cannot be read are answered at once and in order (under made-up ids); the
+    # others are judged by the worker, so they are matched by id.
+    by_id = {r.name: r for r in responses}
+    made_up = iter([r for r in responses if r.name.startswith("req-")])
+    for text, rid, reason in BAD_REQUESTS:
+        resp = by_id[rid] if rid else next(made_up)
         assert level(resp) == ERROR, (text[:40], resp.message)
         assert reason in resp.message, (text[:40], resp.message)
         assert len(resp.message) <= 420 and "internal error" not in resp.message
@@ -257,10 +262,14 @@ def test_flood_every_request_answered_once_memory_bounded(start_node, client, pu
         pubs[k % publishers].publish(String(data=text))
         sent.append(rid)
         time.sleep(max(0.0, start + (k + 1) / rate - time.monotonic()))
-    client.wait_for(lambda: len(client.get(qos.RELEASE_RESPONSE)) >= len(sent), 60.0, "all responses")
-    time.sleep(0.5)
-    answers = [r for r in client.get(qos.RELEASE_RESPONSE) if r.name.startswith("flood-")]
-    names = Counter(r.name for r in answers)
+    try:
+        client.wait_for(lambda: len(client.get(qos.RELEASE_RESPONSE)) >= len(sent), 60.0, "all responses")
+    finally:
+        time.sleep(0.5)
+        answers = [r for r in client.get(qos.RELEASE_RESPONSE) if r.name.startswith("flood-")]
+        names = Counter(r.name for r in answers)
+        missing = sorted(set(sent) - set(names), key=lambda n: int(n.split("-")[1]))
+        assert not missing, f"{len(missing)} unanswered, e.g. {missing[:10]} ... {missing[-5:]}"
     assert set(names) == set(sent) and set(names.values()) == {1}
     busy = [r for r in answers if values(r).get("busy") == "true"]
     served = [r for r in answers if values(r).get("busy") != "true"]
@@ -333,5 +342,9 @@ def test_two_simulators_are_noticed_by_the_release_node(start_node, client):
     release = start_node("release")
     client.wait_for(lambda: client.node.count_subscribers(qos.FLIGHT_ORDER) >= 2, 20.0, "two simulators")
     connect(client)
-    ask(client, ["{id: seen-by-two}"])
-    release.wait_for_log("more than one simulator listens", timeout=10.0)
+    for k in range(10):  # until the release node has discovered both simulators
+        ask(client, [f"{{id: seen-by-two-{k}}}"])
+        if "more than one simulator listens" in release.log():
+            return
+        time.sleep(0.5)
+    raise AssertionError(f"no warning about two simulators:\n{release.log()}")

@@ -27,6 +27,18 @@ def wait_for_answer(rclpy, node, answers: list, request_id: str, deadline: float
         rclpy.spin_once(node, timeout_sec=0.05)
 
 
+MATCH_SETTLE_S = 0.3
+"""After our side has matched a remote endpoint, the time its side needs to match ours (DDS
+discovery is two-way; data sent before the remote reader knows our writer is dropped)."""
+
+
+def settle_matching(rclpy, node, seconds: float = MATCH_SETTLE_S) -> None:
+    """Spin ``node`` for ``seconds`` so that endpoints matched on our side match on theirs."""
+    end = time.monotonic() + seconds
+    while time.monotonic() < end:
+        rclpy.spin_once(node, timeout_sec=0.05)
+
+
 def _init(node_name: str):
     import rclpy
     rclpy.init()
@@ -89,10 +101,11 @@ def throw(argv: Sequence[str] | None = None) -> int:
     try:
         while time.monotonic() < end and (pub.get_subscription_count() == 0 or responses.get_publisher_count() == 0):
             rclpy.spin_once(node, timeout_sec=0.05)
-        if pub.get_subscription_count() == 0:
+        if pub.get_subscription_count() == 0 or responses.get_publisher_count() == 0:
             print("football-ros throw: error: no release node is listening on "
                   f"{node.resolve_topic_name(qos.RELEASE_REQUEST)}", file=sys.stderr)
             return 1
+        settle_matching(rclpy, node)
         pub.publish(String(data=json.dumps(request)))
         answer = wait_for_answer(rclpy, node, answers, args.id, end)
         if answer is None:

@@ -58,7 +58,7 @@ def run_demo(args: argparse.Namespace) -> int:
     from std_msgs.msg import String
 
     from ..nodes import qos
-    from ..nodes.console import wait_for_answer
+    from ..nodes.console import settle_matching, wait_for_answer
     from ..nodes.messages import level_of
 
     release = release_from_args(args)
@@ -100,19 +100,21 @@ def run_demo(args: argparse.Namespace) -> int:
             if time.monotonic() > deadline:
                 raise RuntimeError("the nodes did not start within 60 s")
         while (requests.get_subscription_count() == 0 or responses.get_publisher_count() == 0
-               or node.count_subscribers(qos.POSE) < 2):
+               or node.count_subscribers(qos.POSE) < 2 or node.count_subscribers(qos.FLIGHT_ORDER) < 1):
             rclpy.spin_once(node, timeout_sec=0.1)
+            if time.monotonic() > deadline:
+                raise RuntimeError("the nodes did not find each other within 60 s")
+        settle_matching(rclpy, node)
         accepted = None
-        # Discovery between the nodes can take a moment: a request that is not answered, or that
-        # is answered "no simulator is listening", is sent again under a new id.
-        for attempt in range(1, 21):
+        # The release node answers every request; it says "no simulator is listening" while its
+        # own discovery of the simulator is still under way: then the pass is thrown again.
+        for attempt in range(1, 11):
             request = dict(release.to_mapping(), id=f"demo-pass-{attempt}")
             _say(f"throwing: {json.dumps(request)}")
             requests.publish(String(data=json.dumps(request)))
-            answer = wait_for_answer(rclpy, node, state["responses"], request["id"], time.monotonic() + 2.0)
+            answer = wait_for_answer(rclpy, node, state["responses"], request["id"], time.monotonic() + 10.0)
             if answer is None:
-                _say("no answer yet; sending again")
-                continue
+                raise RuntimeError("the release node did not answer within 10 s; see release.log")
             _say(f"release node: {answer.message}")
             if level_of(answer) != "ERROR":
                 accepted = answer
@@ -123,20 +125,23 @@ def run_demo(args: argparse.Namespace) -> int:
         if accepted is None:
             raise RuntimeError("the release node never saw the simulator")
         _say("     t [s]     x [m]     y [m]     z [m]  alpha [deg]  beta [deg]")
-        next_print = time.monotonic()
         values = {kv.key: kv.value for kv in accepted.values}
-        flight_end = next_print + float(values.get("time_of_flight", "nan")) + 10.0
+        flight_end = time.monotonic() + float(values.get("time_of_flight", "nan")) + 10.0
+        next_row = 0.0  # flight time [s] of the next table row: one row per 0.1 s of flight
         while state["landed"] is None:
             if not time.monotonic() < flight_end:  # NaN (no landing predicted) ends it too
                 raise RuntimeError("no landing reported; see simulator.log")
             rclpy.spin_once(node, timeout_sec=0.01)
-            if time.monotonic() >= next_print and state["pose"] is not None and state["aero"] is not None:
-                p, a = state["pose"].pose.position, state["aero"].vector
-                t = (state["pose"].header.stamp.sec + 1e-9 * state["pose"].header.stamp.nanosec)
-                state.setdefault("t0", t)
-                _say(f"{t - state['t0']:10.2f}{p.x:10.2f}{p.y:10.2f}{p.z:10.2f}"
+            pose, aero = state["pose"], state["aero"]
+            if pose is None or aero is None:
+                continue
+            t = pose.header.stamp.sec + 1e-9 * pose.header.stamp.nanosec
+            t0 = state.setdefault("t0", t)
+            if t - t0 >= next_row - 1e-9:
+                p, a = pose.pose.position, aero.vector
+                _say(f"{t - t0:10.2f}{p.x:10.2f}{p.y:10.2f}{p.z:10.2f}"
                      f"{math.degrees(a.x):13.2f}{math.degrees(a.y):12.2f}")
-                next_print += 0.1
+                next_row = math.floor((t - t0) / 0.1 + 1e-6) * 0.1 + 0.1
         _say(state["landed"])
         code = 0
     except KeyboardInterrupt:
