@@ -1,6 +1,6 @@
 """``football-ros``: command-line front end.
 
-Headless commands (no ROS needed): ``modes``, ``simulate``, ``plot``. Node commands
+Headless commands (no ROS needed): ``modes``, ``simulate``, ``plot``, ``paper``. Node commands
 (``simulator``, ``release``, ``record``, ``demo``) need rclpy and pass ``--ros-args`` through.
 Bad options print one line on stderr and exit with code 2.
 """
@@ -241,6 +241,13 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_paper(args: argparse.Namespace) -> int:
+    from .tools import paper
+    for path in paper.run(args.out):
+        print(path)
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="football-ros", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -275,6 +282,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--spin-rpm", type=float,
                    help="spin for the equilibrium curve (default: recorded, else the release's)")
     p.set_defaults(func=_cmd_plot)
+    p = sub.add_parser("paper", help="the paper's Figure 3-8 cases (PNG) and report.md: its numbers "
+                                     "against this package's")
+    p.add_argument("--out", required=True, help="folder for the PNG files and report.md")
+    p.set_defaults(func=_cmd_paper)
     for name in NODE_COMMANDS:
         sub.add_parser(name, help=f"{name} (ROS; see football-ros {name} --help)", add_help=False)
     return parser
