@@ -1,4 +1,4 @@
-"""Physics core against physics.md: published numbers, invariants, signs, an independent solver."""
+"""Physics core against the physics reference (docs/physics.md): published numbers, invariants, signs, an independent solver."""
 
 import math
 
@@ -23,7 +23,7 @@ def paper_modes():
     return linear_modes(release.preset(), release.initial_state())
 
 
-# --- physics.md section 4: the published spiral-pass numbers within 0.5 % -------------------
+# --- docs/physics.md section 4: the published spiral-pass numbers within 0.5 % -------------------
 @pytest.mark.parametrize("name, reference", [
     ("m_alpha", 191.0), ("h1", 38.0), ("omega_fast", 32.01), ("omega_slow", 5.958),
     ("equilibrium_sideslip", 0.0617)])
@@ -342,7 +342,7 @@ def test_paper_report_reproduces_the_published_numbers(paper_report):
     for name in ("fig3_american_wobble", "fig4_american_angles", "fig5_american_equilibrium",
                  "fig6_american_near_critical", "fig7_rugby_screw_kick", "fig8_rugby_slow_kick"):
         assert (out / f"{name}.png").stat().st_size > 10000
-    # physics.md reference values, within 0.5 %; the report's paper column states them.
+    # The reference values (docs/physics.md section 4), within 0.5 %; the report's paper column states them.
     for key, ref in (("american.m_alpha", 191.0), ("american.h1", 38.0), ("american.omega_fast", 32.01),
                      ("american.omega_slow", 5.958), ("american.s3p", 0.0617),
                      ("rugby.c_m_alpha", 0.147), ("rugby.inertia_spin", 0.0026),
