@@ -8,7 +8,7 @@ import pytest
 
 from football_ros.physics import Flight, Release, ReleaseError, frames, get_preset
 from football_ros.physics import dynamics as dyn
-from football_ros.physics.aero import AeroModel, air_density, dynamic_stability, out_of_validity
+from football_ros.physics.aero import AeroModel, air_density, dynamic_stability, max_valid_delta, out_of_validity
 
 G = 9.81
 ZERO = dict(c_d0=0.0, c_d2=0.0, c_l_alpha=0.0, c_n_p_alpha=0.0, c_m_q=0.0, c_l_p=0.0, c_m_p_alpha=0.0)
@@ -202,6 +202,11 @@ def test_validity_ranges_flag_large_angles():
     assert len(out_of_validity(math.radians(95.0), "full", "sin2delta", aero)) == 4
     assert out_of_validity(math.radians(20.0), "paper", "linear") == []
     assert out_of_validity(float("nan")) != []
+    assert max_valid_delta("full", "linear", aero) == pytest.approx(math.radians(20.0))
+    assert max_valid_delta("paper", "sin2delta") == pytest.approx(math.radians(50.0))
+    for deg in (19.0, 21.0, 49.0, 51.0):
+        assert (out_of_validity(math.radians(deg), "full", "sin2delta", aero) == []) == (
+            math.radians(deg) <= max_valid_delta("full", "sin2delta", aero))
 
 
 def test_mccoy_factors_are_consistent():

@@ -4,6 +4,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as hst
 from scipy.integrate import solve_ivp
 
 from football_ros.physics import CSV_HEADER, Flight, Release, ReleaseError, get_preset, linear_modes
@@ -369,3 +371,87 @@ def test_paper_report_reproduces_the_published_numbers(paper_report):
     # Quasi-steady closer than frozen, both balls.
     for ball, ratio in (("american", 0.2), ("rugby", 0.6)):
         assert numbers[f"{ball}.rms_error_quasi_steady"][1] < ratio * numbers[f"{ball}.rms_error_frozen"][1]
+
+
+def _write_bag(path, trajectory, order_json=None):
+    """A rosbag2 folder (rosbags, no ROS) with football/odom and, optionally, the order."""
+    from rosbags.rosbag2 import Writer
+    from rosbags.typesys import Stores, get_typestore
+    ts = get_typestore(Stores.ROS2_JAZZY)
+    T = ts.types
+    with Writer(path, version=8) as writer:
+        odom = writer.add_connection("/football/odom", "nav_msgs/msg/Odometry", typestore=ts)
+        if order_json is not None:
+            order = writer.add_connection("/football/flight/order", "std_msgs/msg/String", typestore=ts)
+            writer.write(order, 1, ts.serialize_cdr(T["std_msgs/msg/String"](data=order_json), "std_msgs/msg/String"))
+        rot = frames.quaternion_to_matrix(trajectory.orientations)
+        body_v = np.einsum("nji,nj->ni", rot, trajectory.velocities)
+        for i, t in enumerate(trajectory.times):
+            sec = int(5 + t)
+            stamp = T["builtin_interfaces/msg/Time"](sec=sec, nanosec=int(round((5 + t - sec) * 1e9)))
+            q = trajectory.orientations[i]
+            pose = T["geometry_msgs/msg/Pose"](
+                position=T["geometry_msgs/msg/Point"](x=trajectory.positions[i, 0], y=trajectory.positions[i, 1],
+                                                      z=trajectory.positions[i, 2]),
+                orientation=T["geometry_msgs/msg/Quaternion"](x=q[0], y=q[1], z=q[2], w=q[3]))
+            vec = lambda a: T["geometry_msgs/msg/Vector3"](x=float(a[0]), y=float(a[1]), z=float(a[2]))  # noqa: E731
+            msg = T["nav_msgs/msg/Odometry"](
+                header=T["std_msgs/msg/Header"](stamp=stamp, frame_id="field"), child_frame_id="football",
+                pose=T["geometry_msgs/msg/PoseWithCovariance"](pose=pose, covariance=np.zeros(36)),
+                twist=T["geometry_msgs/msg/TwistWithCovariance"](
+                    twist=T["geometry_msgs/msg/Twist"](linear=vec(body_v[i]),
+                                                       angular=vec([trajectory.spin[i], 0.0, 0.0])),
+                    covariance=np.zeros(36)))
+            writer.write(odom, 10 + i, ts.serialize_cdr(msg, "nav_msgs/msg/Odometry"))
+
+
+def test_bag_says_which_ball_through_its_flight_order(tmp_path):
+    from football_ros.requests import FlightOrder
+    from football_ros.tools import figures, flightdata
+    release = Release(ball="rugby", spin_rpm=280.0, ball_params={"mass": 0.44})
+    tr = Flight.from_release(release).simulate(rate=50.0, duration=10.0)
+    _write_bag(tmp_path / "with_order", tr, FlightOrder.from_release("kick-1", release).to_json())
+    _write_bag(tmp_path / "without", tr)
+    record = flightdata.load(tmp_path / "with_order")
+    info = figures.flight_info(record)
+    assert info.ball_name == "rugby" and info.ball.mass == 0.44
+    assert info.spin == pytest.approx(280.0 * RPM, rel=1e-12)
+    assert np.max(np.abs(record.position - tr.positions)) < 1e-12
+    assert np.max(np.abs(record.velocity - tr.velocities)) < 1e-9
+    # The equilibrium drawn is the rugby ball's at the recorded spin (not the American preset's).
+    assert figures.equilibrium_sideslip(record, info)[0] == pytest.approx(tr.modes.equilibrium_sideslip, rel=1e-9)
+    assert len(figures.plot_source(tmp_path / "with_order", tmp_path / "figs")) == 4
+    with pytest.raises(ValueError, match="does not say which ball"):
+        figures.plot_source(tmp_path / "without", tmp_path / "figs2")
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(hst.recursive(hst.none() | hst.booleans() | hst.floats() | hst.integers() | hst.text(max_size=20),
+                    lambda children: hst.lists(children, max_size=4)
+                    | hst.dictionaries(hst.sampled_from(["format", "release", "ball", "speed", "spin_rpm", "x"]),
+                                      children, max_size=4), max_leaves=12))
+def test_sidecar_reader_fuzz(tmp_path, data):
+    """Anything in a sidecar gives a FlightInfo or a ValueError naming the file, nothing else."""
+    import json as _json
+    from football_ros.tools import flightdata
+    csv_path = tmp_path / "f.csv"
+    payload = {"format": flightdata.SIDECAR_FORMAT, "release": data} if isinstance(data, dict) else data
+    flightdata.sidecar_path(csv_path).write_text(_json.dumps(payload, allow_nan=True))
+    try:
+        info = flightdata.read_sidecar(csv_path)
+    except ValueError as exc:
+        assert "f.csv.json" in str(exc)
+    else:
+        assert info is not None and math.isfinite(info.spin)
+
+
+@given(hst.floats(allow_nan=True, allow_infinity=True), hst.sampled_from(["paper", "full"]),
+       hst.sampled_from(["linear", "sin2delta"]))
+def test_out_of_validity_fuzz(delta, model, moment):
+    from football_ros.physics.aero import AeroModel, out_of_validity
+    msgs = out_of_validity(delta, model, moment, AeroModel() if model == "full" else None)
+    assert isinstance(msgs, list) and all(isinstance(m, str) and m for m in msgs)
+    if math.isfinite(delta) and abs(delta) < math.radians(20.0):
+        assert msgs == []
+    if not math.isfinite(delta) or abs(delta) > math.radians(90.0):
+        assert msgs

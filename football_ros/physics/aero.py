@@ -247,6 +247,12 @@ def validity_terms(model: str, moment: str, aero: AeroModel | None) -> list[str]
     return terms
 
 
+def max_valid_delta(model: str = "paper", moment: str = "linear", aero: AeroModel | None = None) -> float:
+    """The largest total angle delta [rad] inside every form in force: a cheap per-sample test
+    (``delta > max_valid_delta(...)``) before :func:`out_of_validity` words the warning."""
+    return math.radians(min(VALIDITY[k].max_delta_deg for k in validity_terms(model, moment, aero)))
+
+
 def out_of_validity(delta: float, model: str = "paper", moment: str = "linear",
                     aero: AeroModel | None = None) -> list[str]:
     """Pure check of one state (or a flight's largest angle): the forms in force whose data
