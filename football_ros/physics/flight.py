@@ -110,10 +110,11 @@ class Trajectory:
 
     @cached_property
     def axis_components_quasi_steady(self) -> np.ndarray:
-        """(N,) complex x = s2 + i s3 of the quasi-steady linear theory (local U, Phi, h1)."""
-        gravity = dyn.make_params(self.ball)[dyn.P_GRAVITY] if self.params is None else self.params[dyn.P_GRAVITY]
-        return quasi_steady_components(self.modes, self.ball.moment_coefficient(), self.times,
-                                       self.air_velocities, self.states[:, dyn.H1], gravity)
+        """(N,) complex x = s2 + i s3 of the quasi-steady linear theory (local U, Phi, h1, and
+        the flown model's lift, damping and Magnus terms)."""
+        params = dyn.make_params(self.ball) if self.params is None else self.params
+        return quasi_steady_components(self.modes, params, self.times, self.air_velocities,
+                                       self.states[:, dyn.H1])
 
     @property
     def aero_angles_quasi_steady(self) -> np.ndarray:
@@ -182,8 +183,7 @@ class Flight:
         self._steps = 0
         self.landing_time: float | None = None
         self._landing_state: np.ndarray | None = None
-        self._quasi_steady = QuasiSteadyTracker(self.modes, self.ball.moment_coefficient(),
-                                                float(self.params[dyn.P_GRAVITY]))
+        self._quasi_steady = QuasiSteadyTracker(self.modes, self.params, self.initial.velocity - self.wind)
 
     def state_at(self, t: float, ground: float = 0.0) -> np.ndarray:
         """State vector at time ``t`` [s] after release (t never decreasing between calls).

@@ -9,10 +9,11 @@ Frozen (the paper): U and Phi held at their release values, solved in closed for
 x(t) = C1 exp(i w_f t) + C2 exp(i w_s t) + i s3p.
 
 Quasi-steady (the paper's remark that the solution "can be applied at any point along the
-trajectory", made into a solution): the local M_alpha(U(t)), h1(t), w_f(t), w_s(t) and s3p(t)
-along the flight, the phases integrated, x(t) = A(t) [C1 exp(i int w_f) + C2 exp(i int w_s)]
-+ i s3p(t), with the adiabatic (first-order WKB) amplitude A = sqrt(D(0) / D(t)),
-D = sqrt(h1^2 - 4 M_alpha), the same for both modes.
+trajectory", made into a solution): the local M_alpha(U(t)), h1(t), mode exponents and
+equilibrium along the flight, the phases integrated, with the first-order WKB amplitudes. For
+the paper's model x(t) = A(t) [C1 exp(i int w_f) + C2 exp(i int w_s)] + i s3p(t),
+A = sqrt(D(0) / D(t)), D = sqrt(h1^2 - 4 M_alpha); for the full model the exponents and
+equilibrium of its own linear equation (lift, damping, Magnus; :func:`local_exponents`).
 """
 
 from __future__ import annotations
@@ -140,43 +141,99 @@ def local_modes(moment_k: float, air_velocity: np.ndarray, h1, gravity: float = 
     return (h1 + disc) / 2.0, (h1 - disc) / 2.0, disc, s3p
 
 
-def quasi_steady_components(modes: LinearModes, moment_k: float, times: np.ndarray,
-                            air_velocities: np.ndarray, h1, gravity: float = frames.GRAVITY) -> np.ndarray:
+def local_exponents(params: np.ndarray, air_velocity: np.ndarray, h1):
+    """Local linear equation x'' + B x' - C x = F of the flown model (kernel ``params`` of
+    :func:`football_ros.physics.dynamics.make_params`; the paper's when its extra terms are 0).
+
+    B = fk U C_Lalpha - dk U C_Mq - i (h1 + fk p D C_Npalpha),
+    C = M_alpha + h1 fk p D C_Npalpha + i (h1 fk U C_Lalpha + dk U p C_Mpalpha),
+    F = (i h1 + dk U C_Mq) w_V, w_V = -g cos(Phi) / U (docs/physics.md section 5), with
+    fk = rho S / 2m, dk = rho S D^2 / (2 I_t), p = (I_t/I_s) h1. Returns (sigma_1, sigma_2, B,
+    D_c, x_p): the exponents (-B +- i D_c) / 2 with D_c = sqrt(-(B^2 + 4C)) (= sqrt(h1^2 -
+    4 M_alpha) for the paper: sigma = i w_f, i w_s), and the equilibrium x_p = -F / C.
+    """
+    from . import dynamics as dyn
+    air = np.asarray(air_velocity, dtype=float)
+    speed = np.linalg.norm(air, axis=-1)
+    phi = frames.flight_path_angle(air)
+    h1 = np.asarray(h1, dtype=float)
+    spin = params[dyn.P_SPIN_RATIO] * h1
+    fk, dk, diameter = params[dyn.P_FORCE_K], params[dyn.P_DAMP_K] * speed, params[dyn.P_DIAMETER]
+    m_alpha = params[dyn.P_MOMENT_K] * speed ** 2
+    magnus = fk * spin * diameter * params[dyn.P_CNPA]
+    b = fk * speed * params[dyn.P_CLA] - dk * params[dyn.P_CMQ] - 1j * (h1 + magnus)
+    c = m_alpha + h1 * magnus + 1j * (h1 * fk * speed * params[dyn.P_CLA] + dk * spin * params[dyn.P_CMPA])
+    d_c = np.sqrt(-(b * b + 4.0 * c))
+    w_v = -params[dyn.P_GRAVITY] * np.cos(phi) / speed
+    x_p = -(1j * h1 + dk * params[dyn.P_CMQ]) * w_v / c
+    return (-b + 1j * d_c) / 2.0, (-b - 1j * d_c) / 2.0, b, d_c, x_p
+
+
+def _start(modes: LinearModes, sigma_1, sigma_2, x_p0) -> tuple[complex, complex]:
+    """Mode amplitudes for the release state of ``modes`` (x0, x0') and the local exponents."""
+    w_f, w_s = modes._roots()
+    x0 = modes.c1 + modes.c2 + 1j * modes.equilibrium_sideslip
+    x0_dot = 1j * w_f * modes.c1 + 1j * w_s * modes.c2
+    k1 = (x0_dot - sigma_2 * (x0 - x_p0)) / (sigma_1 - sigma_2)
+    k2 = (sigma_1 * (x0 - x_p0) - x0_dot) / (sigma_1 - sigma_2)
+    return complex(k1), complex(k2)
+
+
+def quasi_steady_components(modes: LinearModes, params: np.ndarray, times: np.ndarray,
+                            air_velocities: np.ndarray, h1) -> np.ndarray:
     """x(t) = s2 + i s3 of the quasi-steady linear theory at ``times`` [s] (increasing, the
     first one the release), from the flight's air-relative velocities (N, 3) [m/s] and h1.
 
-    Phases: trapezoidal integrals of the local w_f, w_s over the samples (error ~ dt^2 w'').
+    x = A1 K1 exp(int sigma_1) + A2 K2 exp(int sigma_2) + x_p(t) with the local exponents and
+    equilibrium of :func:`local_exponents`, K1, K2 from the release state, and the first-order
+    WKB amplitudes ln A_1,2 = -ln(D_c / D_c(0)) / 2 +- int dB / (2 i D_c). Integrals by the
+    trapezoid rule over the samples (error ~ dt^2 times the second derivative of the rates).
     """
     times = np.asarray(times, dtype=float)
-    w_f, w_s, disc, s3p = local_modes(moment_k, air_velocities, np.broadcast_to(h1, times.shape), gravity)
+    sig1, sig2, b, d_c, x_p = local_exponents(params, air_velocities, np.broadcast_to(h1, times.shape))
+    k1, k2 = _start(modes, sig1[0], sig2[0], x_p[0])
     dt = np.diff(times)
-    theta_f = np.concatenate([[0.0], np.cumsum(0.5 * dt * (w_f[1:] + w_f[:-1]))])
-    theta_s = np.concatenate([[0.0], np.cumsum(0.5 * dt * (w_s[1:] + w_s[:-1]))])
-    amp = np.sqrt(disc[0] / disc)
-    return amp * (modes.c1 * np.exp(1j * theta_f) + modes.c2 * np.exp(1j * theta_s)) + 1j * s3p
+
+    def integral(f, df=None):
+        steps = 0.5 * (f[1:] + f[:-1]) * (dt if df is None else df)
+        return np.concatenate([[0.0], np.cumsum(steps)])
+
+    drift = integral(1.0 / (2j * d_c), np.diff(b))
+    common = np.sqrt(d_c[0] / d_c)
+    with np.errstate(over="ignore", invalid="ignore"):
+        return (common * (k1 * np.exp(integral(sig1) + drift) + k2 * np.exp(integral(sig2) - drift))
+                + x_p)
 
 
 class QuasiSteadyTracker:
     """The quasi-steady linear theory sample by sample (real time): call :meth:`update` with
-    non-decreasing times; phases are integrated by the trapezoid rule between calls."""
+    non-decreasing times; the integrals advance by the trapezoid rule between calls, from the
+    release (t = 0) on."""
 
-    def __init__(self, modes: LinearModes, moment_k: float, gravity: float = frames.GRAVITY) -> None:
-        self.modes, self.moment_k, self.gravity = modes, moment_k, gravity
-        self._t = 0.0  # the release
-        self._w = modes._roots()
-        self._theta = [0j, 0j]
-        self._disc0 = cmath.sqrt(modes.h1 ** 2 - 4.0 * modes.m_alpha)
+    def __init__(self, modes: LinearModes, params: np.ndarray, release_air_velocity: np.ndarray) -> None:
+        self.modes, self.params = modes, params
+        sig1, sig2, b, d_c, x_p = (complex(v) for v in local_exponents(params, release_air_velocity, modes.h1))
+        self._k = _start(modes, sig1, sig2, x_p)
+        self._t = 0.0
+        self._last = (sig1, sig2, b, d_c)
+        self._d0 = d_c
+        self._log = [0j, 0j]  # integrals of sigma +- the WKB drift
 
     def update(self, t: float, air_velocity: np.ndarray, h1: float) -> np.ndarray:
-        """alpha, beta [rad] of the quasi-steady theory at ``t`` [s] since release."""
-        w_f, w_s, disc, s3p = (complex(x) for x in local_modes(self.moment_k, air_velocity, h1, self.gravity))
+        """alpha, beta [rad] of the quasi-steady theory at ``t`` [s] since release (NaN once
+        an unstable ball's theory overflows)."""
+        sig1, sig2, b, d_c, x_p = (complex(v) for v in local_exponents(self.params, air_velocity, h1))
         if t > self._t:
+            l1, l2, lb, ld = self._last
             dt = t - self._t
-            self._theta[0] += 0.5 * dt * (w_f + self._w[0])
-            self._theta[1] += 0.5 * dt * (w_s + self._w[1])
-            self._t, self._w = t, (w_f, w_s)
-        amp = cmath.sqrt(self._disc0 / disc) if disc != 0 else math.inf
-        x = (amp * (self.modes.c1 * cmath.exp(1j * self._theta[0])
-                    + self.modes.c2 * cmath.exp(1j * self._theta[1])) + 1j * s3p.real)
+            drift = (b - lb) * 0.5 * (1.0 / (2j * d_c) + 1.0 / (2j * ld))
+            self._log[0] += 0.5 * dt * (sig1 + l1) + drift
+            self._log[1] += 0.5 * dt * (sig2 + l2) - drift
+            self._t, self._last = t, (sig1, sig2, b, d_c)
+        try:
+            common = cmath.sqrt(self._d0 / d_c)
+            x = common * (self._k[0] * cmath.exp(self._log[0]) + self._k[1] * cmath.exp(self._log[1])) + x_p
+        except (OverflowError, ZeroDivisionError):
+            return np.full(2, np.nan)
         alpha, beta = angles_from_components(x)
         return np.array([float(alpha), float(beta)])
