@@ -163,7 +163,6 @@ def _cmd_modes(args: argparse.Namespace) -> int:
 
 
 def _cmd_simulate(args: argparse.Namespace) -> int:
-    from .physics.aero import out_of_validity
     from .tools.flightdata import write_sidecar
 
     release = release_from_args(args)
@@ -175,7 +174,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         raise UsageError(f"--step must be in (0, 0.05] s, got {args.step}")
     flight = Flight.from_release(release, step=args.step)
     trajectory = flight.simulate(rate=args.rate, duration=args.duration)
-    warnings = simulate_warnings(release, flight, trajectory, out_of_validity)
+    warnings = simulate_warnings(release, flight, trajectory)
     trajectory.write_csv(args.out)
     sidecar = write_sidecar(args.out, release, flight.ball, flight.aero, {
         "step": args.step, "rate": args.rate, "duration": args.duration,
@@ -190,22 +189,32 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     return 0
 
 
-def simulate_warnings(release: Release, flight: Flight, trajectory, out_of_validity) -> list[str]:
+def simulate_warnings(release: Release, flight: Flight, trajectory) -> list[str]:
     """Sentences about a simulated flight the user must know: a gyroscopically unstable
     release, and the model forms whose data range the flight's total angle left."""
     import numpy as np
 
+    from .physics.aero import max_valid_delta, out_of_validity
+
     out = []
     modes = flight.modes
     if not modes.stable:
-        out.append(f"the release is gyroscopically UNSTABLE: spin {release.spin_rpm:g} rpm is below the "
-                   f"critical {modes.critical_spin_rpm:.0f} rpm (S_g = {modes.gyroscopic_stability_factor:.2f}"
-                   f" < 1); the ball tumbles and the linear theory does not apply")
+        out.append(f"the release is gyroscopically UNSTABLE: spin {release.spin_rpm:g} rpm is "
+                   f"below the critical {modes.critical_spin_rpm:.0f} rpm "
+                   f"(S_g = {modes.gyroscopic_stability_factor:.2f} < 1); the ball tumbles and "
+                   f"the linear theory does not apply")
     delta = trajectory.aero_angles[:, 2]
     if delta.size:
         worst = int(np.argmax(delta))
-        for text in out_of_validity(float(delta[worst]), release.model, release.moment, flight.aero):
-            out.append(f"{text}; reached at t = {trajectory.times[worst]:.2f} s")
+        worst_delta = float(delta[worst])
+        texts = out_of_validity(worst_delta, release.model, release.moment, flight.aero)
+        for text in texts:
+            out.append(f"{text}; largest at t = {trajectory.times[worst]:.2f} s")
+        limit = max_valid_delta(release.model, release.moment, flight.aero)
+        beyond = np.flatnonzero(delta > limit)
+        if texts and beyond.size:
+            out.append(f"the flight first leaves the data range ({math.degrees(limit):g} deg) "
+                       f"at t = {trajectory.times[beyond[0]]:.2f} s")
     return out
 
 
@@ -261,7 +270,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--rate", type=float, default=100.0, help="output rows per second [Hz]")
     p.add_argument("--step", type=float, default=1e-3, help="integration step [s]")
     p.add_argument("--out", required=True,
-                   help="CSV file to write (and <out>.json beside it: the release, ball and model)")
+                   help="CSV file to write (and <out>.json beside it: the release, ball, "
+                        "model)")
     p.set_defaults(func=_cmd_simulate)
     p = sub.add_parser("montecarlo", help="landing dispersion and wobble statistics of release errors")
     add_release_options(p)
@@ -277,13 +287,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("source", help="bag folder / .mcap file, or CSV from 'simulate'")
     p.add_argument("--out", required=True, help="folder for the PNG files")
     p.add_argument("--ball", choices=list(PRESETS),
-                   help="the ball, when the file does not say (a CSV without its .csv.json sidecar, "
-                        "a bag without football/flight/order)")
+                   help="the ball, when the file does not say (a CSV without its .csv.json "
+                        "sidecar, a bag without football/flight/order)")
     p.add_argument("--spin-rpm", type=float,
                    help="spin for the equilibrium curve (default: recorded, else the release's)")
     p.set_defaults(func=_cmd_plot)
-    p = sub.add_parser("paper", help="the paper's Figure 3-8 cases (PNG) and report.md: its numbers "
-                                     "against this package's")
+    p = sub.add_parser("paper", help="the paper's Figure 3-8 cases (PNG) and report.md: its "
+                                     "numbers against this package's")
     p.add_argument("--out", required=True, help="folder for the PNG files and report.md")
     p.set_defaults(func=_cmd_paper)
     for name in NODE_COMMANDS:

@@ -455,3 +455,23 @@ def test_out_of_validity_fuzz(delta, model, moment):
         assert msgs == []
     if not math.isfinite(delta) or abs(delta) > math.radians(90.0):
         assert msgs
+
+
+def test_simulate_warns_about_instability_and_validity():
+    from football_ros.cli import simulate_warnings
+
+    def warnings(release):
+        flight = Flight.from_release(release)
+        tr = flight.simulate(rate=100.0, duration=10.0)
+        return simulate_warnings(release, flight, tr), tr
+
+    quiet, tr = warnings(Release())
+    assert quiet == [] and np.max(tr.aero_angles[:, 2]) < math.radians(10.0)
+    tumbling, tr = warnings(Release(spin_rpm=100.0))
+    crit = 2 * math.sqrt(191.0) * 0.00321 / 0.00194 / RPM  # 437 rpm
+    assert "UNSTABLE" in tumbling[0] and f"{crit:.0f} rpm" in tumbling[0]
+    assert np.max(tr.aero_angles[:, 2]) > math.radians(90.0)  # it does tumble
+    kick, tr = warnings(Release(ball="rugby"))
+    first = tr.times[np.argmax(tr.aero_angles[:, 2] > math.radians(23.0))]
+    assert len(kick) == 2 and "23 deg range" in kick[0]
+    assert f"at t = {first:.2f} s" in kick[1]

@@ -1,4 +1,4 @@
-"""The "full" model: the paper's torque plus drag, lift, Magnus, damping and wind (docs/physics.md).
+"""The "full" model: the paper's torque plus drag, lift, Magnus, damping, wind (docs/physics.md).
 
 Forms follow McCoy, *Modern Exterior Ballistics* (linearised projectile aerodynamics), with the
 air-relative velocity u = v - wind, U = |u|, u_hat = u/U, axis s, delta = angle(u_hat, s),
@@ -192,7 +192,8 @@ def dynamic_stability(ball: BallPreset, speed: float, spin: float, model: AeroMo
     c_d = model.c_d0 if model.drag else 0.0
     c_mpa = model.c_m_p_alpha if model.magnus else 0.0
     c_mq = model.c_m_q if model.pitch_damping else 0.0
-    t_nd = density * area * diameter / (2.0 * mass) * (c_l + mass * diameter ** 2 / inertia_spin * c_mpa)
+    t_nd = density * area * diameter / (2.0 * mass) * (
+        c_l + mass * diameter ** 2 / inertia_spin * c_mpa)
     h_nd = density * area * diameter / (2.0 * mass) * (c_l - c_d - mass * diameter ** 2 / inertia_transverse * c_mq)
     s_g = p_nd ** 2 / (4.0 * m_nd) if m_nd else math.inf
     s_d = 2.0 * t_nd / h_nd if h_nd else math.nan
@@ -220,7 +221,8 @@ VALIDITY: dict[str, ValidityRange] = {
         "overturning moment, Rae & Streit C_M = 0.165 sin 2 delta", 50.0,
         "Rae & Streit wind-tunnel fit, 0-50 deg"),
     "lift": ValidityRange("lift C_Lalpha/2 sin 2 delta", 50.0,
-                          "Rae & Streit normal-force fit ~ sin 2 delta, 0-50 deg (C_Lalpha ESTIMATE)"),
+                          "Rae & Streit normal-force fit ~ sin 2 delta, 0-50 deg "
+                          "(C_Lalpha ESTIMATE)"),
     "drag": ValidityRange("drag C_D0 + C_D2 sin^2 delta", 90.0,
                           "Rae & Streit / Alam et al.: end-on to broadside (ESTIMATE)"),
     "magnus": ValidityRange("Magnus force and moment (McCoy small-angle forms)", 20.0,
@@ -247,10 +249,12 @@ def validity_terms(model: str, moment: str, aero: AeroModel | None) -> list[str]
     return terms
 
 
-def max_valid_delta(model: str = "paper", moment: str = "linear", aero: AeroModel | None = None) -> float:
+def max_valid_delta(model: str = "paper", moment: str = "linear",
+                    aero: AeroModel | None = None) -> float:
     """The largest total angle delta [rad] inside every form in force: a cheap per-sample test
     (``delta > max_valid_delta(...)``) before :func:`out_of_validity` words the warning."""
-    return math.radians(min(VALIDITY[k].max_delta_deg for k in validity_terms(model, moment, aero)))
+    terms = validity_terms(model, moment, aero)
+    return math.radians(min(VALIDITY[k].max_delta_deg for k in terms))
 
 
 def out_of_validity(delta: float, model: str = "paper", moment: str = "linear",
@@ -267,6 +271,6 @@ def out_of_validity(delta: float, model: str = "paper", moment: str = "linear",
     for key in validity_terms(model, moment, aero):
         rng = VALIDITY[key]
         if deg > rng.max_delta_deg:
-            out.append(f"delta = {deg:.1f} deg is beyond the {rng.max_delta_deg:g} deg range of the "
-                       f"{rng.term} ({rng.source})")
+            out.append(f"delta = {deg:.1f} deg is beyond the {rng.max_delta_deg:g} deg range of "
+                       f"the {rng.term} ({rng.source})")
     return out

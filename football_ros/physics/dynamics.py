@@ -292,8 +292,8 @@ def describe(states: np.ndarray, params: np.ndarray) -> np.ndarray:
         out[i, D_OMEGA] = y[H] + extra * sx
         out[i, D_OMEGA + 1] = y[H + 1] + extra * sy
         out[i, D_OMEGA + 2] = y[H + 2] + extra * sz
-        s1, s2, s3 = velocity_frame_components((y[V] - params[P_WIND], y[V + 1] - params[P_WIND + 1],
-                                                y[V + 2] - params[P_WIND + 2]), (sx, sy, sz))
+        air = (y[V] - params[P_WIND], y[V + 1] - params[P_WIND + 1], y[V + 2] - params[P_WIND + 2])
+        s1, s2, s3 = velocity_frame_components(air, (sx, sy, sz))
         out[i, D_ALPHA] = math.atan2(s2, s1)
         out[i, D_BETA] = math.asin(min(1.0, max(-1.0, s3)))
         out[i, D_DELTA] = math.acos(min(1.0, max(-1.0, s1)))

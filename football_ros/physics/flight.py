@@ -95,7 +95,7 @@ class Trajectory:
 
     @property
     def aero_angles(self) -> np.ndarray:
-        """(N, 3) alpha, beta, delta [rad] of the integrated (nonlinear) flight, against the air."""
+        """(N, 3) alpha, beta, delta [rad] of the integrated flight, against the air."""
         return self._described[:, dyn.D_ALPHA:dyn.D_DELTA + 1]
 
     @property
@@ -183,7 +183,8 @@ class Flight:
         self._steps = 0
         self.landing_time: float | None = None
         self._landing_state: np.ndarray | None = None
-        self._quasi_steady = QuasiSteadyTracker(self.modes, self.params, self.initial.velocity - self.wind)
+        self._quasi_steady = QuasiSteadyTracker(self.modes, self.params,
+                                                self.initial.velocity - self.wind)
 
     def state_at(self, t: float, ground: float = 0.0) -> np.ndarray:
         """State vector at time ``t`` [s] after release (t never decreasing between calls).
@@ -222,14 +223,15 @@ class Flight:
         t_state = self.landing_time if landed else t
         d = dyn.describe(state[None, :], self.params)[0]
         alpha_lin, beta_lin = self.modes.aero_angles(t_state)
-        quasi = self._quasi_steady.update(t_state, state[dyn.V:dyn.V + 3] - self.wind, float(state[dyn.H1]))
+        quasi = self._quasi_steady.update(t_state, state[dyn.V:dyn.V + 3] - self.wind,
+                                          float(state[dyn.H1]))
         return BallSample(t=t_state, position=state[dyn.R:dyn.R + 3].copy(),
                           velocity=state[dyn.V:dyn.V + 3].copy(),
                           orientation=d[dyn.D_ORIENT:dyn.D_ORIENT + 4], axis=d[dyn.D_AXIS:dyn.D_AXIS + 3],
                           angular_velocity=d[dyn.D_OMEGA:dyn.D_OMEGA + 3],
                           aero_angles=d[dyn.D_ALPHA:dyn.D_DELTA + 1],
-                          aero_angles_linear=np.array([float(alpha_lin), float(beta_lin)]), landed=landed,
-                          aero_angles_quasi_steady=quasi)
+                          aero_angles_linear=np.array([float(alpha_lin), float(beta_lin)]),
+                          landed=landed, aero_angles_quasi_steady=quasi)
 
 
 @dataclass(frozen=True)

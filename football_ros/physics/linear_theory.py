@@ -162,7 +162,8 @@ def local_exponents(params: np.ndarray, air_velocity: np.ndarray, h1):
     m_alpha = params[dyn.P_MOMENT_K] * speed ** 2
     magnus = fk * spin * diameter * params[dyn.P_CNPA]
     b = fk * speed * params[dyn.P_CLA] - dk * params[dyn.P_CMQ] - 1j * (h1 + magnus)
-    c = m_alpha + h1 * magnus + 1j * (h1 * fk * speed * params[dyn.P_CLA] + dk * spin * params[dyn.P_CMPA])
+    c = m_alpha + h1 * magnus + 1j * (h1 * fk * speed * params[dyn.P_CLA]
+                                      + dk * spin * params[dyn.P_CMPA])
     d_c = np.sqrt(-(b * b + 4.0 * c))
     w_v = -params[dyn.P_GRAVITY] * np.cos(phi) / speed
     x_p = -(1j * h1 + dk * params[dyn.P_CMQ]) * w_v / c
@@ -190,7 +191,8 @@ def quasi_steady_components(modes: LinearModes, params: np.ndarray, times: np.nd
     trapezoid rule over the samples (error ~ dt^2 times the second derivative of the rates).
     """
     times = np.asarray(times, dtype=float)
-    sig1, sig2, b, d_c, x_p = local_exponents(params, air_velocities, np.broadcast_to(h1, times.shape))
+    h1 = np.broadcast_to(h1, times.shape)
+    sig1, sig2, b, d_c, x_p = local_exponents(params, air_velocities, h1)
     k1, k2 = _start(modes, sig1[0], sig2[0], x_p[0])
     dt = np.diff(times)
 
@@ -201,8 +203,8 @@ def quasi_steady_components(modes: LinearModes, params: np.ndarray, times: np.nd
     drift = integral(1.0 / (2j * d_c), np.diff(b))
     common = np.sqrt(d_c[0] / d_c)
     with np.errstate(over="ignore", invalid="ignore"):
-        return (common * (k1 * np.exp(integral(sig1) + drift) + k2 * np.exp(integral(sig2) - drift))
-                + x_p)
+        modes_part = k1 * np.exp(integral(sig1) + drift) + k2 * np.exp(integral(sig2) - drift)
+        return common * modes_part + x_p
 
 
 class QuasiSteadyTracker:
@@ -210,9 +212,11 @@ class QuasiSteadyTracker:
     non-decreasing times; the integrals advance by the trapezoid rule between calls, from the
     release (t = 0) on."""
 
-    def __init__(self, modes: LinearModes, params: np.ndarray, release_air_velocity: np.ndarray) -> None:
+    def __init__(self, modes: LinearModes, params: np.ndarray,
+                 release_air_velocity: np.ndarray) -> None:
         self.modes, self.params = modes, params
-        sig1, sig2, b, d_c, x_p = (complex(v) for v in local_exponents(params, release_air_velocity, modes.h1))
+        local = local_exponents(params, release_air_velocity, modes.h1)
+        sig1, sig2, b, d_c, x_p = (complex(v) for v in local)
         self._k = _start(modes, sig1, sig2, x_p)
         self._t = 0.0
         self._last = (sig1, sig2, b, d_c)
@@ -222,7 +226,8 @@ class QuasiSteadyTracker:
     def update(self, t: float, air_velocity: np.ndarray, h1: float) -> np.ndarray:
         """alpha, beta [rad] of the quasi-steady theory at ``t`` [s] since release (NaN once
         an unstable ball's theory overflows)."""
-        sig1, sig2, b, d_c, x_p = (complex(v) for v in local_exponents(self.params, air_velocity, h1))
+        local = local_exponents(self.params, air_velocity, h1)
+        sig1, sig2, b, d_c, x_p = (complex(v) for v in local)
         if t > self._t:
             l1, l2, lb, ld = self._last
             dt = t - self._t
@@ -232,7 +237,8 @@ class QuasiSteadyTracker:
             self._t, self._last = t, (sig1, sig2, b, d_c)
         try:
             common = cmath.sqrt(self._d0 / d_c)
-            x = common * (self._k[0] * cmath.exp(self._log[0]) + self._k[1] * cmath.exp(self._log[1])) + x_p
+            x = common * (self._k[0] * cmath.exp(self._log[0])
+                          + self._k[1] * cmath.exp(self._log[1])) + x_p
         except (OverflowError, ZeroDivisionError):
             return np.full(2, np.nan)
         alpha, beta = angles_from_components(x)

@@ -30,7 +30,8 @@ LEGEND = dict(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderax
 """Legends beside the axes, never over the data."""
 
 
-def flight_info(record: FlightRecord, ball: str | None = None, spin_rpm: float | None = None) -> FlightInfo:
+def flight_info(record: FlightRecord, ball: str | None = None,
+                spin_rpm: float | None = None) -> FlightInfo:
     """What the flight is: the file's own description; else ``ball`` (and ``spin_rpm`` or the
     preset's) when the user names it; else ValueError. A ``ball`` that contradicts the file's
     is refused too."""
@@ -40,8 +41,8 @@ def flight_info(record: FlightRecord, ball: str | None = None, spin_rpm: float |
             raise ValueError(f"{record.source} is a '{info.ball_name}' flight ({info.origin}); "
                              f"--ball {ball} contradicts it")
         if spin_rpm is not None:
-            return FlightInfo(info.ball, info.ball_name, spin_rpm * RPM, info.model, info.moment, info.aero,
-                              info.origin + " (spin from --spin-rpm)")
+            return FlightInfo(info.ball, info.ball_name, spin_rpm * RPM, info.model, info.moment,
+                              info.aero, info.origin + " (spin from --spin-rpm)")
         return info
     if ball is None:
         raise ValueError(f"{record.source} does not say which ball it holds (no sidecar "
@@ -79,7 +80,8 @@ def components_from_angles(alpha: np.ndarray, beta: np.ndarray) -> np.ndarray:
 
 def describe(info: FlightInfo) -> str:
     """One line: ball, spin, model, where it came from."""
-    return f"{info.ball_name}, {info.spin / RPM:.0f} rpm, {info.model} model ({Path(info.origin).name})"
+    origin = Path(info.origin).name
+    return f"{info.ball_name}, {info.spin / RPM:.0f} rpm, {info.model} model ({origin})"
 
 
 def plot_source(source: str | Path, out_dir: str | Path, ball: str | None = None,
@@ -108,11 +110,13 @@ def plot_record(record: FlightRecord, info: FlightInfo, out_dir: str | Path, sub
     paths.append(_save(fig, out / f"{prefix}angles.png"))
     fig, axes = plt.subplots(2, 1, figsize=(9, 6), sharex=True)
     trajectory_axes(axes, record)
-    axes[0].set_title(f"Trajectory (field frame: x downfield, y left, z up)\n{subtitle}", fontsize=9)
+    axes[0].set_title(f"Trajectory (field frame: x downfield, y left, z up)\n{subtitle}",
+                      fontsize=9)
     paths.append(_save(fig, out / f"{prefix}trajectory.png"))
     fig, axes = plt.subplots(2, 1, figsize=(9, 6), sharex=True)
     precession_axes(axes, record, info)
-    axes[0].set_title(f"Nutation and precession about the equilibrium point\n{subtitle}", fontsize=9)
+    axes[0].set_title(f"Nutation and precession about the equilibrium point\n{subtitle}",
+                      fontsize=9)
     paths.append(_save(fig, out / f"{prefix}precession.png"))
     return paths
 
@@ -131,7 +135,8 @@ def wobble_axes(ax, record: FlightRecord, info: FlightInfo) -> None:
                 label="linear theory, quasi-steady")
     ax.plot(DEG(s3p), np.zeros_like(s3p), color="tab:red", lw=1.0, alpha=0.6,
             label="equilibrium $s_{3p}$ along the flight")
-    ax.plot(DEG(s3p[0]), 0.0, marker="*", ms=14, color="tab:red", ls="none", label="equilibrium at release")
+    ax.plot(DEG(s3p[0]), 0.0, marker="*", ms=14, color="tab:red", ls="none",
+            label="equilibrium at release")
     ax.plot(DEG(x[0].imag), DEG(x[0].real), marker="o", color="k", ls="none", label="release")
     ax.axhline(0, color="k", lw=0.5)
     ax.axvline(0, color="k", lw=0.5)
@@ -145,15 +150,16 @@ def angle_axes(axes, record: FlightRecord, info: FlightInfo) -> None:
     """alpha and beta against time: integrated, frozen and quasi-steady linear theory."""
     s3p = equilibrium_sideslip(record, info)
     qs = (record.alpha_quasi_steady, record.beta_quasi_steady)
-    for k, (ax, name, value, lin) in enumerate(((axes[0], "angle of attack $\\alpha$", record.alpha,
-                                                 record.alpha_linear),
-                                                (axes[1], "sideslip $\\beta$", record.beta, record.beta_linear))):
+    rows = ((axes[0], "angle of attack $\\alpha$", record.alpha, record.alpha_linear),
+            (axes[1], "sideslip $\\beta$", record.beta, record.beta_linear))
+    for k, (ax, name, value, lin) in enumerate(rows):
         ax.plot(record.t, DEG(value), label="nonlinear (integrated)")
         ax.plot(record.t, DEG(lin), ls="--", label="linear theory, frozen")
         if qs[k] is not None:
             ax.plot(record.t, DEG(qs[k]), ls=":", label="linear theory, quasi-steady")
         if k == 1:
-            ax.plot(record.t, DEG(s3p), color="tab:red", lw=0.8, alpha=0.7, label="equilibrium $s_{3p}$")
+            ax.plot(record.t, DEG(s3p), color="tab:red", lw=0.8, alpha=0.7,
+                    label="equilibrium $s_{3p}$")
         ax.set_ylabel(f"{name} [deg]")
         ax.grid(alpha=0.3)
         ax.legend(**LEGEND)
@@ -183,8 +189,8 @@ def complementary(record: FlightRecord, info: FlightInfo) -> dict[str, np.ndarra
     out = {"nonlinear": components(record, info) - 1j * s3p,
            "frozen": components_from_angles(record.alpha_linear, record.beta_linear) - 1j * s3p[0]}
     if record.alpha_quasi_steady is not None:
-        out["quasi_steady"] = (components_from_angles(record.alpha_quasi_steady, record.beta_quasi_steady)
-                               - 1j * s3p)
+        quasi = components_from_angles(record.alpha_quasi_steady, record.beta_quasi_steady)
+        out["quasi_steady"] = quasi - 1j * s3p
     return out
 
 

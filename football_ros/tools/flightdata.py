@@ -107,8 +107,8 @@ def read_sidecar(csv_path: str | Path) -> FlightInfo | None:
     except (KeyError, TypeError, ValueError) as exc:
         raise ValueError(f"{path}: unreadable sidecar ({str(exc)[:120]})") from None
     ball, aero = resolve(release.preset(), release.model, release.aero_model())
-    return FlightInfo(ball, release.ball, release.spin_rpm * RPM, release.model, release.moment, aero,
-                      str(path))
+    return FlightInfo(ball, release.ball, release.spin_rpm * RPM, release.model, release.moment,
+                      aero, str(path))
 
 
 def info_from_order(text: str, origin: str) -> FlightInfo:
@@ -117,8 +117,8 @@ def info_from_order(text: str, origin: str) -> FlightInfo:
     order = FlightOrder.from_json(text)
     aero = AeroModel.from_mapping(order.aero) if order.model == "full" else None
     ball, aero = resolve(order.ball(), order.model, aero)
-    return FlightInfo(ball, order.ball_name, float(order.initial.spin), order.model, order.moment, aero,
-                      origin)
+    return FlightInfo(ball, order.ball_name, float(order.initial.spin), order.model, order.moment,
+                      aero, origin)
 
 
 def load(path: str | Path) -> FlightRecord:
@@ -204,7 +204,8 @@ def load_bag(path: Path) -> FlightRecord:
         try:
             info = info_from_order(text, f"{path} (football/flight/order)")
         except ValueError as exc:
-            raise ValueError(f"{path}: unreadable football/flight/order message ({str(exc)[:120]})") from None
+            raise ValueError(f"{path}: unreadable football/flight/order message "
+                             f"({str(exc)[:120]})") from None
 
     def by_stamp(arr: np.ndarray, column: int) -> np.ndarray:
         if len(arr) == 0:
@@ -218,12 +219,13 @@ def load_bag(path: Path) -> FlightRecord:
                         spin=odom_a[:, 11], source=str(path), info=info)
 
 
-def record_from_trajectory(trajectory, info: FlightInfo, source: str = "simulated") -> FlightRecord:
+def record_from_trajectory(trajectory, info: FlightInfo,
+                           source: str = "simulated") -> FlightRecord:
     """A :class:`FlightRecord` of a :class:`football_ros.physics.flight.Trajectory` (no file)."""
     angles, linear, quasi = (trajectory.aero_angles, trajectory.aero_angles_linear,
                              trajectory.aero_angles_quasi_steady)
-    return FlightRecord(t=trajectory.times, position=trajectory.positions, velocity=trajectory.velocities,
-                        axis=trajectory.axes, alpha=angles[:, 0], beta=angles[:, 1],
-                        alpha_linear=linear[:, 0], beta_linear=linear[:, 1], spin=trajectory.spin,
-                        source=source, alpha_quasi_steady=quasi[:, 0], beta_quasi_steady=quasi[:, 1],
-                        info=info)
+    return FlightRecord(t=trajectory.times, position=trajectory.positions,
+                        velocity=trajectory.velocities, axis=trajectory.axes, alpha=angles[:, 0],
+                        beta=angles[:, 1], alpha_linear=linear[:, 0], beta_linear=linear[:, 1],
+                        spin=trajectory.spin, source=source, alpha_quasi_steady=quasi[:, 0],
+                        beta_quasi_steady=quasi[:, 1], info=info)
