@@ -8,7 +8,8 @@ import pytest
 
 from football_ros.physics import Flight, Release, ReleaseError, frames, get_preset
 from football_ros.physics import dynamics as dyn
-from football_ros.physics.aero import AeroModel, air_density, dynamic_stability, max_valid_delta, out_of_validity
+from football_ros.physics.aero import (AeroModel, air_density, dynamic_stability, max_valid_delta,
+                                       out_of_validity)
 
 G = 9.81
 ZERO = dict(c_d0=0.0, c_d2=0.0, c_l_alpha=0.0, c_n_p_alpha=0.0, c_m_q=0.0, c_l_p=0.0, c_m_p_alpha=0.0)
@@ -89,15 +90,17 @@ def test_air_density_from_altitude_and_temperature():
     thin = Flight.from_release(Release(model="full", aero={"altitude_m": 1609.0}))
     assert thin.ball.air_density == pytest.approx(isa, rel=1e-4)
     assert thin.modes.m_alpha == pytest.approx(190.91 * thin.ball.air_density / 1.225, rel=1e-4)
-    warm = Flight.from_release(Release(model="full", aero={"altitude_m": 1609.0, "temperature_c": 15.0}))
+    warm = Flight.from_release(Release(model="full",
+                                       aero={"altitude_m": 1609.0, "temperature_c": 15.0}))
     assert warm.ball.air_density == pytest.approx(83431 / (287.05 * 288.15), rel=1e-4)
 
 
 def _measured_mode_exponents(aero, rate=200.0, duration=1.5):
     """Complex exponents of the two modes of x = s2 + i s3 in a flight without gravity or drag
     (constant U: the linear equation has constant coefficients), by Prony's method."""
-    release = Release(model="full", aero=dict(drag=False, spin_damping=False, **aero), alpha0_deg=2.0,
-                      beta0_deg=1.0, alpha_rate_deg_s=40.0, position=(0.0, 0.0, 50.0))
+    release = Release(model="full", aero=dict(drag=False, spin_damping=False, **aero),
+                      alpha0_deg=2.0, beta0_deg=1.0, alpha_rate_deg_s=40.0,
+                      position=(0.0, 0.0, 50.0))
     flight = Flight.from_release(release)
     flight.params[dyn.P_GRAVITY] = 0.0
     tr = flight.simulate(rate=rate, duration=duration)
@@ -110,12 +113,13 @@ def _measured_mode_exponents(aero, rate=200.0, duration=1.5):
     return sigma, predicted
 
 
-@pytest.mark.parametrize("c_m_p_alpha, c_n_p_alpha", [(0.0, 0.0), (0.03, 0.0), (-0.03, 0.0), (0.0, 0.3),
-                                                      (0.03, 0.3)])
+@pytest.mark.parametrize("c_m_p_alpha, c_n_p_alpha",
+                         [(0.0, 0.0), (0.03, 0.0), (-0.03, 0.0), (0.0, 0.3), (0.03, 0.3)])
 def test_damping_rates_with_magnus_match_flights(c_m_p_alpha, c_n_p_alpha):
     """McCoy's T carries the Magnus MOMENT: the rates measured in integrated flights agree
     within 2 % (measured 0.1-1 %); the Magnus force leaves them (and S_d) unchanged."""
-    sigma, pred = _measured_mode_exponents({"c_m_p_alpha": c_m_p_alpha, "c_n_p_alpha": c_n_p_alpha})
+    sigma, pred = _measured_mode_exponents({"c_m_p_alpha": c_m_p_alpha,
+                                            "c_n_p_alpha": c_n_p_alpha})
     assert sigma[0].real == pytest.approx(pred.fast_damping_rate, rel=0.02)
     assert sigma[1].real == pytest.approx(pred.slow_damping_rate, rel=0.02)
     # Independent check: rates without any Magnus term, measured the same way, and the shift
@@ -123,7 +127,8 @@ def test_damping_rates_with_magnus_match_flights(c_m_p_alpha, c_n_p_alpha):
     base, base_pred = _measured_mode_exponents({})
     ball = get_preset("american")
     area = math.pi * ball.diameter ** 2 / 4
-    d_t = 1.225 * area * ball.diameter / (2 * ball.mass) * ball.mass * ball.diameter ** 2 / ball.inertia_spin * c_m_p_alpha
+    d_t = (1.225 * area * ball.diameter / (2 * ball.mass)
+           * ball.mass * ball.diameter ** 2 / ball.inertia_spin * c_m_p_alpha)
     p_nd = ball.inertia_ratio * 600 * 2 * math.pi / 60 * ball.diameter / 27.4
     m_nd = ball.moment_coefficient() * ball.diameter ** 2
     shift = p_nd * d_t / math.sqrt(p_nd ** 2 - 4 * m_nd) * 27.4 / ball.diameter
@@ -137,7 +142,8 @@ def test_magnus_force_has_the_classical_direction():
     """A positive C_Npalpha pushes along p (s x u): a right-handed spiral flying nose-right
     (beta > 0, i.e. toward -y for a throw along +x) is pushed up, a left-handed one down."""
     ball = get_preset("american")
-    aero = AeroModel(drag=False, lift=False, pitch_damping=False, spin_damping=False, c_n_p_alpha=0.2)
+    aero = AeroModel(drag=False, lift=False, pitch_damping=False, spin_damping=False,
+                     c_n_p_alpha=0.2)
     params = dyn.make_params(ball, "linear", aero)
     v = (25.0, 0.0, 0.0)
     beta = math.radians(5.0)
@@ -147,8 +153,8 @@ def test_magnus_force_has_the_classical_direction():
         h = tuple(h1 * c for c in s)
         ax, ay, az, *_ = dyn.loads(v, s, h, h1, params)
         # Independent: F/m = rho S / (2m) U^2 (p D / U) C_Npa (s x u_hat).
-        expected = (1.225 * ball.reference_area / (2 * ball.mass) * 25.0 * spin * ball.diameter * 0.2
-                    * np.cross(s, np.array(v) / 25.0))
+        expected = (1.225 * ball.reference_area / (2 * ball.mass) * 25.0 * spin * ball.diameter
+                    * 0.2 * np.cross(s, np.array(v) / 25.0))
         assert (ax, ay, az + G) == pytest.approx(tuple(expected), abs=1e-12)
         assert np.sign(az + G) == np.sign(spin)
 
@@ -171,10 +177,12 @@ def test_aero_angles_are_relative_to_the_air():
     """Galilean check: a flight in a wind W equals the still-air flight released at v0 - W seen
     from a frame moving with W; angles and the linear theory are identical, positions shift."""
     ball = get_preset("american")
-    st = Release(alpha0_deg=3.0, beta0_deg=-2.0, alpha_rate_deg_s=20.0, position=(0, 0, 20.0)).initial_state()
+    st = Release(alpha0_deg=3.0, beta0_deg=-2.0, alpha_rate_deg_s=20.0,
+                 position=(0, 0, 20.0)).initial_state()
     wind = np.array([-4.0, 3.0, 0.5])
     calm_st = dataclasses.replace(st, velocity=st.velocity - wind)
-    windy = Flight(ball, st, "full", aero=AeroModel(wind=tuple(wind))).simulate(rate=100, duration=1.5)
+    windy = Flight(ball, st, "full", aero=AeroModel(wind=tuple(wind))).simulate(rate=100,
+                                                                                duration=1.5)
     calm = Flight(ball, calm_st, "full", aero=AeroModel()).simulate(rate=100, duration=1.5)
     assert np.max(np.abs(windy.aero_angles - calm.aero_angles)) < 1e-9
     assert np.max(np.abs(windy.aero_angles_linear - calm.aero_angles_linear)) < 1e-12
@@ -246,8 +254,9 @@ def test_quasi_steady_theory_carries_the_full_models_damping(aero):
     over 3 s (measured 1.4e-3 / 1.5e-3), where the paper's undamped frozen theory is off by
     0.035-0.044 rad."""
     from football_ros.physics import linear_modes
-    flight = Flight.from_release(Release(model="full", aero=dict(drag=False, spin_damping=False, **aero),
-                                         alpha0_deg=3.0, beta_rate_deg_s=20.0, position=(0, 0, 10)))
+    release = Release(model="full", aero=dict(drag=False, spin_damping=False, **aero),
+                      alpha0_deg=3.0, beta_rate_deg_s=20.0, position=(0, 0, 10))
+    flight = Flight.from_release(release)
     flight.params[dyn.P_GRAVITY] = 0.0
     flight.modes = linear_modes(flight.ball, flight.initial, gravity=0.0)
     tr = flight.simulate(rate=500, duration=3.0)

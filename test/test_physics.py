@@ -1,4 +1,5 @@
-"""Physics core against the physics reference (docs/physics.md): published numbers, invariants, signs, an independent solver."""
+"""Physics core against docs/physics.md: published numbers, invariants, signs, an independent
+solver, the quasi-steady theory, flight files and the paper report."""
 
 import math
 
@@ -8,7 +9,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as hst
 from scipy.integrate import solve_ivp
 
-from football_ros.physics import CSV_HEADER, Flight, Release, ReleaseError, get_preset, linear_modes
+from football_ros.physics import (CSV_HEADER, Flight, Release, ReleaseError, get_preset,
+                                  linear_modes)
 from football_ros.physics import frames
 from football_ros.physics.release import RPM
 
@@ -235,7 +237,8 @@ def test_compiled_angles_match_the_frames_reference():
 def test_quasi_steady_equals_frozen_when_nothing_changes():
     """No gravity, no drag: U, Phi and h1 are constant, so both theories are the same curve."""
     from football_ros.physics import dynamics as dyn
-    flight = Flight.from_release(Release(alpha0_deg=3.0, beta_rate_deg_s=20.0, position=(0, 0, 10)))
+    flight = Flight.from_release(Release(alpha0_deg=3.0, beta_rate_deg_s=20.0,
+                                         position=(0, 0, 10)))
     flight.params[dyn.P_GRAVITY] = 0.0
     flight.modes = linear_modes(flight.ball, flight.initial, gravity=0.0)
     tr = flight.simulate(rate=200, duration=2.0)
@@ -273,7 +276,8 @@ def test_quasi_steady_amplitude_and_phase_by_hand():
     disc = np.sqrt(h1 ** 2 - 4 * k * speed ** 2)
     wf, ws = (h1 + disc) / 2, (h1 - disc) / 2
     from scipy.integrate import cumulative_trapezoid
-    th_f, th_s = cumulative_trapezoid(wf, tr.times, initial=0), cumulative_trapezoid(ws, tr.times, initial=0)
+    th_f = cumulative_trapezoid(wf, tr.times, initial=0)
+    th_s = cumulative_trapezoid(ws, tr.times, initial=0)
     phi = np.arctan2(v[:, 2], np.hypot(v[:, 0], v[:, 1]))
     s3p = G * np.cos(phi) * h1 / (k * speed ** 3)
     x = np.sqrt(disc[0] / disc) * (m.c1 * np.exp(1j * th_f) + m.c2 * np.exp(1j * th_s)) + 1j * s3p
@@ -285,8 +289,8 @@ def test_sidecar_says_which_ball_and_plot_refuses_without(tmp_path):
     from football_ros.cli import main
     from football_ros.tools import figures, flightdata
     out = tmp_path / "kick.csv"
-    assert main(["simulate", "--ball", "rugby", "--spin-rpm", "250", "--ball-param", "c_m_alpha=0.16",
-                 "--rate", "100", "--out", str(out)]) == 0
+    assert main(["simulate", "--ball", "rugby", "--spin-rpm", "250", "--ball-param",
+                 "c_m_alpha=0.16", "--rate", "100", "--out", str(out)]) == 0
     record = flightdata.load(out)
     info = figures.flight_info(record)
     assert info.ball_name == "rugby" and info.ball.c_m_alpha == 0.16
@@ -307,7 +311,8 @@ def test_sidecar_says_which_ball_and_plot_refuses_without(tmp_path):
         figures.plot_source(out, tmp_path / "figs", ball="american")
     assert main(["plot", str(bare), "--out", str(tmp_path / "f")]) == 2
     paths = figures.plot_source(out, tmp_path / "figs")
-    assert [p.name for p in paths] == ["wobble.png", "angles.png", "trajectory.png", "precession.png"]
+    assert [p.name for p in paths] == ["wobble.png", "angles.png", "trajectory.png",
+                                       "precession.png"]
 
 
 def test_precession_is_taken_about_the_equilibrium_point():
@@ -316,8 +321,8 @@ def test_precession_is_taken_about_the_equilibrium_point():
     release = Release(alpha0_deg=2.0)
     flight = Flight.from_release(release)
     tr = flight.simulate(rate=500.0, duration=2.0)
-    info = flightdata.FlightInfo(flight.ball, "american", release.initial_state().spin, "paper", "linear",
-                                 None, "test")
+    info = flightdata.FlightInfo(flight.ball, "american", release.initial_state().spin, "paper",
+                                 "linear", None, "test")
     parts = figures.complementary(flightdata.record_from_trajectory(tr, info), info)
     m = tr.modes
     expected = m.axis_components(tr.times) - 1j * m.equilibrium_sideslip
@@ -344,9 +349,10 @@ def test_paper_report_reproduces_the_published_numbers(paper_report):
     for name in ("fig3_american_wobble", "fig4_american_angles", "fig5_american_equilibrium",
                  "fig6_american_near_critical", "fig7_rugby_screw_kick", "fig8_rugby_slow_kick"):
         assert (out / f"{name}.png").stat().st_size > 10000
-    # The reference values (docs/physics.md section 4), within 0.5 %; the report's paper column states them.
-    for key, ref in (("american.m_alpha", 191.0), ("american.h1", 38.0), ("american.omega_fast", 32.01),
-                     ("american.omega_slow", 5.958), ("american.s3p", 0.0617),
+    # The reference values (docs/physics.md section 4), within 0.5 %; the paper column says them.
+    for key, ref in (("american.m_alpha", 191.0), ("american.h1", 38.0),
+                     ("american.omega_fast", 32.01), ("american.omega_slow", 5.958),
+                     ("american.s3p", 0.0617),
                      ("rugby.c_m_alpha", 0.147), ("rugby.inertia_spin", 0.0026),
                      ("rugby.inertia_transverse", 0.0033)):
         paper_value, package = numbers[key]
@@ -360,17 +366,20 @@ def test_paper_report_reproduces_the_published_numbers(paper_report):
     kr = 1.225 * math.pi * 0.19 ** 2 / 4 * 0.19 * 0.147 / (2 * 0.0033)
     h1r = 0.0026 / 0.0033 * 300 * RPM
     assert numbers["rugby.m_alpha"][1] == pytest.approx(kr * 400, rel=1e-5)
-    assert numbers["rugby.s3p"][1] == pytest.approx(G * math.cos(math.radians(30)) * h1r / (kr * 20 ** 3), rel=1e-5)
+    s3p = G * math.cos(math.radians(30)) * h1r / (kr * 20 ** 3)
+    assert numbers["rugby.s3p"][1] == pytest.approx(s3p, rel=1e-5)
     # The paper's 1/V^3: s3p at 15 and 25 m/s against 20 m/s.
-    assert numbers["rugby.s3p_15"][1] / numbers["rugby.s3p"][1] == pytest.approx((20 / 15) ** 3, rel=1e-4)
-    assert numbers["rugby.s3p_25"][1] / numbers["rugby.s3p"][1] == pytest.approx((20 / 25) ** 3, rel=1e-4)
+    for speed in (15, 25):
+        ratio = numbers[f"rugby.s3p_{speed}"][1] / numbers["rugby.s3p"][1]
+        assert ratio == pytest.approx((20 / speed) ** 3, rel=1e-4)
     # The frozen slow period is 2 pi / w_s; the flight's is longer (measured 1.32 vs 1.05 s).
-    assert numbers["american.slow_period_frozen"][1] == pytest.approx(2 * math.pi / numbers["american.omega_slow"][1],
-                                                                       rel=1e-5)
-    assert numbers["american.slow_period_flight"][1] > 1.2 * numbers["american.slow_period_frozen"][1]
+    frozen = numbers["american.slow_period_frozen"][1]
+    assert frozen == pytest.approx(2 * math.pi / numbers["american.omega_slow"][1], rel=1e-5)
+    assert numbers["american.slow_period_flight"][1] > 1.2 * frozen
     # Quasi-steady closer than frozen, both balls.
     for ball, ratio in (("american", 0.2), ("rugby", 0.6)):
-        assert numbers[f"{ball}.rms_error_quasi_steady"][1] < ratio * numbers[f"{ball}.rms_error_frozen"][1]
+        quasi, frozen = (numbers[f"{ball}.rms_error_{k}"][1] for k in ("quasi_steady", "frozen"))
+        assert quasi < ratio * frozen
 
 
 def _write_bag(path, trajectory, order_json=None):
@@ -382,25 +391,27 @@ def _write_bag(path, trajectory, order_json=None):
     with Writer(path, version=8) as writer:
         odom = writer.add_connection("/football/odom", "nav_msgs/msg/Odometry", typestore=ts)
         if order_json is not None:
-            order = writer.add_connection("/football/flight/order", "std_msgs/msg/String", typestore=ts)
-            writer.write(order, 1, ts.serialize_cdr(T["std_msgs/msg/String"](data=order_json), "std_msgs/msg/String"))
+            string = "std_msgs/msg/String"
+            order = writer.add_connection("/football/flight/order", string, typestore=ts)
+            writer.write(order, 1, ts.serialize_cdr(T[string](data=order_json), string))
         rot = frames.quaternion_to_matrix(trajectory.orientations)
         body_v = np.einsum("nji,nj->ni", rot, trajectory.velocities)
         for i, t in enumerate(trajectory.times):
             sec = int(5 + t)
-            stamp = T["builtin_interfaces/msg/Time"](sec=sec, nanosec=int(round((5 + t - sec) * 1e9)))
+            nanosec = int(round((5 + t - sec) * 1e9))
+            stamp = T["builtin_interfaces/msg/Time"](sec=sec, nanosec=nanosec)
             q = trajectory.orientations[i]
             pose = T["geometry_msgs/msg/Pose"](
-                position=T["geometry_msgs/msg/Point"](x=trajectory.positions[i, 0], y=trajectory.positions[i, 1],
-                                                      z=trajectory.positions[i, 2]),
+                position=T["geometry_msgs/msg/Point"](*map(float, trajectory.positions[i])),
                 orientation=T["geometry_msgs/msg/Quaternion"](x=q[0], y=q[1], z=q[2], w=q[3]))
-            vec = lambda a: T["geometry_msgs/msg/Vector3"](x=float(a[0]), y=float(a[1]), z=float(a[2]))  # noqa: E731
+            vec = lambda a: T["geometry_msgs/msg/Vector3"](*map(float, a))  # noqa: E731
             msg = T["nav_msgs/msg/Odometry"](
-                header=T["std_msgs/msg/Header"](stamp=stamp, frame_id="field"), child_frame_id="football",
+                header=T["std_msgs/msg/Header"](stamp=stamp, frame_id="field"),
+                child_frame_id="football",
                 pose=T["geometry_msgs/msg/PoseWithCovariance"](pose=pose, covariance=np.zeros(36)),
                 twist=T["geometry_msgs/msg/TwistWithCovariance"](
-                    twist=T["geometry_msgs/msg/Twist"](linear=vec(body_v[i]),
-                                                       angular=vec([trajectory.spin[i], 0.0, 0.0])),
+                    twist=T["geometry_msgs/msg/Twist"](
+                        linear=vec(body_v[i]), angular=vec([trajectory.spin[i], 0.0, 0.0])),
                     covariance=np.zeros(36)))
             writer.write(odom, 10 + i, ts.serialize_cdr(msg, "nav_msgs/msg/Odometry"))
 
@@ -419,23 +430,29 @@ def test_bag_says_which_ball_through_its_flight_order(tmp_path):
     assert np.max(np.abs(record.position - tr.positions)) < 1e-12
     assert np.max(np.abs(record.velocity - tr.velocities)) < 1e-9
     # The equilibrium drawn is the rugby ball's at the recorded spin (not the American preset's).
-    assert figures.equilibrium_sideslip(record, info)[0] == pytest.approx(tr.modes.equilibrium_sideslip, rel=1e-9)
+    s3p = figures.equilibrium_sideslip(record, info)[0]
+    assert s3p == pytest.approx(tr.modes.equilibrium_sideslip, rel=1e-9)
     assert len(figures.plot_source(tmp_path / "with_order", tmp_path / "figs")) == 4
     with pytest.raises(ValueError, match="does not say which ball"):
         figures.plot_source(tmp_path / "without", tmp_path / "figs2")
 
 
-@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
-@given(hst.recursive(hst.none() | hst.booleans() | hst.floats() | hst.integers() | hst.text(max_size=20),
-                    lambda children: hst.lists(children, max_size=4)
-                    | hst.dictionaries(hst.sampled_from(["format", "release", "ball", "speed", "spin_rpm", "x"]),
-                                      children, max_size=4), max_leaves=12))
+_KEYS = hst.sampled_from(["format", "release", "ball", "speed", "spin_rpm", "x"])
+_LEAVES = hst.none() | hst.booleans() | hst.floats() | hst.integers() | hst.text(max_size=20)
+
+
+@settings(max_examples=60, deadline=None,
+          suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(hst.recursive(_LEAVES, lambda children: hst.lists(children, max_size=4)
+                     | hst.dictionaries(_KEYS, children, max_size=4), max_leaves=12))
 def test_sidecar_reader_fuzz(tmp_path, data):
     """Anything in a sidecar gives a FlightInfo or a ValueError naming the file, nothing else."""
     import json as _json
     from football_ros.tools import flightdata
     csv_path = tmp_path / "f.csv"
-    payload = {"format": flightdata.SIDECAR_FORMAT, "release": data} if isinstance(data, dict) else data
+    payload = data
+    if isinstance(data, dict):
+        payload = {"format": flightdata.SIDECAR_FORMAT, "release": data}
     flightdata.sidecar_path(csv_path).write_text(_json.dumps(payload, allow_nan=True))
     try:
         info = flightdata.read_sidecar(csv_path)
