@@ -170,6 +170,32 @@ def local_exponents(params: np.ndarray, air_velocity: np.ndarray, h1):
     return (-b + 1j * d_c) / 2.0, (-b - 1j * d_c) / 2.0, b, d_c, x_p
 
 
+def _scalar_constants(params: np.ndarray) -> tuple:
+    """The kernel parameters :func:`_local_exponents_scalar` reads, as Python floats."""
+    from . import dynamics as dyn
+    keys = (dyn.P_SPIN_RATIO, dyn.P_FORCE_K, dyn.P_DAMP_K, dyn.P_CLA, dyn.P_CMQ, dyn.P_DIAMETER,
+            dyn.P_CNPA, dyn.P_MOMENT_K, dyn.P_CMPA, dyn.P_GRAVITY)
+    return tuple(float(params[k]) for k in keys)
+
+
+def _local_exponents_scalar(consts: tuple, air_velocity, h1: float) -> tuple:
+    """:func:`local_exponents` for one sample in plain floats (the real-time path);
+    ``consts`` from :func:`_scalar_constants`."""
+    spin_ratio, fk, dk0, c_la, c_mq, diameter, c_np, moment_k, c_mp, gravity = consts
+    ux, uy, uz = (float(c) for c in air_velocity)
+    speed = math.sqrt(ux * ux + uy * uy + uz * uz)
+    cos_phi = math.hypot(ux, uy) / speed
+    spin = spin_ratio * h1
+    dk = dk0 * speed
+    magnus = fk * spin * diameter * c_np
+    b = complex(fk * speed * c_la - dk * c_mq, -(h1 + magnus))
+    c = complex(moment_k * speed * speed + h1 * magnus, h1 * fk * speed * c_la + dk * spin * c_mp)
+    d_c = cmath.sqrt(-(b * b + 4.0 * c))
+    w_v = -gravity * cos_phi / speed
+    x_p = -complex(dk * c_mq, h1) * w_v / c
+    return (-b + 1j * d_c) / 2.0, (-b - 1j * d_c) / 2.0, b, d_c, x_p
+
+
 def _start(modes: LinearModes, sigma_1, sigma_2, x_p0) -> tuple[complex, complex]:
     """Mode amplitudes for the release state of ``modes`` (x0, x0') and the local exponents."""
     w_f, w_s = modes._roots()
@@ -215,8 +241,9 @@ class QuasiSteadyTracker:
     def __init__(self, modes: LinearModes, params: np.ndarray,
                  release_air_velocity: np.ndarray) -> None:
         self.modes, self.params = modes, params
-        local = local_exponents(params, release_air_velocity, modes.h1)
-        sig1, sig2, b, d_c, x_p = (complex(v) for v in local)
+        self._consts = _scalar_constants(params)
+        sig1, sig2, b, d_c, x_p = _local_exponents_scalar(self._consts, release_air_velocity,
+                                                          modes.h1)
         self._k = _start(modes, sig1, sig2, x_p)
         self._t = 0.0
         self._last = (sig1, sig2, b, d_c)
@@ -226,8 +253,7 @@ class QuasiSteadyTracker:
     def update(self, t: float, air_velocity: np.ndarray, h1: float) -> np.ndarray:
         """alpha, beta [rad] of the quasi-steady theory at ``t`` [s] since release (NaN once
         an unstable ball's theory overflows)."""
-        local = local_exponents(self.params, air_velocity, h1)
-        sig1, sig2, b, d_c, x_p = (complex(v) for v in local)
+        sig1, sig2, b, d_c, x_p = _local_exponents_scalar(self._consts, air_velocity, float(h1))
         if t > self._t:
             l1, l2, lb, ld = self._last
             dt = t - self._t
@@ -241,5 +267,8 @@ class QuasiSteadyTracker:
                           + self._k[1] * cmath.exp(self._log[1])) + x_p
         except (OverflowError, ZeroDivisionError):
             return np.full(2, np.nan)
-        alpha, beta = angles_from_components(x)
-        return np.array([float(alpha), float(beta)])
+        if not (math.isfinite(x.real) and math.isfinite(x.imag)):
+            return np.full(2, np.nan)
+        s2, s3 = min(1.0, max(-1.0, x.real)), min(1.0, max(-1.0, x.imag))
+        s1 = math.sqrt(max(0.0, 1.0 - s2 * s2 - s3 * s3))
+        return np.array([math.atan2(s2, s1), math.asin(s3)])
