@@ -3,7 +3,7 @@
     .venv/bin/python bench/flight_benchmark.py [--n 20000] [--model paper|full]
 
 Reference: solve_ivp DOP853 with rtol = atol = 1e-13 on the s/h form of the equations
-(physics.md section 2; written out here independently of football_ros). Every contender's
+(docs/physics.md section 2; written out here independently of football_ros). Every contender's
 max |alpha|, |beta| difference from it is printed; the targets (issue 6) are <= 1e-6 rad,
 >= 10x for one flight, >= 1e5 ball-seconds per second for the batch. Times are the best of
 three runs, all measured in this run on this machine.

@@ -1,6 +1,6 @@
 """``football-ros``: command-line front end.
 
-Headless commands (no ROS needed): ``modes``, ``simulate``, ``plot``. Node commands
+Headless commands (no ROS needed): ``modes``, ``simulate``, ``plot``, ``paper``. Node commands
 (``simulator``, ``release``, ``record``, ``demo``) need rclpy and pass ``--ros-args`` through.
 Bad options print one line on stderr and exit with code 2.
 """
@@ -163,6 +163,8 @@ def _cmd_modes(args: argparse.Namespace) -> int:
 
 
 def _cmd_simulate(args: argparse.Namespace) -> int:
+    from .tools.flightdata import write_sidecar
+
     release = release_from_args(args)
     if not (0.0 < args.duration <= 600.0):
         raise UsageError(f"--duration must be in (0, 600] s, got {args.duration}")
@@ -172,12 +174,48 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         raise UsageError(f"--step must be in (0, 0.05] s, got {args.step}")
     flight = Flight.from_release(release, step=args.step)
     trajectory = flight.simulate(rate=args.rate, duration=args.duration)
+    warnings = simulate_warnings(release, flight, trajectory)
     trajectory.write_csv(args.out)
+    sidecar = write_sidecar(args.out, release, flight.ball, flight.aero, {
+        "step": args.step, "rate": args.rate, "duration": args.duration,
+        "landed": bool(trajectory.landed), "end_time": float(trajectory.times[-1]),
+        "warnings": warnings})
+    for text in warnings:
+        print(f"football-ros: warning: {text}", file=sys.stderr)
     end = "landed" if trajectory.landed else "stopped at the duration"
-    print(f"{len(trajectory.times)} rows to {args.out}; {end} at t = {trajectory.times[-1]:.4f} s, "
-          f"x = {trajectory.positions[-1, 0]:.3f} m, y = {trajectory.positions[-1, 1]:.3f} m",
-          file=sys.stderr)
+    print(f"{len(trajectory.times)} rows to {args.out} (what they are: {sidecar}); {end} at "
+          f"t = {trajectory.times[-1]:.4f} s, x = {trajectory.positions[-1, 0]:.3f} m, "
+          f"y = {trajectory.positions[-1, 1]:.3f} m", file=sys.stderr)
     return 0
+
+
+def simulate_warnings(release: Release, flight: Flight, trajectory) -> list[str]:
+    """Sentences about a simulated flight the user must know: a gyroscopically unstable
+    release, and the model forms whose data range the flight's total angle left."""
+    import numpy as np
+
+    from .physics.aero import max_valid_delta, out_of_validity
+
+    out = []
+    modes = flight.modes
+    if not modes.stable:
+        out.append(f"the release is gyroscopically UNSTABLE: spin {release.spin_rpm:g} rpm is "
+                   f"below the critical {modes.critical_spin_rpm:.0f} rpm "
+                   f"(S_g = {modes.gyroscopic_stability_factor:.2f} < 1); the ball tumbles and "
+                   f"the linear theory does not apply")
+    delta = trajectory.aero_angles[:, 2]
+    if delta.size:
+        worst = int(np.argmax(delta))
+        worst_delta = float(delta[worst])
+        texts = out_of_validity(worst_delta, release.model, release.moment, flight.aero)
+        for text in texts:
+            out.append(f"{text}; largest at t = {trajectory.times[worst]:.2f} s")
+        limit = max_valid_delta(release.model, release.moment, flight.aero)
+        beyond = np.flatnonzero(delta > limit)
+        if texts and beyond.size:
+            out.append(f"the flight first leaves the data range ({math.degrees(limit):g} deg) "
+                       f"at t = {trajectory.times[beyond[0]]:.2f} s")
+    return out
 
 
 def _cmd_montecarlo(args: argparse.Namespace) -> int:
@@ -212,6 +250,13 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_paper(args: argparse.Namespace) -> int:
+    from .tools import paper
+    for path in paper.run(args.out):
+        print(path)
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="football-ros", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -224,7 +269,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--duration", type=float, default=10.0, help="max simulated time [s]")
     p.add_argument("--rate", type=float, default=100.0, help="output rows per second [Hz]")
     p.add_argument("--step", type=float, default=1e-3, help="integration step [s]")
-    p.add_argument("--out", required=True, help="CSV file to write")
+    p.add_argument("--out", required=True,
+                   help="CSV file to write (and <out>.json beside it: the release, ball, "
+                        "model)")
     p.set_defaults(func=_cmd_simulate)
     p = sub.add_parser("montecarlo", help="landing dispersion and wobble statistics of release errors")
     add_release_options(p)
@@ -239,11 +286,16 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("plot", help="figures (PNG) from a recorded bag or a simulate CSV")
     p.add_argument("source", help="bag folder / .mcap file, or CSV from 'simulate'")
     p.add_argument("--out", required=True, help="folder for the PNG files")
-    p.add_argument("--ball", default="american", choices=list(PRESETS),
-                   help="preset for the equilibrium sideslip curve")
+    p.add_argument("--ball", choices=list(PRESETS),
+                   help="the ball, when the file does not say (a CSV without its .csv.json "
+                        "sidecar, a bag without football/flight/order)")
     p.add_argument("--spin-rpm", type=float,
-                   help="spin for the equilibrium curve (default: recorded in a bag, else the preset's)")
+                   help="spin for the equilibrium curve (default: recorded, else the release's)")
     p.set_defaults(func=_cmd_plot)
+    p = sub.add_parser("paper", help="the paper's Figure 3-8 cases (PNG) and report.md: its "
+                                     "numbers against this package's")
+    p.add_argument("--out", required=True, help="folder for the PNG files and report.md")
+    p.set_defaults(func=_cmd_paper)
     for name in NODE_COMMANDS:
         sub.add_parser(name, help=f"{name} (ROS; see football-ros {name} --help)", add_help=False)
     return parser

@@ -1,4 +1,4 @@
-"""Pure physics of a spinning football (no ROS imports). Frames and units: physics.md."""
+"""Pure physics of a spinning football (no ROS imports). Frames and units: docs/physics.md."""
 
 from .flight import CSV_HEADER, Flight, Trajectory
 from .linear_theory import LinearModes, linear_modes

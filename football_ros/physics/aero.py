@@ -1,30 +1,38 @@
-"""The "full" model: the paper's torque plus drag, lift, Magnus, damping and wind (physics.md s. 5).
+"""The "full" model: the paper's torque plus drag, lift, Magnus, damping, wind (docs/physics.md).
 
 Forms follow McCoy, *Modern Exterior Ballistics* (linearised projectile aerodynamics), with the
 air-relative velocity u = v - wind, U = |u|, u_hat = u/U, axis s, delta = angle(u_hat, s),
 p the spin [rad/s], w_perp the transverse angular velocity, q = 1/2 rho U^2 S (S = pi D^2/4):
 
     drag          F = -q (C_D0 + C_D2 sin^2 delta) u_hat
-    lift/normal   F =  q C_Lalpha (s - cos(delta) u_hat)          (toward the nose, |.| = sin delta)
-    Magnus force  F =  q (p D / U) C_Npalpha (u_hat x s)
+    lift          F =  q C_Lalpha cos(delta) (s - cos(delta) u_hat)  (|.| = C_Lalpha/2 sin 2 delta)
+    Magnus force  F =  q (p D / U) C_Npalpha (s x u_hat)             (classical: along p s x u)
     overturning   M =  q D C_Malpha f(delta) (u_hat x s)           (the paper's torque)
     pitch damping M =  q D (D / U) C_Mq w_perp                     (C_Mq < 0 damps)
     spin damping  M =  q D (D / U) C_lp p s                        (C_lp < 0: spin decays)
     Magnus moment M =  q D (p D / U) C_Mpalpha (u_hat - cos(delta) s)
 
-Signs are this module's definitions (McCoy's conventions differ between editions); with every
-coefficient zero and no wind the model is the paper's, to round-off.
+Signs: a positive C_Npalpha pushes a right-handed spiral (p > 0) flying nose-right UP (the
+classical Magnus direction p s x u); a positive C_Mpalpha enters McCoy's lift-like factor
+T = rho S D / (2m) [C_Lalpha + (m D^2 / I_s) C_Mpalpha] with a plus sign (so both match McCoy's
+linear theory, derived in docs/physics.md). With every coefficient zero and no wind the model is
+the paper's, to round-off.
 
 Coefficients for the American football. Data are scarce (Dzielski & Blackburn, ASME Open J.
-Eng. 2022, discuss which exist); every number below is labelled:
+Eng. 2022, discuss which exist); every number is labelled and :data:`VALIDITY` gives the
+range of total angle delta each form covers:
 - C_D0 = 0.055, C_D2 = 0.30: ESTIMATE from Rae & Streit's wind-tunnel drag of a football, which
-  rises from about 0.05-0.06 end-on to about 0.35 broadside (also Alam et al.).
-- C_Lalpha = 0.40 /rad: ESTIMATE from Rae & Streit's normal force, C_L ~ 0.2 sin(2 delta).
-- C_Malpha: the preset's (0.33 /rad, the paper; Rae & Streit's 0.165 sin 2 delta).
+  rises from about 0.05-0.06 end-on to about 0.35 broadside (also Alam et al.); the sin^2 form
+  joins the two ends, delta 0-90 deg (McCoy's C_D0 + C_Ddelta2 delta^2 at small delta).
+- C_Lalpha = 0.40 /rad: ESTIMATE from Rae & Streit's normal-force fit ~ 0.2 sin(2 delta): the
+  lift follows sin(2 delta) over their range, delta 0-50 deg.
+- C_Malpha: the preset's (0.33 /rad, the paper); ``sin2delta`` uses Rae & Streit's curve
+  0.165 sin 2 delta (valid to 50 deg); the linear slope is within 10 % of it up to 23 deg.
 - C_Mq = -0.10: ESTIMATE (no football measurement known to us; chosen small so that the wobble
-  decays over seconds, as films of spirals show).
-- C_lp = -0.005: ESTIMATE (spin decays by a few percent per second).
-- C_Npalpha = 0, C_Mpalpha = 0: no football data; set them to study Magnus effects.
+  decays over seconds, as films of spirals show). Small-angle linear form, 0-20 deg.
+- C_lp = -0.005: ESTIMATE (spin decays by a few percent per second). Any delta.
+- C_Npalpha = 0, C_Mpalpha = 0: no football data; set them to study Magnus effects (McCoy's
+  small-angle forms, 0-20 deg).
 The rugby preset uses the same estimates (no better data), scaled by its own S and D.
 """
 
@@ -41,9 +49,20 @@ from .presets import BallPreset
 R_DRY_AIR = 287.05  # J/(kg K)
 
 
-def air_density(altitude_m: float = 0.0, temperature_c: float = 15.0) -> float:
-    """Dry-air density [kg/m^3]: ISA pressure at ``altitude_m`` and the given temperature."""
+ISA_LAPSE = 0.0065  # K/m, ISA troposphere temperature lapse rate
+
+
+def isa_temperature_c(altitude_m: float) -> float:
+    """ISA temperature [deg C] at ``altitude_m`` [m]: 15 C at sea level, -6.5 K per km."""
+    return 15.0 - ISA_LAPSE * altitude_m
+
+
+def air_density(altitude_m: float = 0.0, temperature_c: float | None = None) -> float:
+    """Dry-air density [kg/m^3]: ISA pressure at ``altitude_m`` [m] and ``temperature_c``
+    [deg C], or the ISA temperature there when None (the ISA density: 1.0467 at 1609 m)."""
     pressure = 101325.0 * (1.0 - 2.25577e-5 * altitude_m) ** 5.25588
+    if temperature_c is None:
+        temperature_c = isa_temperature_c(altitude_m)
     return pressure / (R_DRY_AIR * (temperature_c + 273.15))
 
 
@@ -52,7 +71,8 @@ class AeroModel:
     """Switches and coefficients of the full model (see the module docstring for sources).
 
     wind [m/s] in ``field``; air_density [kg/m^3] overrides the ball's if given, else
-    altitude_m/temperature_c give it when either is set.
+    altitude_m/temperature_c give it when either is set (a missing temperature is the ISA
+    temperature at the altitude, a missing altitude is sea level).
     """
 
     drag: bool = True
@@ -110,7 +130,7 @@ class AeroModel:
         if self.air_density is not None:
             return self.air_density
         if self.altitude_m is not None or self.temperature_c is not None:
-            return air_density(self.altitude_m or 0.0, 15.0 if self.temperature_c is None else self.temperature_c)
+            return air_density(self.altitude_m or 0.0, self.temperature_c)
         return default
 
     def without_extras(self) -> "AeroModel":
@@ -154,8 +174,15 @@ class DynamicStability:
 
 
 def dynamic_stability(ball: BallPreset, speed: float, spin: float, model: AeroModel) -> DynamicStability:
-    """McCoy's P, M, T, H and the mode damping rates at ``speed`` [m/s] and ``spin`` [rad/s], for
-    the terms switched on in ``model`` (the ball's air density)."""
+    """McCoy's P, M, T, H and the mode damping rates at air speed ``speed`` [m/s] and ``spin``
+    [rad/s], for the terms switched on in ``model`` (the ball's air density).
+
+    P = (I_s/I_t) p D / V, M = rho S D^3 C_Malpha / (2 I_t),
+    H = rho S D / (2m) [C_Lalpha - C_D0 - (m D^2/I_t) C_Mq],
+    T = rho S D / (2m) [C_Lalpha + (m D^2/I_s) C_Mpalpha] (the Magnus MOMENT). The Magnus force
+    adds fk p D C_Npalpha to h1 and h1 fk p D C_Npalpha to M_alpha (fk = rho S / 2m): it moves
+    the frequencies (w_s by 2 % at C_Npalpha = 0.3), not the damping (docs/physics.md).
+    """
     mass, diameter, density, c_m_alpha = ball.mass, ball.diameter, ball.air_density, ball.c_m_alpha
     inertia_spin, inertia_transverse = ball.inertia_spin, ball.inertia_transverse
     area = math.pi * diameter ** 2 / 4.0
@@ -163,9 +190,10 @@ def dynamic_stability(ball: BallPreset, speed: float, spin: float, model: AeroMo
     m_nd = density * area * diameter ** 3 / (2.0 * inertia_transverse) * c_m_alpha
     c_l = model.c_l_alpha if model.lift else 0.0
     c_d = model.c_d0 if model.drag else 0.0
-    c_np = model.c_n_p_alpha if model.magnus else 0.0
+    c_mpa = model.c_m_p_alpha if model.magnus else 0.0
     c_mq = model.c_m_q if model.pitch_damping else 0.0
-    t_nd = density * area * diameter / (2.0 * mass) * (c_l + mass * diameter ** 2 / inertia_spin * c_np)
+    t_nd = density * area * diameter / (2.0 * mass) * (
+        c_l + mass * diameter ** 2 / inertia_spin * c_mpa)
     h_nd = density * area * diameter / (2.0 * mass) * (c_l - c_d - mass * diameter ** 2 / inertia_transverse * c_mq)
     s_g = p_nd ** 2 / (4.0 * m_nd) if m_nd else math.inf
     s_d = 2.0 * t_nd / h_nd if h_nd else math.nan
@@ -174,3 +202,75 @@ def dynamic_stability(ball: BallPreset, speed: float, spin: float, model: AeroMo
     lam_s = -0.5 * (h_nd + p_nd * (2.0 * t_nd - h_nd) / root)
     stable = bool(s_g > 1.0 and np.isfinite(s_d) and 1.0 / s_g < s_d * (2.0 - s_d))
     return DynamicStability(s_g, s_d, stable, lam_f * speed / diameter, lam_s * speed / diameter)
+
+
+@dataclass(frozen=True)
+class ValidityRange:
+    """The range of total angle delta [deg] over which a form follows its data, and the source."""
+
+    term: str
+    max_delta_deg: float
+    source: str
+
+
+VALIDITY: dict[str, ValidityRange] = {
+    "moment_linear": ValidityRange(
+        "overturning moment, linear slope C_Malpha delta", 23.0,
+        "the paper's linear slope; within 10 % of Rae & Streit's 0.165 sin 2 delta up to 23 deg"),
+    "moment_sin2delta": ValidityRange(
+        "overturning moment, Rae & Streit C_M = 0.165 sin 2 delta", 50.0,
+        "Rae & Streit wind-tunnel fit, 0-50 deg"),
+    "lift": ValidityRange("lift C_Lalpha/2 sin 2 delta", 50.0,
+                          "Rae & Streit normal-force fit ~ sin 2 delta, 0-50 deg "
+                          "(C_Lalpha ESTIMATE)"),
+    "drag": ValidityRange("drag C_D0 + C_D2 sin^2 delta", 90.0,
+                          "Rae & Streit / Alam et al.: end-on to broadside (ESTIMATE)"),
+    "magnus": ValidityRange("Magnus force and moment (McCoy small-angle forms)", 20.0,
+                            "McCoy linear forms, no football data"),
+    "pitch_damping": ValidityRange("pitch damping C_Mq (McCoy small-angle form)", 20.0,
+                                   "McCoy linear form, ESTIMATE, no football data"),
+}
+"""Validity of each form in total angle delta (docs/physics.md, 'Validity ranges')."""
+
+
+def validity_terms(model: str, moment: str, aero: AeroModel | None) -> list[str]:
+    """Keys of :data:`VALIDITY` whose forms act in a flight of ``model``/``moment``/``aero``."""
+    terms = ["moment_sin2delta" if moment == "sin2delta" else "moment_linear"]
+    if model != "full" or aero is None:
+        return terms
+    if aero.lift and aero.c_l_alpha:
+        terms.append("lift")
+    if aero.drag and (aero.c_d0 or aero.c_d2):
+        terms.append("drag")
+    if aero.magnus and (aero.c_n_p_alpha or aero.c_m_p_alpha):
+        terms.append("magnus")
+    if aero.pitch_damping and aero.c_m_q:
+        terms.append("pitch_damping")
+    return terms
+
+
+def max_valid_delta(model: str = "paper", moment: str = "linear",
+                    aero: AeroModel | None = None) -> float:
+    """The largest total angle delta [rad] inside every form in force: a cheap per-sample test
+    (``delta > max_valid_delta(...)``) before :func:`out_of_validity` words the warning."""
+    terms = validity_terms(model, moment, aero)
+    return math.radians(min(VALIDITY[k].max_delta_deg for k in terms))
+
+
+def out_of_validity(delta: float, model: str = "paper", moment: str = "linear",
+                    aero: AeroModel | None = None) -> list[str]:
+    """Pure check of one state (or a flight's largest angle): the forms in force whose data
+    range the total angle ``delta`` [rad] exceeds, one sentence each (empty: all within).
+
+    For the simulator's /diagnostics (WARN with these sentences) and ``simulate`` (stderr).
+    """
+    if not math.isfinite(delta):
+        return ["total angle delta is not finite"]
+    deg = math.degrees(abs(delta))
+    out = []
+    for key in validity_terms(model, moment, aero):
+        rng = VALIDITY[key]
+        if deg > rng.max_delta_deg:
+            out.append(f"delta = {deg:.1f} deg is beyond the {rng.max_delta_deg:g} deg range of "
+                       f"the {rng.term} ({rng.source})")
+    return out

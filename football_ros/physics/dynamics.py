@@ -1,6 +1,6 @@
 """Equations of motion and their integrator: the hot path, compiled with numba.
 
-Torque-only model of the paper (physics.md section 2), in ``field``:
+Torque-only model of the paper (docs/physics.md, "The paper's model"), in ``field``:
 
     r' = v,  v' = (0, 0, -g),  h' = M_alpha(V) f(delta) (v_hat x s),  s' = h x s
 
@@ -16,8 +16,9 @@ w_perp only), the modified angular momentum h = H / I_t [rad/s], the spin moment
 orientation is q_nr * rot_x(phi); phi' = p = (I_t/I_s) h1.
 
 The step is classical RK4 followed by a projection: q_nr is normalised (so |s| = 1) and h is
-corrected along s so that h.s equals h1, which the model keeps constant. Both invariants hold to
-round-off for any step size.
+corrected along s so that h.s equals the integrated h1 (constant in the paper's model; the full
+model's spin damping changes it through dh1/dt, which RK4 integrates like the other states).
+Both invariants hold to round-off for any step size.
 """
 
 from __future__ import annotations
@@ -101,8 +102,9 @@ def loads(v: tuple, s: tuple, h: tuple, h1: float, params: np.ndarray) -> tuple:
     spin = params[P_SPIN_RATIO] * h1
     q_u2 = fk * speed * speed
     drag = -q_u2 * (params[P_CD0] + params[P_CD2] * (1.0 - cos_d * cos_d))
-    lift = q_u2 * params[P_CLA]
-    magnus = fk * speed * spin * params[P_DIAMETER] * params[P_CNPA]
+    lift = q_u2 * params[P_CLA] * cos_d  # C_L = C_Lalpha/2 sin 2 delta (Rae & Streit's form)
+    # Magnus force along s x u_hat = -(u_hat x s): classical direction for C_Npalpha > 0.
+    magnus = -fk * speed * spin * params[P_DIAMETER] * params[P_CNPA]
     ax = drag * ex + lift * (sx - cos_d * ex) + magnus * cx
     ay = drag * ey + lift * (sy - cos_d * ey) + magnus * cy
     az = drag * ez + lift * (sz - cos_d * ez) + magnus * cz - params[P_GRAVITY]
@@ -246,7 +248,8 @@ def _finish_with_landing(times, states, k, y, t, step, params, ground):
 @njit(cache=True)
 def velocity_frame_components(v: tuple, s: tuple) -> tuple:
     """Components (s1, s2, s3) of ``s`` along e1 = v/V, e2 = up made perpendicular to e1 and
-    e3 = e1 x e2 (compiled twin of :func:`football_ros.physics.frames.to_velocity_frame`)."""
+    e3 = e1 x e2 (compiled twin of :func:`football_ros.physics.frames.to_velocity_frame`).
+    Pass the air-relative velocity v - wind for aerodynamic angles."""
     vx, vy, vz = v
     sx, sy, sz = s
     speed = math.sqrt(vx * vx + vy * vy + vz * vz)
@@ -269,8 +272,9 @@ def describe(states: np.ndarray, params: np.ndarray) -> np.ndarray:
     """Derived quantities of state rows (N, N_STATE) -> (N, N_DESCRIBE), in ``field``.
 
     Orientation = q_nr * rot_x(phi) (body x = axis, spin angle included); angular velocity
-    w = h - h1 s + p s with p = (I_t/I_s) h1; alpha, beta, delta as in physics.md section 1
-    (compiled twin of :func:`football_ros.physics.frames.aero_angles`, tested against it).
+    w = h - h1 s + p s with p = (I_t/I_s) h1; alpha, beta, delta as in docs/physics.md,
+    against the air-relative velocity v - wind (wind from ``params``; the ground velocity when
+    there is none). Compiled twin of :func:`football_ros.physics.frames.aero_angles`.
     """
     out = np.empty((states.shape[0], N_DESCRIBE))
     for i in range(states.shape[0]):
@@ -288,7 +292,8 @@ def describe(states: np.ndarray, params: np.ndarray) -> np.ndarray:
         out[i, D_OMEGA] = y[H] + extra * sx
         out[i, D_OMEGA + 1] = y[H + 1] + extra * sy
         out[i, D_OMEGA + 2] = y[H + 2] + extra * sz
-        s1, s2, s3 = velocity_frame_components((y[V], y[V + 1], y[V + 2]), (sx, sy, sz))
+        air = (y[V] - params[P_WIND], y[V + 1] - params[P_WIND + 1], y[V + 2] - params[P_WIND + 2])
+        s1, s2, s3 = velocity_frame_components(air, (sx, sy, sz))
         out[i, D_ALPHA] = math.atan2(s2, s1)
         out[i, D_BETA] = math.asin(min(1.0, max(-1.0, s3)))
         out[i, D_DELTA] = math.acos(min(1.0, max(-1.0, s1)))

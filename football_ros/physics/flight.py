@@ -2,12 +2,14 @@
 
 Everything is in ``field`` and SI. :class:`Flight` owns the state vector of
 :mod:`football_ros.physics.dynamics`; :class:`Trajectory` turns sampled state vectors into the
-quantities users read (pose, axis, alpha/beta and the linear-theory prediction).
+quantities users read (pose, axis, alpha/beta against the air, and the linear-theory
+predictions: frozen at release and quasi-steady along the flight).
 """
 
 from __future__ import annotations
 
 import csv
+import dataclasses
 import math
 from dataclasses import dataclass
 from functools import cached_property
@@ -16,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from . import dynamics as dyn
-from .linear_theory import LinearModes, linear_modes
+from .linear_theory import LinearModes, QuasiSteadyTracker, linear_modes, quasi_steady_components
 from .presets import BallPreset
 from .aero import AeroModel, resolve
 from .release import MODELS, InitialState, Release
@@ -24,19 +26,37 @@ from .release import MODELS, InitialState, Release
 DEFAULT_STEP = 1e-3
 """Default integration step [s]: RK4 error on alpha/beta stays below 1e-6 rad over a pass."""
 
-CSV_HEADER = ("t", "x", "y", "z", "vx", "vy", "vz", "qx", "qy", "qz", "qw", "sx", "sy", "sz",
-              "alpha", "beta", "alpha_linear", "beta_linear")
+CSV_BASE_HEADER = ("t", "x", "y", "z", "vx", "vy", "vz", "qx", "qy", "qz", "qw", "sx", "sy", "sz",
+                   "alpha", "beta", "alpha_linear", "beta_linear")
+"""The 18 columns every simulate CSV starts with, in this order (a contract: never reordered)."""
+CSV_HEADER = CSV_BASE_HEADER + ("delta", "alpha_quasi_steady", "beta_quasi_steady", "spin")
+"""Columns written by :meth:`Trajectory.write_csv`: the base 18, then (appended) the total angle
+delta [rad], the quasi-steady linear theory's alpha, beta [rad] and the spin p [rad/s]."""
 
 
 @dataclass(frozen=True)
 class Trajectory:
-    """Sampled flight. ``times`` (N,) [s] since release, ``states`` (N, N_STATE) state vectors."""
+    """Sampled flight. ``times`` (N,) [s] since release, ``states`` (N, N_STATE) state vectors;
+    ``params`` the kernel parameters flown (None: the paper's, no wind)."""
 
     times: np.ndarray
     states: np.ndarray
     landed: bool
     ball: BallPreset
     modes: LinearModes
+    params: np.ndarray | None = None
+
+    @property
+    def wind(self) -> np.ndarray:
+        """Wind [m/s] in ``field`` (zeros without)."""
+        if self.params is None:
+            return np.zeros(3)
+        return self.params[dyn.P_WIND:dyn.P_WIND + 3].copy()
+
+    @property
+    def air_velocities(self) -> np.ndarray:
+        """(N, 3) air-relative velocity u = v - wind [m/s] in ``field``."""
+        return self.velocities - self.wind
 
     @property
     def positions(self) -> np.ndarray:
@@ -50,7 +70,8 @@ class Trajectory:
 
     @cached_property
     def _described(self) -> np.ndarray:
-        return dyn.describe(self.states, dyn.make_params(self.ball))  # uses I_t/I_s only
+        params = self.params if self.params is not None else dyn.make_params(self.ball)
+        return dyn.describe(self.states, params)  # I_t/I_s and the wind
 
     @property
     def axes(self) -> np.ndarray:
@@ -74,7 +95,7 @@ class Trajectory:
 
     @property
     def aero_angles(self) -> np.ndarray:
-        """(N, 3) alpha, beta, delta [rad] of the integrated (nonlinear) flight."""
+        """(N, 3) alpha, beta, delta [rad] of the integrated flight, against the air."""
         return self._described[:, dyn.D_ALPHA:dyn.D_DELTA + 1]
 
     @property
@@ -82,10 +103,31 @@ class Trajectory:
         """(N, 2) alpha, beta [rad] of the linear theory, V and Phi frozen at release."""
         return np.stack(self.modes.aero_angles(self.times), axis=-1)
 
+    @property
+    def spin(self) -> np.ndarray:
+        """(N,) spin p = (I_t/I_s) h1 [rad/s] about the axis."""
+        return self.states[:, dyn.H1] / self.ball.inertia_ratio
+
+    @cached_property
+    def axis_components_quasi_steady(self) -> np.ndarray:
+        """(N,) complex x = s2 + i s3 of the quasi-steady linear theory (local U, Phi, h1, and
+        the flown model's lift, damping and Magnus terms)."""
+        params = dyn.make_params(self.ball) if self.params is None else self.params
+        return quasi_steady_components(self.modes, params, self.times, self.air_velocities,
+                                       self.states[:, dyn.H1])
+
+    @property
+    def aero_angles_quasi_steady(self) -> np.ndarray:
+        """(N, 2) alpha, beta [rad] of the quasi-steady linear theory: M_alpha(U), w_V, s3p
+        and h1 local, phases integrated along the flight (docs/physics.md)."""
+        from .linear_theory import angles_from_components
+        return np.stack(angles_from_components(self.axis_components_quasi_steady), axis=-1)
+
     def table(self) -> np.ndarray:
-        """(N, 18) rows in the order of :data:`CSV_HEADER`."""
+        """(N, len(CSV_HEADER)) rows in the order of :data:`CSV_HEADER`."""
         return np.column_stack([self.times, self.positions, self.velocities, self.orientations,
-                                self.axes, self.aero_angles[:, :2], self.aero_angles_linear])
+                                self.axes, self.aero_angles[:, :2], self.aero_angles_linear,
+                                self.aero_angles[:, 2], self.aero_angles_quasi_steady, self.spin])
 
     def write_csv(self, path: str | Path) -> None:
         """Write :meth:`table` with :data:`CSV_HEADER` (full float precision)."""
@@ -110,7 +152,8 @@ class Flight:
         ball, self.aero = resolve(ball, model, aero)
         self.ball, self.initial, self.model, self.moment, self.step = ball, initial, model, moment, step
         self.params = dyn.make_params(ball, moment, self.aero)
-        self.modes = linear_modes(ball, initial)
+        self.wind = self.params[dyn.P_WIND:dyn.P_WIND + 3].copy()
+        self.modes = linear_modes(ball, initial, wind=self.wind)
         y0 = np.zeros(dyn.N_STATE)
         y0[dyn.R:dyn.R + 3] = initial.position
         y0[dyn.V:dyn.V + 3] = initial.velocity
@@ -131,7 +174,7 @@ class Flight:
         landing on z = ``ground`` (then the last sample is the landing itself)."""
         times, states, landed = dyn.propagate(self.y0, self.step, self.params, 1.0 / rate,
                                               duration, ground)
-        return Trajectory(times, states, landed, self.ball, self.modes)
+        return Trajectory(times, states, landed, self.ball, self.modes, self.params)
 
     # --- real time --------------------------------------------------------------------------
     def rewind(self) -> None:
@@ -140,6 +183,8 @@ class Flight:
         self._steps = 0
         self.landing_time: float | None = None
         self._landing_state: np.ndarray | None = None
+        self._quasi_steady = QuasiSteadyTracker(self.modes, self.params,
+                                                self.initial.velocity - self.wind)
 
     def state_at(self, t: float, ground: float = 0.0) -> np.ndarray:
         """State vector at time ``t`` [s] after release (t never decreasing between calls).
@@ -178,19 +223,25 @@ class Flight:
         t_state = self.landing_time if landed else t
         d = dyn.describe(state[None, :], self.params)[0]
         alpha_lin, beta_lin = self.modes.aero_angles(t_state)
+        quasi = self._quasi_steady.update(t_state, state[dyn.V:dyn.V + 3] - self.wind,
+                                          float(state[dyn.H1]))
         return BallSample(t=t_state, position=state[dyn.R:dyn.R + 3].copy(),
                           velocity=state[dyn.V:dyn.V + 3].copy(),
                           orientation=d[dyn.D_ORIENT:dyn.D_ORIENT + 4], axis=d[dyn.D_AXIS:dyn.D_AXIS + 3],
                           angular_velocity=d[dyn.D_OMEGA:dyn.D_OMEGA + 3],
                           aero_angles=d[dyn.D_ALPHA:dyn.D_DELTA + 1],
-                          aero_angles_linear=np.array([float(alpha_lin), float(beta_lin)]), landed=landed)
+                          aero_angles_linear=np.array([float(alpha_lin), float(beta_lin)]),
+                          landed=landed, aero_angles_quasi_steady=quasi)
 
 
 @dataclass(frozen=True)
 class BallSample:
     """One instant of a flight, in ``field``: t [s] since release, position [m], velocity [m/s],
     orientation (x, y, z, w; body x = axis), axis (unit), angular_velocity [rad/s],
-    aero_angles (alpha, beta, delta) [rad], aero_angles_linear (alpha, beta) [rad]."""
+    aero_angles (alpha, beta, delta) [rad] against the air (v - wind), aero_angles_linear
+    (alpha, beta) [rad] of the linear theory frozen at release, aero_angles_quasi_steady
+    (alpha, beta) [rad] of the quasi-steady linear theory (NaN once an unstable ball's theory
+    overflows)."""
 
     t: float
     position: np.ndarray
@@ -201,3 +252,5 @@ class BallSample:
     aero_angles: np.ndarray
     aero_angles_linear: np.ndarray
     landed: bool
+    aero_angles_quasi_steady: np.ndarray = dataclasses.field(
+        default_factory=lambda: np.full(2, np.nan))

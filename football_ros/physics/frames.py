@@ -1,4 +1,4 @@
-"""Frames and conversions: the one place for them (physics.md section 1).
+"""Frames and conversions: the one place for them (docs/physics.md, "Frames and signs").
 
 World frame ``field`` (REP-103): x downfield, y to the thrower's left, z up. Body frame
 ``football``: x along the spin axis toward the leading nose, y and z transverse. The paper's
@@ -61,13 +61,20 @@ def from_velocity_frame(components: np.ndarray, velocity: np.ndarray) -> np.ndar
     return c[..., 0:1] * e1 + c[..., 1:2] * e2 + c[..., 2:3] * e3
 
 
-def aero_angles(axis: np.ndarray, velocity: np.ndarray) -> np.ndarray:
+def air_velocity(velocity: np.ndarray, wind=None) -> np.ndarray:
+    """Air-relative velocity u = v - wind [m/s] in ``field`` (``velocity`` itself without wind)."""
+    velocity = np.asarray(velocity, dtype=float)
+    return velocity if wind is None else velocity - np.asarray(wind, dtype=float)
+
+
+def aero_angles(axis: np.ndarray, velocity: np.ndarray, wind=None) -> np.ndarray:
     """Angle of attack alpha, sideslip beta and total angle delta [rad], stacked on the last axis.
 
-    alpha = atan2(s.e2, s.e1) (nose above v > 0), beta = asin(s.e3) (nose right of v > 0),
-    delta = acos(s.e1).
+    Against the air-relative velocity u = velocity - ``wind`` (both in ``field``, m/s):
+    alpha = atan2(s.e2, s.e1) (nose above u > 0), beta = asin(s.e3) (nose right of u > 0),
+    delta = acos(s.e1), with e1, e2, e3 the velocity frame of u.
     """
-    s1, s2, s3 = np.moveaxis(to_velocity_frame(axis, velocity), -1, 0)
+    s1, s2, s3 = np.moveaxis(to_velocity_frame(axis, air_velocity(velocity, wind)), -1, 0)
     alpha = np.arctan2(s2, s1)
     beta = np.arcsin(np.clip(s3, -1.0, 1.0))
     delta = np.arccos(np.clip(s1, -1.0, 1.0))

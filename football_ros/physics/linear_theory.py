@@ -1,10 +1,19 @@
-"""Linear theory in the velocity frame, V and Phi frozen (physics.md section 3).
+"""Linear theory in the velocity frame: frozen at release, and quasi-steady along the flight.
 
-With x = s2 + i s3 (velocity-frame components of the axis) and h1 = h.s:
+With x = s2 + i s3 (velocity-frame components of the axis, against the air-relative velocity
+u = v - wind) and h1 = h.s (docs/physics.md, "Linear theory"):
 
-    x'' - i h1 x' - M_alpha x = i w_V h1,   w_V = -g cos(Phi) / V
+    x'' - i h1 x' - M_alpha x = i w_V h1,   w_V = -g cos(Phi) / U
 
-solved in closed form: x(t) = C1 exp(i w_f t) + C2 exp(i w_s t) + i s3p.
+Frozen (the paper): U and Phi held at their release values, solved in closed form,
+x(t) = C1 exp(i w_f t) + C2 exp(i w_s t) + i s3p.
+
+Quasi-steady (the paper's remark that the solution "can be applied at any point along the
+trajectory", made into a solution): the local M_alpha(U(t)), h1(t), mode exponents and
+equilibrium along the flight, the phases integrated, with the first-order WKB amplitudes. For
+the paper's model x(t) = A(t) [C1 exp(i int w_f) + C2 exp(i int w_s)] + i s3p(t),
+A = sqrt(D(0) / D(t)), D = sqrt(h1^2 - 4 M_alpha); for the full model the exponents and
+equilibrium of its own linear equation (lift, damping, Magnus; :func:`local_exponents`).
 """
 
 from __future__ import annotations
@@ -20,6 +29,15 @@ from .presets import BallPreset
 from .release import RPM, InitialState
 
 
+def angles_from_components(x) -> tuple[np.ndarray, np.ndarray]:
+    """alpha, beta [rad] of the unit axis with velocity-frame components
+    (sqrt(1 - s2^2 - s3^2), s2, s3), x = s2 + i s3 (complex, any shape)."""
+    x = np.asarray(x)
+    s2, s3 = np.clip(x.real, -1.0, 1.0), np.clip(x.imag, -1.0, 1.0)
+    s1 = np.sqrt(np.clip(1.0 - s2 ** 2 - s3 ** 2, 0.0, None))
+    return np.arctan2(s2, s1), np.arcsin(s3)
+
+
 @dataclass(frozen=True)
 class LinearModes:
     """Linear-theory numbers of one release. Rates in rad/s, angles in rad.
@@ -27,7 +45,8 @@ class LinearModes:
     m_alpha [1/s^2], h1 [rad/s], omega_fast/omega_slow: real parts of the mode frequencies
     (for an unstable ball the modes are complex and ``growth_rate`` [1/s] is the e-folding rate
     of the growing one), equilibrium_sideslip s3p [rad] (positive = nose right), c1, c2:
-    complex mode amplitudes [rad], omega_v: turn rate of the velocity frame [rad/s].
+    complex mode amplitudes [rad], omega_v: turn rate of the velocity frame [rad/s]; speed [m/s]
+    and flight_path_angle [rad] of the air-relative velocity at release.
     """
 
     m_alpha: float
@@ -63,10 +82,7 @@ class LinearModes:
     def aero_angles(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Predicted alpha, beta [rad] at times ``t``: the angles of the unit axis with
         velocity-frame components (sqrt(1 - s2^2 - s3^2), s2, s3)."""
-        x = self.axis_components(t)
-        s2, s3 = x.real, np.clip(x.imag, -1.0, 1.0)
-        s1 = np.sqrt(np.clip(1.0 - s2 ** 2 - s3 ** 2, 0.0, None))
-        return np.arctan2(s2, s1), np.arcsin(s3)
+        return angles_from_components(self.axis_components(t))
 
 
 def moment_slope(ball: BallPreset, speed: float) -> float:
@@ -74,10 +90,15 @@ def moment_slope(ball: BallPreset, speed: float) -> float:
     return ball.moment_coefficient() * speed ** 2
 
 
-def linear_modes(ball: BallPreset, state: InitialState, gravity: float = frames.GRAVITY) -> LinearModes:
-    """Modes, equilibrium and mode amplitudes for a release, V and Phi frozen at release."""
-    speed = float(np.linalg.norm(state.velocity))
-    phi = float(frames.flight_path_angle(state.velocity))
+def linear_modes(ball: BallPreset, state: InitialState, gravity: float = frames.GRAVITY,
+                 wind=None) -> LinearModes:
+    """Modes, equilibrium and mode amplitudes for a release, U and Phi frozen at release.
+
+    ``wind`` [m/s] in ``field``: the theory uses the air-relative velocity u = v - wind.
+    """
+    air = frames.air_velocity(state.velocity, wind)
+    speed = float(np.linalg.norm(air))
+    phi = float(frames.flight_path_angle(air))
     m_alpha = moment_slope(ball, speed)
     h1 = ball.inertia_ratio * state.spin
     disc = cmath.sqrt(h1 ** 2 - 4.0 * m_alpha)
@@ -85,7 +106,7 @@ def linear_modes(ball: BallPreset, state: InitialState, gravity: float = frames.
     omega_v = -gravity * math.cos(phi) / speed
     s3p = gravity * math.cos(phi) * h1 / (m_alpha * speed)
     # Initial axis and its rate seen in the velocity frame (which turns at omega_v about e3).
-    e1, e2, e3 = frames.velocity_frame(state.velocity)
+    e1, e2, e3 = frames.velocity_frame(air)
     axis_rate = np.cross(state.transverse_rate, state.axis)
     rate_rel = axis_rate - omega_v * np.cross(e3, state.axis)
     s2, s3 = float(state.axis @ e2), float(state.axis @ e3)
@@ -101,3 +122,153 @@ def linear_modes(ball: BallPreset, state: InitialState, gravity: float = frames.
         critical_spin_rpm=2.0 * math.sqrt(m_alpha) / ball.inertia_ratio / RPM,
         equilibrium_sideslip=s3p, c1=complex(c1), c2=complex(c2), omega_v=omega_v,
         speed=speed, flight_path_angle=phi)
+
+
+def local_modes(moment_k: float, air_velocity: np.ndarray, h1, gravity: float = frames.GRAVITY):
+    """Local linear-theory numbers along a flight (arrays broadcast over samples).
+
+    ``moment_k`` = M_alpha / U^2 [1/m^2], ``air_velocity`` (..., 3) [m/s], ``h1`` [rad/s].
+    Returns (w_f, w_s, D, s3p): complex mode frequencies [rad/s], D = sqrt(h1^2 - 4 M_alpha)
+    (complex), and the local equilibrium sideslip s3p [rad].
+    """
+    air = np.asarray(air_velocity, dtype=float)
+    speed = np.linalg.norm(air, axis=-1)
+    phi = frames.flight_path_angle(air)
+    m_alpha = moment_k * speed ** 2
+    h1 = np.asarray(h1, dtype=float)
+    disc = np.sqrt((h1 ** 2 - 4.0 * m_alpha).astype(complex))
+    s3p = gravity * np.cos(phi) * h1 / (m_alpha * speed)
+    return (h1 + disc) / 2.0, (h1 - disc) / 2.0, disc, s3p
+
+
+def local_exponents(params: np.ndarray, air_velocity: np.ndarray, h1):
+    """Local linear equation x'' + B x' - C x = F of the flown model (kernel ``params`` of
+    :func:`football_ros.physics.dynamics.make_params`; the paper's when its extra terms are 0).
+
+    B = fk U C_Lalpha - dk U C_Mq - i (h1 + fk p D C_Npalpha),
+    C = M_alpha + h1 fk p D C_Npalpha + i (h1 fk U C_Lalpha + dk U p C_Mpalpha),
+    F = (i h1 + dk U C_Mq) w_V, w_V = -g cos(Phi) / U (docs/physics.md section 5), with
+    fk = rho S / 2m, dk = rho S D^2 / (2 I_t), p = (I_t/I_s) h1. Returns (sigma_1, sigma_2, B,
+    D_c, x_p): the exponents (-B +- i D_c) / 2 with D_c = sqrt(-(B^2 + 4C)) (= sqrt(h1^2 -
+    4 M_alpha) for the paper: sigma = i w_f, i w_s), and the equilibrium x_p = -F / C.
+    """
+    from . import dynamics as dyn
+    air = np.asarray(air_velocity, dtype=float)
+    speed = np.linalg.norm(air, axis=-1)
+    phi = frames.flight_path_angle(air)
+    h1 = np.asarray(h1, dtype=float)
+    spin = params[dyn.P_SPIN_RATIO] * h1
+    fk, dk, diameter = params[dyn.P_FORCE_K], params[dyn.P_DAMP_K] * speed, params[dyn.P_DIAMETER]
+    m_alpha = params[dyn.P_MOMENT_K] * speed ** 2
+    magnus = fk * spin * diameter * params[dyn.P_CNPA]
+    b = fk * speed * params[dyn.P_CLA] - dk * params[dyn.P_CMQ] - 1j * (h1 + magnus)
+    c = m_alpha + h1 * magnus + 1j * (h1 * fk * speed * params[dyn.P_CLA]
+                                      + dk * spin * params[dyn.P_CMPA])
+    d_c = np.sqrt(-(b * b + 4.0 * c))
+    w_v = -params[dyn.P_GRAVITY] * np.cos(phi) / speed
+    x_p = -(1j * h1 + dk * params[dyn.P_CMQ]) * w_v / c
+    return (-b + 1j * d_c) / 2.0, (-b - 1j * d_c) / 2.0, b, d_c, x_p
+
+
+def _scalar_constants(params: np.ndarray) -> tuple:
+    """The kernel parameters :func:`_local_exponents_scalar` reads, as Python floats."""
+    from . import dynamics as dyn
+    keys = (dyn.P_SPIN_RATIO, dyn.P_FORCE_K, dyn.P_DAMP_K, dyn.P_CLA, dyn.P_CMQ, dyn.P_DIAMETER,
+            dyn.P_CNPA, dyn.P_MOMENT_K, dyn.P_CMPA, dyn.P_GRAVITY)
+    return tuple(float(params[k]) for k in keys)
+
+
+def _local_exponents_scalar(consts: tuple, air_velocity, h1: float) -> tuple:
+    """:func:`local_exponents` for one sample in plain floats (the real-time path);
+    ``consts`` from :func:`_scalar_constants`."""
+    spin_ratio, fk, dk0, c_la, c_mq, diameter, c_np, moment_k, c_mp, gravity = consts
+    ux, uy, uz = (float(c) for c in air_velocity)
+    speed = math.sqrt(ux * ux + uy * uy + uz * uz)
+    cos_phi = math.hypot(ux, uy) / speed
+    spin = spin_ratio * h1
+    dk = dk0 * speed
+    magnus = fk * spin * diameter * c_np
+    b = complex(fk * speed * c_la - dk * c_mq, -(h1 + magnus))
+    c = complex(moment_k * speed * speed + h1 * magnus, h1 * fk * speed * c_la + dk * spin * c_mp)
+    d_c = cmath.sqrt(-(b * b + 4.0 * c))
+    w_v = -gravity * cos_phi / speed
+    x_p = -complex(dk * c_mq, h1) * w_v / c
+    return (-b + 1j * d_c) / 2.0, (-b - 1j * d_c) / 2.0, b, d_c, x_p
+
+
+def _start(modes: LinearModes, sigma_1, sigma_2, x_p0) -> tuple[complex, complex]:
+    """Mode amplitudes for the release state of ``modes`` (x0, x0') and the local exponents."""
+    w_f, w_s = modes._roots()
+    x0 = modes.c1 + modes.c2 + 1j * modes.equilibrium_sideslip
+    x0_dot = 1j * w_f * modes.c1 + 1j * w_s * modes.c2
+    k1 = (x0_dot - sigma_2 * (x0 - x_p0)) / (sigma_1 - sigma_2)
+    k2 = (sigma_1 * (x0 - x_p0) - x0_dot) / (sigma_1 - sigma_2)
+    return complex(k1), complex(k2)
+
+
+def quasi_steady_components(modes: LinearModes, params: np.ndarray, times: np.ndarray,
+                            air_velocities: np.ndarray, h1) -> np.ndarray:
+    """x(t) = s2 + i s3 of the quasi-steady linear theory at ``times`` [s] (increasing, the
+    first one the release), from the flight's air-relative velocities (N, 3) [m/s] and h1.
+
+    x = A1 K1 exp(int sigma_1) + A2 K2 exp(int sigma_2) + x_p(t) with the local exponents and
+    equilibrium of :func:`local_exponents`, K1, K2 from the release state, and the first-order
+    WKB amplitudes ln A_1,2 = -ln(D_c / D_c(0)) / 2 +- int dB / (2 i D_c). Integrals by the
+    trapezoid rule over the samples (error ~ dt^2 times the second derivative of the rates).
+    """
+    times = np.asarray(times, dtype=float)
+    h1 = np.broadcast_to(h1, times.shape)
+    sig1, sig2, b, d_c, x_p = local_exponents(params, air_velocities, h1)
+    k1, k2 = _start(modes, sig1[0], sig2[0], x_p[0])
+    dt = np.diff(times)
+
+    def integral(f, df=None):
+        steps = 0.5 * (f[1:] + f[:-1]) * (dt if df is None else df)
+        return np.concatenate([[0.0], np.cumsum(steps)])
+
+    drift = integral(1.0 / (2j * d_c), np.diff(b))
+    common = np.sqrt(d_c[0] / d_c)
+    with np.errstate(over="ignore", invalid="ignore"):
+        modes_part = k1 * np.exp(integral(sig1) + drift) + k2 * np.exp(integral(sig2) - drift)
+        return common * modes_part + x_p
+
+
+class QuasiSteadyTracker:
+    """The quasi-steady linear theory sample by sample (real time): call :meth:`update` with
+    non-decreasing times; the integrals advance by the trapezoid rule between calls, from the
+    release (t = 0) on."""
+
+    def __init__(self, modes: LinearModes, params: np.ndarray,
+                 release_air_velocity: np.ndarray) -> None:
+        self.modes, self.params = modes, params
+        self._consts = _scalar_constants(params)
+        sig1, sig2, b, d_c, x_p = _local_exponents_scalar(self._consts, release_air_velocity,
+                                                          modes.h1)
+        self._k = _start(modes, sig1, sig2, x_p)
+        self._t = 0.0
+        self._last = (sig1, sig2, b, d_c)
+        self._d0 = d_c
+        self._log = [0j, 0j]  # integrals of sigma +- the WKB drift
+
+    def update(self, t: float, air_velocity: np.ndarray, h1: float) -> np.ndarray:
+        """alpha, beta [rad] of the quasi-steady theory at ``t`` [s] since release (NaN once
+        an unstable ball's theory overflows)."""
+        sig1, sig2, b, d_c, x_p = _local_exponents_scalar(self._consts, air_velocity, float(h1))
+        if t > self._t:
+            l1, l2, lb, ld = self._last
+            dt = t - self._t
+            drift = (b - lb) * 0.5 * (1.0 / (2j * d_c) + 1.0 / (2j * ld))
+            self._log[0] += 0.5 * dt * (sig1 + l1) + drift
+            self._log[1] += 0.5 * dt * (sig2 + l2) - drift
+            self._t, self._last = t, (sig1, sig2, b, d_c)
+        try:
+            common = cmath.sqrt(self._d0 / d_c)
+            x = common * (self._k[0] * cmath.exp(self._log[0])
+                          + self._k[1] * cmath.exp(self._log[1])) + x_p
+        except (OverflowError, ZeroDivisionError):
+            return np.full(2, np.nan)
+        if not (math.isfinite(x.real) and math.isfinite(x.imag)):
+            return np.full(2, np.nan)
+        s2, s3 = min(1.0, max(-1.0, x.real)), min(1.0, max(-1.0, x.imag))
+        s1 = math.sqrt(max(0.0, 1.0 - s2 * s2 - s3 * s3))
+        return np.array([math.atan2(s2, s1), math.asin(s3)])

@@ -2,7 +2,7 @@
 
 Every number is SI (kg, m, kg m^2, kg/m^3, m/s, rad/s via rpm). Sources: Dzielski & Blackburn,
 Dynamics 2022 (inertias, C_Malpha, nominal releases); diameter and air density chosen as
-physics.md section 4 states so that M_alpha = 191 s^-2 at 27.4 m/s for the American football.
+docs/physics.md section 4 states so that M_alpha = 191 s^-2 at 27.4 m/s for the American football.
 """
 
 from __future__ import annotations

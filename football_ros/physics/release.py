@@ -1,4 +1,4 @@
-"""Release conditions and the rigid-body state they start (physics.md sections 1 and 3).
+"""Release conditions and the rigid-body state they start (docs/physics.md sections 1 and 3).
 
 A :class:`Release` is what a user says ("27.4 m/s, 30 deg, 600 rpm, nose 2 deg up"); an
 :class:`InitialState` is the rigid-body state it means in ``field``. Both are validated here,
@@ -243,7 +243,7 @@ class Release:
         return out
 
     def initial_state(self) -> InitialState:
-        """The rigid-body state in ``field`` this release means (physics.md section 1)."""
+        """The rigid-body state in ``field`` this release means (docs/physics.md section 1)."""
         st = release_states(self.speed, self.elevation_deg, self.azimuth_deg, self.spin_rpm,
                             self.alpha0_deg, self.beta0_deg, self.alpha_rate_deg_s, self.beta_rate_deg_s,
                             np.array(self.position, dtype=float))

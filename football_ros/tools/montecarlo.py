@@ -25,6 +25,8 @@ SPREAD_DEFAULTS = {"speed": 0.5, "elevation_deg": 1.0, "azimuth_deg": 1.0, "spin
                    "alpha0_deg": 1.0, "beta0_deg": 1.0, "alpha_rate_deg_s": 10.0, "beta_rate_deg_s": 10.0}
 """Default standard deviations of the release errors (units of each quantity)."""
 CHUNK = 4096
+DENSITY_ABOVE = 5000
+"""Landing points above this count are drawn as a density (hexbin), not a scatter."""
 COLUMNS = (*SPREAD_DEFAULTS, "landing_x", "landing_y", "time_of_flight", "landed", "max_alpha",
            "max_beta", "max_delta")
 
@@ -110,12 +112,17 @@ def plot(path: Path, result: BatchResult, title: str) -> None:
     landed = result.landed
     fig, axes = plt.subplots(1, 3, figsize=(14, 4.5))
     x, y = result.landing_x[landed], result.landing_y[landed]
-    axes[0].scatter(x, y, s=2, alpha=0.3)
+    if x.size > DENSITY_ABOVE:  # a scatter of this many points is a solid blob: plot the density
+        cells = axes[0].hexbin(x, y, gridsize=60, bins="log", mincnt=1, cmap="viridis")
+        fig.colorbar(cells, ax=axes[0], label="balls per cell")
+    else:
+        axes[0].scatter(x, y, s=2, alpha=0.3)
+    axes[0].set_aspect("equal", adjustable="datalim")  # metres are metres both ways
     axes[0].plot(np.mean(x), np.mean(y), "r+", ms=14, label="mean")
     axes[0].set_xlabel("landing x, downfield [m]")
     axes[0].set_ylabel("landing y, left > 0 [m]")
     axes[0].set_title("Landing points")
-    axes[0].legend()
+    axes[0].legend(loc="upper left", bbox_to_anchor=(0.0, -0.15), fontsize=8)
     axes[0].grid(alpha=0.3)
     axes[1].hist(result.time_of_flight[landed], bins=50)
     axes[1].set_xlabel("time of flight [s]")
@@ -125,7 +132,7 @@ def plot(path: Path, result: BatchResult, title: str) -> None:
     axes[2].hist(np.degrees(result.max_beta), bins=50, alpha=0.7, label="max |beta|")
     axes[2].set_xlabel("angle [deg]")
     axes[2].set_title("Wobble amplitude")
-    axes[2].legend()
+    axes[2].legend(fontsize=8, loc="upper right")
     fig.suptitle(title)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
