@@ -158,3 +158,58 @@ def test_demo_end_to_end(tmp_path):
     assert len(list((out / "figures").glob("*.png"))) == 4
     for name in ("simulator", "release", "recorder"):
         assert "Traceback" not in (out / f"{name}.log").read_text()
+
+
+# --- parameters, params files, namespaces (issue 10.1, 10.3) -------------------------------------
+from football_ros.nodes import recorder as recorder_node  # noqa: E402
+
+def _config():
+    from pathlib import Path
+    return Path(__file__).resolve().parents[1] / "config" / "football.yaml"
+
+
+def _params_file(tmp_path, body, key="/**/football_recorder"):
+    path = tmp_path / "params.yaml"
+    path.write_text(f"{key}:\n  ros__parameters:\n" + "".join(f"    {line}\n" for line in body))
+    return path
+
+
+@pytest.mark.parametrize("namespace", ["", "/team1"])
+def test_shipped_params_file_under_any_namespace(start_node, tmp_path, namespace):
+    """The shipped YAML starts the recorder (rcl reads [] as unset), also in a namespace."""
+    bag = tmp_path / "bag"
+    args = ["--ros-args", "--params-file", str(_config()), "-p", f"output:={bag}"]
+    if namespace:
+        args += ["-r", f"__ns:={namespace}"]
+    rec = start_node("record", *args)
+    assert f"recording {len(recorder_node.TOPICS)} topics to {bag} (mcap)" in rec.log()
+    assert rec.stop() == 0 and "Traceback" not in rec.log()
+    meta = yaml.safe_load((bag / "metadata.yaml").read_text())["rosbag2_bagfile_information"]
+    assert meta["message_count"] == 0 and meta["ros_distro"] == "jazzy"
+
+
+@pytest.mark.parametrize("topics, expected", [
+    ("[]", len(recorder_node.TOPICS)), ('[""]', len(recorder_node.TOPICS)),
+    ("[football/pose, /diagnostics]", 2), ("football/odom", 1)])
+def test_namespaced_recorder_honours_output_and_topics(start_node, tmp_path, topics, expected):
+    """Wildcard keys apply under -r __ns:=/team1; relative topics resolve in the namespace."""
+    bag = tmp_path / "team_bag"
+    params = _params_file(tmp_path, [f"output: {bag}", "storage: sqlite3", f"topics: {topics}"])
+    rec = start_node("record", "--ros-args", "-r", "__ns:=/team1", "--params-file", str(params))
+    assert f"recording {expected} topics to {bag} (sqlite3)" in rec.log()
+    assert rec.stop() == 0
+    assert list(bag.glob("*.db3")) and (bag / "metadata.yaml").exists()
+
+
+@pytest.mark.parametrize("line, field", [
+    ("topics: 5", "topics"), ("topics: [1, 2]", "topics"), ("output: 3", "output"),
+    ("storage: [mcap]", "storage"), ("storage: rosbag", "storage"), ("topics: [nope]", "topics"),
+    ("topics: ['bad name!']", "topics")])
+def test_bad_parameters_give_one_line_naming_the_field(tmp_path, line, field):
+    params = _params_file(tmp_path, [f"output: {tmp_path / 'bag'}", line])
+    proc = subprocess.run([sys.executable, "-m", "football_ros.cli", "record", "--ros-args",
+                           "--params-file", str(params)], capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 2, proc.stdout + proc.stderr
+    assert "Traceback" not in proc.stderr and f"'{field}'" in proc.stderr
+    assert proc.stderr.strip().count("\n") == 0, proc.stderr
+    assert not (tmp_path / "bag").exists()
