@@ -65,6 +65,19 @@ def test_records_every_message_of_a_1khz_flight(start_node, collector, tmp_path)
     assert topics["/football/pose"]["offered_qos_profiles"][0]["reliability"] == "reliable"
     assert topics["/football/pose"]["type"] == "geometry_msgs/msg/PoseStamped"
     assert "wrote" in recorder.log() and "Traceback" not in recorder.log()
+    # As ros2 bag record (jazzy) writes it: distro, and each topic's RIHS01 type hash equal to
+    # the one its publisher advertises in the graph.
+    assert meta["ros_distro"] == "jazzy" and meta["version"] == 9
+    assert not (bag / ".football_ros_reserve").exists()
+    advertised = {}
+    for name in topics:
+        infos = collector.node.get_publishers_info_by_topic(name)
+        if infos:
+            advertised[name] = str(infos[0].topic_type_hash)
+    assert {"/football/pose", "/football/odom", "/football/markers"} <= set(advertised)
+    for name, digest in advertised.items():
+        assert topics[name]["type_description_hash"] == digest, name
+        assert digest.startswith("RIHS01_") and len(digest) == 7 + 64
 
     # Independently of rosbags: the mcap library with its ROS 2 decoder.
     from mcap.reader import make_reader
@@ -76,6 +89,13 @@ def test_records_every_message_of_a_1khz_flight(start_node, collector, tmp_path)
         by_topic = {ch.topic: summary.statistics.channel_message_counts[cid]
                     for cid, ch in summary.channels.items()}
         assert by_topic["/football/odom"] == len(expected.times)
+        assert reader.get_header().profile == "ros2"
+        for channel in summary.channels.values():
+            schema = summary.schemas[channel.schema_id]
+            assert channel.message_encoding == "cdr" and schema.encoding == "ros2msg"
+            assert channel.metadata["topic_type_hash"] == topics[channel.topic]["type_description_hash"]
+            qos_list = yaml.safe_load(channel.metadata["offered_qos_profiles"])
+            assert qos_list and "reliability" in qos_list[0]
         odom = [m.decoded_message for m in reader.iter_decoded_messages(topics=["/football/odom"])]
     positions = np.array([[o.pose.pose.position.x, o.pose.pose.position.y, o.pose.pose.position.z]
                           for o in odom])
@@ -87,6 +107,14 @@ def test_sqlite3_storage(start_node, collector, tmp_path):
     record_flight(start_node, collector, bag, "sqlite3", rate=200.0)
     counts, _, _ = read_bag(bag)
     assert list(bag.glob("*.db3")) and counts["/football/pose"] == len(collector.get(qos.POSE)) == 560
+    import sqlite3
+    with sqlite3.connect(next(bag.glob("*.db3"))) as db:
+        assert db.execute("SELECT ros_distro FROM schema").fetchall() == [("jazzy",)]
+        stored = yaml.safe_load(db.execute("SELECT metadata FROM metadata").fetchone()[0])
+        hashes = dict(db.execute("SELECT name, type_description_hash FROM topics").fetchall())
+    assert stored["ros_distro"] == "jazzy" and stored["message_count"] == sum(counts.values())
+    assert hashes["/football/pose"] == str(
+        collector.node.get_publishers_info_by_topic("/football/pose")[0].topic_type_hash)
 
 
 @pytest.mark.parametrize("sig, after", [(signal.SIGINT, 0.3), (signal.SIGTERM, 1.1), (signal.SIGTERM, 0.0)])
