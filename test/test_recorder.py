@@ -8,7 +8,7 @@ import time
 import numpy as np
 import pytest
 import yaml
-from diagnostic_msgs.msg import DiagnosticArray
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from geometry_msgs.msg import PoseStamped, Vector3Stamped
 from nav_msgs.msg import Odometry
 from rosbags.highlevel import AnyReader
@@ -241,3 +241,121 @@ def test_bad_parameters_give_one_line_naming_the_field(tmp_path, line, field):
     assert "Traceback" not in proc.stderr and f"'{field}'" in proc.stderr
     assert proc.stderr.strip().count("\n") == 0, proc.stderr
     assert not (tmp_path / "bag").exists()
+
+
+# --- write errors: full disk, file size limit (issue 9.7) ----------------------------------------
+def check_bag_consistent(bag):
+    """The bag opens with rosbags and with the mcap reader, and every count agrees."""
+    meta = yaml.safe_load((bag / "metadata.yaml").read_text())["rosbag2_bagfile_information"]
+    counts, _, _ = read_bag(bag)
+    assert meta["message_count"] == sum(counts.values())
+    per_topic = {t["topic_metadata"]["name"]: t["message_count"]
+                 for t in meta["topics_with_message_count"]}
+    assert {k: v for k, v in per_topic.items() if v} == counts
+    if meta["storage_identifier"] != "mcap":
+        return meta, counts
+    from mcap.reader import make_reader
+
+    with open(bag / meta["relative_file_paths"][0], "rb") as handle:
+        reader = make_reader(handle)
+        summary = reader.get_summary()
+        stats = {summary.channels[cid].topic: n
+                 for cid, n in summary.statistics.channel_message_counts.items() if n}
+        assert stats == counts
+        read = {}
+        for _schema, channel, _message in reader.iter_messages():
+            read[channel.topic] = read.get(channel.topic, 0) + 1
+        assert read == counts
+    return meta, counts
+
+
+@pytest.fixture
+def small_disk(tmp_path):
+    """A tmpfs of the recorder's reserve + 1.5 MiB (root with mount rights only)."""
+    disk = tmp_path / "disk"
+    disk.mkdir()
+    size = recorder_node.RESERVE_BYTES + (3 << 19)
+    proc = subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={size}", "tmpfs", str(disk)],
+                          capture_output=True, text=True)
+    if proc.returncode != 0:
+        pytest.skip(f"cannot mount a tmpfs here: {proc.stderr.strip()}")
+    yield disk
+    subprocess.run(["umount", "-l", str(disk)], capture_output=True)
+
+
+@pytest.mark.parametrize("storage", ["mcap", "sqlite3"])
+def test_full_disk_keeps_the_recording(start_node, collector, small_disk, storage):
+    bag = small_disk / "bag"
+    start_node("simulator", "--ros-args", "-p", "publish_rate:=1000.0")
+    recorder = start_node("record", "--out", str(bag), "--storage", storage)
+    collector.subscribe(PoseStamped, qos.POSE, qos.STATE, raw=True)
+    recorder.wait_for_log("recording '/diagnostics'")
+    order_flight(collector, Release(), "full-1")
+    recorder.proc.wait(timeout=30)  # the disk fills up within the flight: the recorder ends
+    log = recorder.log()
+    assert recorder.proc.returncode == 1, log
+    assert "Traceback" not in log
+    errors = [line for line in log.splitlines() if line.startswith("[ERROR]")]
+    assert len(errors) == 1, log
+    assert "No space left on device" in errors[0] or "database or disk is full" in errors[0], log
+    meta, counts = check_bag_consistent(bag)
+    assert counts["/football/pose"] > 300  # about 1.5 MiB of a 1 kHz flight was kept
+    assert counts["/football/pose"] <= len(collector.get(qos.POSE))
+    assert f"recording stopped after {meta['message_count']} messages" in errors[0]
+    assert not (bag / recorder_node.RESERVE_NAME).exists()
+    statuses = [s for arr in collector.get(qos.DIAGNOSTICS) for s in arr.status
+                if s.name == recorder_node.DIAGNOSTIC_NAME]
+    assert len(statuses) == 1 and statuses[0].level == DiagnosticStatus.ERROR
+    assert statuses[0].hardware_id == "/football_recorder"
+
+
+def test_file_size_limit_drops_only_what_is_not_on_disk(tmp_path, monkeypatch):
+    """A write error that persists after the reserve is freed (EFBIG: a file size limit): the
+    messages not yet on disk are dropped, the rest is closed into a consistent bag."""
+    import errno
+
+    from rosbags.rosbag2 import StoragePlugin
+
+    limit = 3 << 20
+    original = recorder_node._File.write
+
+    def limited(self, data):
+        if self.tell() + len(memoryview(data).cast("B")) > limit:
+            raise OSError(errno.EFBIG, "File too large")
+        return original(self, data)
+
+    monkeypatch.setattr(recorder_node._File, "write", limited)
+    typestore = get_typestore(Stores.ROS2_JAZZY)
+    writer = recorder_node.BagWriter(tmp_path / "bag", version=9, storage_plugin=StoragePlugin.MCAP)
+    writer.open()
+    conn = writer.add_connection("/football/pose", "geometry_msgs/msg/PoseStamped",
+                                 typestore=typestore)
+    writer.add_connection("/diagnostics", "diagnostic_msgs/msg/DiagnosticArray",
+                                  typestore=typestore)
+    msg = typestore.types["geometry_msgs/msg/PoseStamped"]
+    header = typestore.types["std_msgs/msg/Header"]
+    stamp = typestore.types["builtin_interfaces/msg/Time"]
+    point = typestore.types["geometry_msgs/msg/Point"]
+    quat = typestore.types["geometry_msgs/msg/Quaternion"]
+    pose = typestore.types["geometry_msgs/msg/Pose"]
+    written, failed = 0, None
+    for i in range(100_000):
+        data = typestore.serialize_cdr(msg(header(stamp(i, 0), "field" * 40),
+                                           pose(point(float(i), 0.0, 0.0), quat(0, 0, 0, 1))),
+                                       "geometry_msgs/msg/PoseStamped")
+        writer.write(conn, 1000 + i, data)
+        written += 1
+        try:
+            writer.checkpoint()
+        except OSError as exc:
+            failed = exc
+            break
+    assert failed is not None and failed.errno == errno.EFBIG
+    assert (tmp_path / "bag" / "bag.mcap").stat().st_size <= limit
+    lost, error = writer.close_after_error()
+    assert error is None and 0 < lost < written
+    meta, counts = check_bag_consistent(tmp_path / "bag")
+    assert counts == {"/football/pose": written - lost} and meta["ros_distro"] == "jazzy"
+    with AnyReader([tmp_path / "bag"], default_typestore=typestore) as reader:
+        xs = [reader.deserialize(raw, c.msgtype).pose.position.x for c, _t, raw in reader.messages()]
+    assert xs == [float(i) for i in range(written - lost)]  # the first ones, in order, intact

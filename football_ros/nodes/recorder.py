@@ -212,6 +212,8 @@ class _Mcap(McapWriter):
         return dropped
 
     def close(self, version: int, metadata: str) -> None:
+        if self.chunk.bio.tell():
+            self.close_chunk()  # on its own: a failure cuts back only this chunk
         start = self.bio.tell()
         try:
             super().close(version, _jazzy(metadata))
@@ -266,6 +268,26 @@ class BagWriter(Writer):
         for cid, count in dropped.items():
             self.counts[cid] -= count
         return sum(dropped.values())
+
+    def close_after_error(self) -> tuple[int, Exception | None]:
+        """Close after a write error with what can be kept: the pending messages too if there
+        is room, else only what is on disk. Returns (messages lost, error if not closed)."""
+        lost = 0
+        try:
+            if isinstance(self.storage, _Sqlite3):  # sqlite may have rolled back more
+                lost = self.drop_pending()
+            self.close()
+            return lost, None
+        except (OSError, sqlite3.Error):
+            pass
+        if self.storage is None:  # the storage is closed; metadata.yaml could not be written
+            return lost, OSError("metadata.yaml could not be written")
+        try:
+            lost += self.drop_pending()
+            self.close()
+            return lost, None
+        except (OSError, sqlite3.Error) as exc:
+            return lost, exc
 
     def close(self) -> None:
         super().close()
@@ -376,19 +398,12 @@ class RecorderNode(Node):
         """Stop recording after a write error; keep what is on disk readable (lock held)."""
         self._closed = True
         _remove(self._reserve)  # room to finish the bag on a full disk
-        kept = "the bag is closed and readable"
-        try:
-            if isinstance(self._writer.storage, _Sqlite3):  # sqlite may have rolled back more
-                lost = self._writer.drop_pending()
-                kept += f" ({lost} messages since the last commit lost)"
-            self._writer.close()
-        except (OSError, sqlite3.Error):
-            try:  # e.g. a file size limit: what is not on disk yet cannot be saved
-                lost = self._writer.drop_pending()
-                self._writer.close()
-                kept = f"the bag is closed and readable ({lost} messages not yet on disk lost)"
-            except (OSError, sqlite3.Error) as again:
-                kept = f"the bag could not be closed ({_reason(again)})"
+        lost, error = self._writer.close_after_error()
+        if error is not None:
+            kept = f"the bag could not be closed ({_reason(error)})"
+        else:
+            kept = "the bag is closed and readable" + (
+                f" ({lost} messages not yet on disk lost)" if lost else "")
         total = sum(self._writer.counts.values())
         text = (f"write error on '{self.path}': {_reason(exc)}; recording stopped after "
                 f"{total} messages, {kept}")
