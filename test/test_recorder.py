@@ -359,3 +359,33 @@ def test_file_size_limit_drops_only_what_is_not_on_disk(tmp_path, monkeypatch):
     with AnyReader([tmp_path / "bag"], default_typestore=typestore) as reader:
         xs = [reader.deserialize(raw, c.msgtype).pose.position.x for c, _t, raw in reader.messages()]
     assert xs == [float(i) for i in range(written - lost)]  # the first ones, in order, intact
+
+
+# --- use_sim_time (issue 10.6) --------------------------------------------------------------------
+def test_recorder_under_sim_time_stamps_with_clock(start_node, collector, tmp_path):
+    """use_sim_time:=true: receive times are /clock time (as ros2 bag record --use-sim-time),
+    i.e. the simulated time of the tick that published the message."""
+    bag = tmp_path / "sim_bag"
+    start_node("simulator", "--ros-args", "-p", "publish_rate:=200.0", "-p", "publish_clock:=true",
+               "-p", "real_time_factor:=2.0", "-p", "hold_rate:=0.0")
+    recorder = start_node("record", "--out", str(bag), "--topics", "football/pose", "/diagnostics",
+                          "/clock", "--ros-args", "-p", "use_sim_time:=true")
+    recorder.wait_for_log("recording '/diagnostics'")
+    order_flight(collector, Release(), "sim-time")
+    collector.wait_for(lambda: landed_event(collector), 15.0, "the landing")
+    time.sleep(0.3)
+    assert recorder.stop() == 0
+    pairs = []
+    with AnyReader([bag], default_typestore=get_typestore(Stores.ROS2_JAZZY)) as reader:
+        for conn, t, raw in reader.messages(
+                connections=[c for c in reader.connections if c.topic == "/football/pose"]):
+            stamp = reader.deserialize(raw, conn.msgtype).header.stamp
+            pairs.append((t, stamp.sec * 1_000_000_000 + stamp.nanosec))
+    expected = Flight.from_release(Release()).simulate(rate=100.0)  # 2 x 1/200 s per tick
+    assert len(pairs) == len(expected.times)
+    received, stamps = np.array(pairs).T
+    assert np.all(np.diff(stamps) == 10_000_000) and stamps[-1] < 600e9  # simulated time
+    lag = (received - stamps) * 1e-9
+    assert np.median(np.abs(lag)) <= 0.010 and np.max(np.abs(lag)) < 0.5, (lag.min(), lag.max())
+    meta = yaml.safe_load((bag / "metadata.yaml").read_text())["rosbag2_bagfile_information"]
+    assert meta["starting_time"]["nanoseconds_since_epoch"] < 600e9
