@@ -90,6 +90,8 @@ def test_records_every_message_of_a_1khz_flight(start_node, collector, tmp_path)
                     for cid, ch in summary.channels.items()}
         assert by_topic["/football/odom"] == len(expected.times)
         assert reader.get_header().profile == "ros2"
+        [embedded] = [m for m in reader.iter_metadata() if m.name == "rosbag2"]
+        assert "ros_distro: jazzy" in embedded.metadata["serialized_metadata"]
         for channel in summary.channels.values():
             schema = summary.schemas[channel.schema_id]
             assert channel.message_encoding == "cdr" and schema.encoding == "ros2msg"
