@@ -13,6 +13,7 @@ clock source (``publish_clock``) and the release node, the recorder and RViz fol
 ``child_frame_id`` in its params file.
 """
 
+import math
 import os
 
 from ament_index_python.packages import get_package_share_directory
@@ -40,9 +41,12 @@ def simulator_overrides(context):
     rate = LaunchConfiguration('publish_rate').perform(context).strip()
     if rate:
         try:
-            overrides['publish_rate'] = float(rate)
+            value = float(rate)
         except ValueError:
-            raise ValueError(f"launch argument 'publish_rate' must be a number [Hz], got '{rate}'")
+            value = math.nan
+        if not math.isfinite(value):
+            raise ValueError(f"launch argument 'publish_rate' must be a number [Hz], got '{rate[:80]}'")
+        overrides['publish_rate'] = value
     if _flag(context, 'use_sim_time'):
         overrides['publish_clock'] = True
     return overrides

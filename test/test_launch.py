@@ -7,12 +7,15 @@ What the nodes declare is read from running nodes with the rcl_interfaces parame
 """
 
 import importlib.util
+import math
 import sys
 import types
 from pathlib import Path
 
 import pytest
 import yaml
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 from rcl_interfaces.srv import GetParameters, ListParameters
 
 from rosutil import call
@@ -123,8 +126,9 @@ def test_publish_rate_given_is_a_double(monkeypatch, text, value):
 
 
 def test_bad_arguments_name_the_argument(monkeypatch):
-    with pytest.raises(ValueError, match="'publish_rate'"):
-        launch(monkeypatch, publish_rate="fast")
+    for text in ("fast", "nan", "inf", "-inf", "1e999"):
+        with pytest.raises(ValueError, match="'publish_rate'"):
+            launch(monkeypatch, publish_rate=text)
     with pytest.raises(ValueError, match="'use_sim_time'"):
         launch(monkeypatch, use_sim_time="maybe")
 
@@ -179,3 +183,18 @@ def test_yaml_keys_are_declared_and_applied_in_a_namespace(start_node, collector
     assert got == changed
     for key in section:  # the types rcl reads from the YAML are the declared ones
         assert type(got[key]) is type(section[key]), key
+
+
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(st.text(max_size=40))
+def test_publish_rate_fuzz_is_a_finite_double_or_a_clear_error(monkeypatch, text):
+    try:
+        _, nodes = launch(monkeypatch, publish_rate=text)
+    except ValueError as exc:
+        assert "'publish_rate'" in str(exc) and len(str(exc)) < 200
+        return
+    params = nodes["football_simulator"][1]
+    if text.strip():
+        assert math.isfinite(params[1]["publish_rate"]) and params[1]["publish_rate"] == float(text)
+    else:
+        assert params == [str(CONFIG)]

@@ -4,10 +4,13 @@ import signal
 import subprocess
 import sys
 import time
+import types
 
 import numpy as np
 import pytest
 import yaml
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from geometry_msgs.msg import PoseStamped, Vector3Stamped
 from nav_msgs.msg import Odometry
@@ -391,3 +394,39 @@ def test_recorder_under_sim_time_stamps_with_clock(start_node, collector, tmp_pa
     assert np.median(np.abs(lag)) <= 0.010 and np.max(np.abs(lag)) < 0.5, (lag.min(), lag.max())
     meta = yaml.safe_load((bag / "metadata.yaml").read_text())["rosbag2_bagfile_information"]
     assert meta["starting_time"]["nanoseconds_since_epoch"] < 600e9
+
+
+class _FakeNode:
+    """Stands in for rclpy's Node.declare_parameter: returns the value rcl would give."""
+
+    def __init__(self, value):
+        self._value = value
+
+    def declare_parameter(self, name, value, descriptor):
+        assert descriptor.dynamic_typing and descriptor.read_only
+        return types.SimpleNamespace(value=self._value)
+
+
+_PARAM_VALUES = st.one_of(
+    st.none(), st.booleans(), st.integers(), st.floats(), st.text(max_size=30),
+    st.lists(st.text(max_size=20), max_size=5), st.lists(st.integers(), max_size=3),
+    st.lists(st.floats(), max_size=3), st.lists(st.booleans(), max_size=3), st.binary(max_size=5))
+
+
+@settings(max_examples=300, deadline=None)
+@given(_PARAM_VALUES)
+def test_parameter_values_fuzz_give_a_value_or_an_error_naming_the_field(value):
+    """Whatever a params file gives (rcl types: unset, bool, int, float, str, arrays, bytes)."""
+    for name, read in (("topics", lambda n: recorder_node._topics_param(n)),
+                       ("output", lambda n: recorder_node._string_param(n, "output", "d", ""))):
+        try:
+            got = read(_FakeNode(value))
+        except ValueError as exc:
+            assert f"'{name}'" in str(exc)
+            continue
+        if name == "topics":
+            assert isinstance(got, list) and all(isinstance(t, str) and t for t in got)
+            expected = [] if value is None else [value] if isinstance(value, str) else value
+            assert got == [t for t in expected if t]
+        else:
+            assert got == ("d" if value is None else value) and isinstance(got, str)

@@ -350,6 +350,8 @@ class RecorderNode(Node):
                 raise ValueError(f"parameter 'topics': unknown topic '{name[:200]}' "
                                  f"(known: {', '.join(sorted(resolved))})")
             selected[full] = TOPICS[resolved[full]]
+        if "\0" in out or len(out) > 4096:
+            raise ValueError("parameter 'output' must be a folder path (no NUL, < 4096 chars)")
         self.path = Path(out).resolve()
         if self.path.exists():
             raise ValueError(f"'{self.path}' exists already: rosbag2 needs a new folder")
