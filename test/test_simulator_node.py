@@ -191,7 +191,7 @@ def test_params_yaml_lists_every_parameter_and_loads(start_node, collector):
     for node in ("football_simulator", "football_release"):
         listed = call(collector, ListParameters, f"/{node}/list_parameters", ListParameters.Request())
         declared = set(listed.result.names) - {"use_sim_time", "start_type_description_service"}
-        assert declared == set(config[node]["ros__parameters"]), node
+        assert declared == set(config[f"/**/{node}"]["ros__parameters"]), node
 
 
 def test_model_parameter_forces_the_full_model(start_node, collector):

@@ -18,6 +18,12 @@ from visualization_msgs.msg import Marker, MarkerArray
 
 from ..physics.flight import BallSample
 
+try:  # the real tf2_msgs on a Jazzy install; pip_ros/tf2_msgs built by setup.sh on the pip ROS
+    from geometry_msgs.msg import TransformStamped
+    from tf2_msgs.msg import TFMessage
+except ImportError:  # pragma: no cover - no TF without tf2_msgs
+    TFMessage = None
+
 LEVELS = {"OK": DiagnosticStatus.OK, "WARN": DiagnosticStatus.WARN, "ERROR": DiagnosticStatus.ERROR,
           "STALE": DiagnosticStatus.STALE}
 
@@ -70,6 +76,15 @@ def to_body_frame(q: Sequence[float], v: Sequence[float]) -> tuple[float, float,
     vx, vy, vz = float(v[0]), float(v[1]), float(v[2])
     tx, ty, tz = 2.0 * (y * vz - z * vy), 2.0 * (z * vx - x * vz), 2.0 * (x * vy - y * vx)
     return (vx + w * tx + y * tz - z * ty, vy + w * ty + z * tx - x * tz, vz + w * tz + x * ty - y * tx)
+
+
+def tf_message(sample: BallSample, stamp: Time, frame_id: str, child_frame_id: str):
+    """tf2_msgs/TFMessage with one transform: the body frame ``child_frame_id`` in the world
+    frame ``frame_id`` (translation = ball centre [m], rotation = orientation, as the pose)."""
+    transform = TransformStamped(header=header(stamp, frame_id), child_frame_id=child_frame_id)
+    transform.transform.translation = _vector(sample.position)
+    transform.transform.rotation = _quaternion(sample.orientation)
+    return TFMessage(transforms=[transform])
 
 
 def vector3_stamped(vec: Sequence[float], stamp: Time, frame_id: str) -> Vector3Stamped:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 from rclpy.node import Node
+from rclpy.parameter import Parameter
 
 
 def declare(node: Node, name: str, default, description: str,
@@ -11,8 +12,13 @@ def declare(node: Node, name: str, default, description: str,
     """Declare ``name`` with a descriptor; numeric ``limits`` become an enforced range.
 
     Returns the value in force (the default or a --ros-args override, which rclpy checks
-    against the range before the node starts).
+    against the range before the node starts). An integer override of a float parameter
+    (``publish_rate:=1000``) is taken as that float.
     """
+    override = node._parameter_overrides.get(name)
+    if (isinstance(default, float) and override is not None
+            and override.type_ == Parameter.Type.INTEGER):
+        node._parameter_overrides[name] = Parameter(name, Parameter.Type.DOUBLE, float(override.value))
     descriptor = ParameterDescriptor(description=description, read_only=read_only)
     if limits is not None:
         lo, hi = limits

@@ -11,6 +11,7 @@ AERO_ANGLES_LINEAR = "football/aero_angles_linear"
 MARKERS = "football/markers"
 DIAGNOSTICS = "/diagnostics"
 CLOCK = "/clock"
+TF = "/tf"  # absolute, as tf2_ros uses it: one TF tree per domain (see msg_docs/tf.md)
 RELEASE_REQUEST = "football/release/request"
 RELEASE_RESPONSE = "football/release/response"
 RELEASE_STATE = "football/release/state"
@@ -30,6 +31,9 @@ DIAGNOSTICS_QOS = MARKERS_QOS
 # /clock as rclcpp::ClockQoS: best effort, latest only.
 CLOCK_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
                        reliability=ReliabilityPolicy.BEST_EFFORT, durability=DurabilityPolicy.VOLATILE)
+# /tf as tf2_ros's DynamicBroadcasterQoS / DynamicListenerQoS: reliable, volatile, 100 deep.
+TF_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
+                    reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
 # Requests and responses: reliable and deep, so a burst of requests is answered one by one.
 REQUEST = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000,
                      reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)

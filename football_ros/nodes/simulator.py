@@ -94,6 +94,12 @@ class SimulatorNode(Node):
                                         (0.1, 100.0))
         self.model = declare(self, "model", "release",
                              "Equations of motion: 'release' (as each release asks), 'paper' or 'full'")
+        # --- TF hook (jazzy): the ball as the frame child_frame_id in frame_id on /tf ---
+        self.publish_tf = declare(self, "publish_tf", mb.TFMessage is not None,
+                                  "Publish the ball on /tf (frame_id -> child_frame_id)")
+        self._tf_pub = (None if mb.TFMessage is None
+                        else self.create_publisher(mb.TFMessage, qos.TF, qos.TF_QOS))
+        self._tf_last = (None, -1)  # (publish_clock, stamp ns) of the last transform sent
         if self.model not in MODEL_CHOICES:
             raise ValueError(f"parameter model must be one of {', '.join(MODEL_CHOICES)}, got '{self.model}'")
         self.add_on_set_parameters_callback(self._on_parameters)
@@ -299,6 +305,18 @@ class SimulatorNode(Node):
         self._pubs[qos.AERO_ANGLES].publish(mb.vector3_stamped(sample.aero_angles, stamp, frame))
         linear = [*sample.aero_angles_linear, math.nan]
         self._pubs[qos.AERO_ANGLES_LINEAR].publish(mb.vector3_stamped(linear, stamp, frame))
+        self._publish_tf(sample, stamp)
+
+    def _publish_tf(self, sample: BallSample, stamp) -> None:
+        """TF hook (jazzy): one transform per published state; tf2 rejects a repeated or older
+        stamp for a frame, so a stamp that does not advance on the same clock is skipped."""
+        ns = stamp.sec * 1_000_000_000 + stamp.nanosec
+        clock, last_ns = self._tf_last
+        if self._tf_pub is None or not self.publish_tf or (clock == self.publish_clock
+                                                            and ns <= last_ns):
+            return
+        self._tf_last = (self.publish_clock, ns)
+        self._tf_pub.publish(mb.tf_message(sample, stamp, self.frame_id, self.child_frame_id))
 
     def _maybe_publish_markers(self, run: _FlightRun, sample: BallSample, stamp, wall_ns: int,
                                force: bool) -> None:
