@@ -7,7 +7,9 @@ landing point and time:
 - tracker: football_ros.estimation.FlightTracker (UKF on the full model);
 - parabola: least-squares quadratic in t per axis, landing where z(t) = 0;
 - drag: point mass with quadratic drag a = -c |v| v - g, fitted (r0, v0, c) by nonlinear least
-  squares to the same fixes.
+  squares to the same fixes;
+- oracle: the tracker told the true |spin| and the true coefficients (an information limit:
+  what the tracker could do if the throw's unknowns were known; only the hand is left).
 Cases: true coefficients = the defaults, and true drag +30 % / lift -30 % (and the reverse).
 Also prints the tracker's time per fix (update + landing prediction) against the 16.7 ms frame.
 
@@ -24,7 +26,7 @@ import numpy as np
 from numba import njit
 from scipy.optimize import least_squares
 
-from football_ros.estimation import Camera, CameraSettings, FlightTracker
+from football_ros.estimation import Camera, CameraSettings, FlightTracker, TrackerSettings
 from football_ros.physics import Flight, Release
 from football_ros.physics.aero import AeroModel
 
@@ -134,7 +136,8 @@ def drag_landing(t: np.ndarray, z: np.ndarray, guess_v: np.ndarray):
 
 
 # --- one flight ---------------------------------------------------------------------------------
-def run_flight(release: Release, seed: int, timings: list[float], settings=None):
+def run_flight(release: Release, seed: int, timings: list[float], settings=None,
+               oracle: bool = True):
     truth = Flight.from_release(release).simulate(rate=100.0, duration=20.0)
     t_land = float(truth.times[-1])
     xy_land = truth.positions[-1, :2]
@@ -144,6 +147,8 @@ def run_flight(release: Release, seed: int, timings: list[float], settings=None)
     cam.restart(float(rng.uniform(0.0, 1.0 / RATE)))
     obs = [o for o in cam.step(t_land + 1.0, lambda t: flight.state_at(t)[:3]) if o.stamp < t_land]
     tracker = FlightTracker(settings)
+    known = FlightTracker(TrackerSettings(spin_rpm=abs(release.spin_rpm), spin_sigma=0.01,
+                                          scale_sigma=0.01, aero=release.aero_model()))
     results = {}
     delivered_t, delivered_z = [], []
     i = 0
@@ -155,12 +160,16 @@ def run_flight(release: Release, seed: int, timings: list[float], settings=None)
             tracker.update(o.stamp, o.position)
             tracker.predict_landing()
             timings.append(time.perf_counter() - start)
+            if oracle:
+                known.update(o.stamp, o.position)
             delivered_t.append(o.stamp)
             delivered_z.append(o.position)
             i += 1
         row = {}
         pred = tracker.predict_landing()
         row["tracker"] = None if pred is None else (pred.time, pred.position[:2])
+        pred = known.predict_landing() if oracle else None
+        row["oracle"] = None if pred is None else (pred.time, pred.position[:2])
         t_arr, z_arr = np.array(delivered_t), np.array(delivered_z)
         if len(t_arr) >= 6:
             par = parabola_landing(t_arr, z_arr)
@@ -185,7 +194,7 @@ def main() -> None:
     warm = Release(model="full")
     run_flight(warm, 0, [])
     timings: list[float] = []
-    methods = ("tracker", "drag", "parabola")
+    methods = ("tracker", "oracle", "drag", "parabola")
     print(f"camera {RATE:g} Hz, noise {NOISE * 100:g} cm, latency {LATENCY * 1000:g} ms; "
           f"{args.flights} flights per case, seed {args.seed}")
     for ci, case in enumerate(args.cases):
