@@ -137,8 +137,16 @@ def test_outliers_nan_and_late_fixes_do_not_poison_it():
     assert tracker.throws == 1
     assert np.linalg.norm(pred.position[:2] - clean.position[:2]) < 0.05
     assert np.linalg.norm(pred.position[:2] - xy) < 0.1
-    # A fix older than max_lag is refused, one 2 frames late is rolled in.
+    # A fix older than max_lag is refused; with ``now`` one from the future is refused.
     assert tracker.update(t_land - 2.0, obs[5].position).status == "late"
+    assert tracker.update(t_land + 10.0, obs[5].position, now=t_land - 0.5).status == "future"
+    # Without ``now``, wild stamps (far future, far past) cannot hijack the track's clock: the
+    # next good fixes are still accepted and no throw is started.
+    assert tracker.update(1e9, obs[5].position).status == "candidate"
+    assert tracker.update(-1e9, obs[5].position).status == "late"
+    rest = [o for o in obs if t_land - 0.5 < o.stamp <= t_land - 0.3]
+    assert [tracker.update(o.stamp, o.position).status for o in rest] == ["accepted"] * len(rest)
+    assert tracker.throws == 1
     del rng
 
 

@@ -445,16 +445,19 @@ class FlightTracker:
         if t < self._newest - s.max_lag:
             return UpdateResult("late", f"stamp {self._newest - t:.3f} s behind the newest fix")
         tr = self.track
-        if tr is not None and not tr.landed and t - max(tr.t, self._newest) > s.max_gap:
-            self.track = tr = None  # lost: silence longer than max_gap
-        self._newest = max(self._newest, t)
-        if tr is None or tr.landed:
-            return self._candidate(t, z)
-        if t < tr.t or (tr.history and t < tr.history[-1].stamp):
-            return self._late(tr, t, z)
-        if tr.history and abs(tr.history[-1].stamp - t) < 1e-9:
-            return UpdateResult("duplicate", "a fix with this stamp was already processed")
-        return self._filter(tr, t, z, record=True)
+        if tr is None or tr.landed or abs(t - tr.t) > s.max_gap:
+            # No live throw, or a fix far from it in time (the ball lost for a while, or a
+            # wild stamp): it can only help start a new throw.
+            result = self._candidate(t, z)
+        elif t < tr.t or (tr.history and t < tr.history[-1].stamp):
+            result = self._late(tr, t, z)
+        elif tr.history and abs(tr.history[-1].stamp - t) < 1e-9:
+            result = UpdateResult("duplicate", "a fix with this stamp was already processed")
+        else:
+            result = self._filter(tr, t, z, record=True)
+        if result.used:  # only fixes the filter took move the "newest" (no wild stamp can)
+            self._newest = max(self._newest, t)
+        return result
 
     def _filter(self, tr: _Track, t: float, z: np.ndarray, record: bool) -> UpdateResult:
         s = self.settings
@@ -572,7 +575,7 @@ class FlightTracker:
         """Keep the fix; start a throw when the recent ones fit a ballistic arc."""
         s = self.settings
         self._candidates.append((t, z))
-        recent = sorted((c for c in self._candidates if c[0] >= t - s.init_window),
+        recent = sorted((c for c in self._candidates if abs(c[0] - t) <= s.init_window),
                         key=lambda c: c[0])
         self._candidates = collections.deque(recent, maxlen=self._candidates.maxlen)
         if len(recent) < s.min_points:
