@@ -175,7 +175,8 @@ def run_flight(release: Release, seed: int, settings=None, oracle: bool = True):
             row["drag"] = drag_landing(t_arr, z_arr, guess)
         else:
             row["parabola"] = row["drag"] = None
-        results[lead] = {k: (None if v is None else (float(np.linalg.norm(np.asarray(v[1]) - xy_land)),
+        results[lead] = {k: (None if v is None else (float(np.linalg.norm(np.asarray(v[1])
+                                                                          - xy_land)),
                                                      float(v[0] - t_land)))
                          for k, v in row.items()}
     return results

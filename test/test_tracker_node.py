@@ -5,7 +5,6 @@ import math
 import time
 
 import numpy as np
-from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PointStamped, PoseStamped, PoseWithCovarianceStamped
 from nav_msgs.msg import Odometry, Path
 
@@ -43,10 +42,12 @@ def assert_all_finite(collector):
     for odom in collector.get(qos.ESTIMATE):
         p, v = odom.pose.pose.position, odom.twist.twist.linear
         assert all(math.isfinite(c) for c in (p.x, p.y, p.z, v.x, v.y, v.z))
-        assert np.all(np.isfinite(odom.pose.covariance)) and np.all(np.isfinite(odom.twist.covariance))
+        assert np.all(np.isfinite(odom.pose.covariance))
+        assert np.all(np.isfinite(odom.twist.covariance))
     for land in collector.get(qos.LANDING):
         p = land.pose.pose.position
-        assert all(math.isfinite(c) for c in (p.x, p.y, p.z)) and np.all(np.isfinite(land.pose.covariance))
+        assert all(math.isfinite(c) for c in (p.x, p.y, p.z))
+        assert np.all(np.isfinite(land.pose.covariance))
     for path in collector.get(qos.PREDICTED_PATH):
         assert all(math.isfinite(ps.pose.position.x) and math.isfinite(ps.pose.position.z)
                    for ps in path.poses)
@@ -81,7 +82,8 @@ def test_prediction_converges_to_the_simulators_landing(start_node, collector):
         t_flight = float(landed["time_of_flight"])
         # The simulator's landing is the full model's (independent check of the event).
         expected = Flight.from_release(release.replace(model="full")).simulate(rate=200.0)
-        assert math.hypot(x_land - expected.positions[-1, 0], y_land - expected.positions[-1, 1]) < 1e-6
+        x_exp, y_exp = expected.positions[-1, :2]
+        assert math.hypot(x_land - x_exp, y_land - y_exp) < 1e-6
         release_stamp = stamp_s(collector.get(qos.POSE)[0])
         obs = collector.get(qos.OBSERVATION)
         assert 0.75 * 60 * t_flight < len(obs) < 60 * t_flight + 2  # 10 % dropped
@@ -93,7 +95,8 @@ def test_prediction_converges_to_the_simulators_landing(start_node, collector):
         assert len(landings) > 20, tracker.log()
         # Which estimate each prediction was made from: the last one that arrived before it
         # (the node publishes the estimate, then the prediction, for each fix).
-        est_arrivals = np.array(collector.arrivals[qos.ESTIMATE][:len(collector.get(qos.ESTIMATE))])
+        n_est = len(collector.get(qos.ESTIMATE))
+        est_arrivals = np.array(collector.arrivals[qos.ESTIMATE][:n_est])
         est_stamps = np.array([stamp_s(m) for m in collector.get(qos.ESTIMATE)])
         made_at = [est_stamps[np.searchsorted(est_arrivals, a) - 1] - release_stamp
                    for a in collector.arrivals[qos.LANDING][:len(landings)]]

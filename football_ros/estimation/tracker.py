@@ -252,7 +252,8 @@ class TrackerSettings:
 
     LIMITS = {"noise": (1e-4, 10.0), "accel_noise": (0.0, 100.0), "axis_noise": (0.0, 10.0),
               "rate_noise": (0.0, 100.0), "scale_rate": (0.0, 10.0), "axis_sigma": (1e-4, 1.0),
-              "rate_sigma": (1e-4, 100.0), "spin_sigma": (1e-3, 1.0), "scale_sigma": (1e-3, 2.0), "spread": (0.1, 1.0),
+              "rate_sigma": (1e-4, 100.0), "spin_sigma": (1e-3, 1.0), "scale_sigma": (1e-3, 2.0),
+              "spread": (0.1, 1.0),
               "hand_odds": (1.0, 1e300), "gate": (1.0, 1e4), "max_lag": (0.0, 10.0),
               "max_future": (0.0, 100.0), "max_gap": (0.01, 100.0), "min_points": (3, 100),
               "init_window": (0.01, 10.0), "min_speed": (0.0, 100.0), "reinit_after": (1, 1000),

@@ -28,7 +28,8 @@ PARAMETERS = (  # name, default, description, range
      LIMITS["outlier_rate"]),
     ("observation_outlier_size", 2.0, "Distance of an outlier from the ball [m]",
      LIMITS["outlier_size"]),
-    ("observation_seed", 0, "Seed of the camera's noise (each flight restarts it)", (0, 2**31 - 1)),
+    ("observation_seed", 0, "Seed of the camera's noise (each flight restarts it)",
+     (0, 2**31 - 1)),
 )
 
 
