@@ -82,6 +82,7 @@ setup(
             "simulator = football_ros.nodes.simulator:main",
             "release = football_ros.nodes.release:main",
             "recorder = football_ros.nodes.recorder:main",
+            "tracker = football_ros.nodes.tracker:main",
         ],
     },
 )

@@ -23,6 +23,7 @@ EXIT_USAGE = 2
 
 NODE_COMMANDS = {  # command -> (module, function); these need rclpy and parse their own options
     "simulator": ("football_ros.nodes.simulator", "main"),
+    "tracker": ("football_ros.nodes.tracker", "main"),
     "release": ("football_ros.nodes.release", "main"),
     "record": ("football_ros.nodes.recorder", "main"),
     "demo": ("football_ros.tools.demo", "main"),
@@ -307,7 +308,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         import importlib
         module_name, function = NODE_COMMANDS[argv[0]]
         own = argv[1:argv.index("--ros-args")] if "--ros-args" in argv else argv[1:]
-        if argv[0] in ("simulator", "release") and ({"-h", "--help"} & set(own)):
+        if argv[0] in ("simulator", "release", "tracker") and ({"-h", "--help"} & set(own)):
             print(f"usage: football-ros {argv[0]} [--ros-args -p NAME:=VALUE ...]\n")
             print(importlib.import_module(module_name).__doc__)
             print("Parameters, topics and QoS: config/football.yaml and msg_docs/.")

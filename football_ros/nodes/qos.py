@@ -19,6 +19,8 @@ FLIGHT_ORDER = "football/flight/order"
 FLIGHT_ACK = "football/flight/ack"
 RESET_SERVICE = "football/reset"
 PAUSE_SERVICE = "football/pause"
+OBSERVATION, ESTIMATE = "football/observation", "football/estimate"  # camera fixes, tracker
+LANDING, PREDICTED_PATH = "football/prediction/landing", "football/prediction/path"  # tracker
 
 # Ball state at up to 1-2 kHz: reliable so a recorder loses nothing; 1000 deep (1 s at 1 kHz)
 # so a subscriber that stalls for a moment (GC, disk) catches up instead of losing samples.

@@ -37,6 +37,7 @@ from ..physics.frames import BODY_FRAME, FIELD_FRAME
 from ..requests import FlightOrder, capped, load_strict
 from . import messages as mb
 from . import qos
+from .observation_hook import ObservationHook
 from .params import declare
 from .runner import run_node
 
@@ -102,6 +103,7 @@ class SimulatorNode(Node):
         self._tf_last = (None, -1)  # (publish_clock, stamp ns) of the last transform sent
         if self.model not in MODEL_CHOICES:
             raise ValueError(f"parameter model must be one of {', '.join(MODEL_CHOICES)}, got '{self.model}'")
+        self._observation = ObservationHook(self)  # simulated camera: observation_* (tracker)
         self.add_on_set_parameters_callback(self._on_parameters)
 
         self._pubs = {
@@ -281,6 +283,7 @@ class SimulatorNode(Node):
                 if self.hold_rate <= 0 or wall_stamp_ns - run.last_hold_ns < 1e9 / self.hold_rate:
                     return
                 run.last_hold_ns = wall_stamp_ns
+            self._observation.tick(run, stamp)  # simulated camera (observation_hook.py)
             sample = run.flight.sample(run.time)
             run.ticks += 1
             landed_now = sample.landed and not run.landed_reported
