@@ -1,6 +1,7 @@
 """Batch prediction and Monte Carlo: same physics as the single-flight kernel, real numbers."""
 
 import csv
+import math
 import subprocess
 import sys
 
@@ -112,3 +113,76 @@ def test_montecarlo_bad_options(tmp_path, args):
     proc = subprocess.run([sys.executable, "-m", "football_ros.cli", "montecarlo", *args, "--out",
                            str(tmp_path / "x.csv")], capture_output=True, text=True, timeout=120)
     assert proc.returncode == 2 and proc.stderr.startswith("football-ros: error:")
+
+
+# --- batch vs single flight over every accepted input (issue 11.2) ---------------------------
+from hypothesis import HealthCheck, given, settings  # noqa: E402
+from hypothesis import strategies as hs  # noqa: E402
+
+from football_ros.physics.aero import AeroModel  # noqa: E402
+from football_ros.physics.release import LIMITS  # noqa: E402
+
+
+def _in(key):
+    lo, hi = LIMITS[key]
+    return hs.floats(lo, hi, allow_nan=False)
+
+
+def _aero_in(key):
+    lo, hi = AeroModel.LIMITS[key]
+    return hs.floats(lo, hi, allow_nan=False)
+
+
+@hs.composite
+def accepted_releases(draw):
+    """Any release the package accepts: every range of LIMITS and AeroModel.LIMITS, both balls,
+    both models and moment curves, ball parameters scaled by 0.5 to 2."""
+    model = draw(hs.sampled_from(["paper", "full"]))
+    aero = {}
+    if model == "full":
+        aero = {key: draw(_aero_in(key)) for key in ("c_d0", "c_d2", "c_l_alpha", "c_n_p_alpha",
+                                                     "c_m_q", "c_l_p", "c_m_p_alpha", "air_density")}
+        aero["c_m_q"] = draw(hs.sampled_from([aero["c_m_q"], -100.0]))  # the strongest damping
+        aero["wind"] = [draw(_aero_in("wind")) for _ in range(3)]
+    z = draw(hs.sampled_from([0.0, 2.0, draw(hs.floats(0.0, 1000.0))]))
+    elevation = draw(_in("elevation_deg"))
+    if z <= 0.0:
+        elevation = max(abs(elevation), 0.5)
+    scale = {key: draw(hs.floats(0.5, 2.0)) for key in ("mass", "diameter", "inertia_spin",
+                                                        "inertia_transverse", "c_m_alpha")}
+    ball = draw(hs.sampled_from(["american", "rugby"]))
+    preset = get_preset(ball)
+    return Release(ball=ball, speed=draw(_in("speed")), elevation_deg=elevation,
+                   azimuth_deg=draw(_in("azimuth_deg")), spin_rpm=draw(_in("spin_rpm")),
+                   alpha0_deg=draw(_in("alpha0_deg")), beta0_deg=draw(_in("beta0_deg")),
+                   alpha_rate_deg_s=draw(_in("alpha_rate_deg_s")),
+                   beta_rate_deg_s=draw(_in("beta_rate_deg_s")), position=(0.0, 0.0, z),
+                   model=model, moment=draw(hs.sampled_from(["linear", "sin2delta"])),
+                   ball_params={k: getattr(preset, k) * f for k, f in scale.items()}, aero=aero)
+
+
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(accepted_releases())
+def test_batch_agrees_with_the_single_flight_for_every_accepted_release(release):
+    """Same landing (or the same position at max_time) as a tight single flight (RK4 at
+    0.25 ms): the default step respects every fast rate (strong pitch damping included)."""
+    result = simulate_batch(release.preset(), states_of([release]), release.model, release.moment,
+                            release.aero_model())
+    tr = Flight.from_release(release, step=2.5e-4).simulate(rate=50.0, duration=20.0)
+    assert np.isfinite([result.landing_x[0], result.landing_y[0], result.max_alpha[0],
+                        result.max_beta[0], result.max_delta[0]]).all()
+    assert result.landed[0] == tr.landed
+    assert result.time_of_flight[0] == pytest.approx(tr.times[-1], abs=1e-6)
+    assert result.landing_x[0] == pytest.approx(tr.positions[-1, 0], abs=1e-4)
+    assert result.landing_y[0] == pytest.approx(tr.positions[-1, 1], abs=1e-4)
+    assert 0.0 <= result.max_beta[0] <= result.max_delta[0] <= math.pi
+
+
+def test_strong_pitch_damping_lands_like_the_single_flight():
+    """The case of issue 11.2: c_m_q = -100 at 40 m/s used to return NaN, not landed."""
+    release = Release(model="full", speed=40.0, aero={"c_m_q": -100.0})
+    result = simulate_batch(release.preset(), states_of([release]), "full", aero=release.aero_model())
+    tr = Flight.from_release(release).simulate(rate=100.0, duration=20.0)
+    assert result.landed[0] and tr.landed
+    assert result.landing_x[0] == pytest.approx(tr.positions[-1, 0], abs=1e-5)
+    assert result.landing_y[0] == pytest.approx(tr.positions[-1, 1], abs=1e-5)

@@ -5,9 +5,9 @@ The kernel integrates each ball with the forces and moments of
 lean state (r, v, s, h, h1), with the 8th-order Dormand-Prince weights (scipy's DOP853 tableau)
 at a fixed step, |s| = 1 and h.s = h1 restored after every step, balls spread over the cores
 with numba ``prange`` (blocks of balls, the ball index innermost). The default step follows the
-fastest mode (``STEP_PER_RADIAN``): 29 ms for the nominal spiral. The maxima of |alpha|, |beta|
-and delta are taken at the steps. The landing is located inside its step on
-the cubic Hermite interpolant of z.
+fastest rate of each ball's motion (:func:`fastest_rates`, ``STEP_PER_RADIAN``): 29 ms for the
+nominal spiral, shorter for strong damping. The maxima of |alpha|, |beta| and delta are taken at
+the steps. The landing is located inside its step on the cubic Hermite interpolant of z.
 """
 
 from __future__ import annotations
@@ -32,10 +32,47 @@ _A_COL = np.nonzero(_A)[1].astype(np.int64)
 _A_VAL = _A[np.nonzero(_A)]
 N_LEAN = 13  # r, v, s, h, h1
 STEP_PER_RADIAN = 1.1
-"""Default step = STEP_PER_RADIAN / max |h1| (at most MAX_STEP): about 1.1 rad of the fastest
-mode per step, which keeps alpha/beta within 3e-7 rad of a tight DOP853 solution over the
-releases bench/flight_benchmark.py tries (the error grows as step^8)."""
+"""Default step = STEP_PER_RADIAN / (fastest rate, :func:`fastest_rates`), at most MAX_STEP:
+about 1.1 rad of the fastest mode per step, which keeps alpha/beta within 3e-7 rad of a tight
+DOP853 solution over the releases bench/flight_benchmark.py tries (the error grows as step^8)."""
 MAX_STEP = 0.04
+
+
+def fastest_rates(y0: np.ndarray, params: np.ndarray, ground: float = 0.0) -> np.ndarray:
+    """Bound [1/s] on the fastest rate of each ball's motion over its flight (lean states y0).
+
+    The largest of: the axis' rotation |h| (nutation, |h1| for a spiral) or 2 sqrt(M) (an
+    unstable ball tumbling in the overturning moment M_alpha plus the Magnus moment's
+    stiffness), plus the damping and force rates (pitch damping, spin damping, lift, drag,
+    Magnus force). Each is taken at the largest air speed the flight can reach: energy bound
+    sqrt(V^2 + 2 g z) (capped at the terminal speed when there is drag) plus twice the wind.
+    """
+    v = y0[:, 3:6]
+    z = np.maximum(y0[:, 2] - ground, 0.0)
+    g = params[dyn.P_GRAVITY]
+    wind = np.linalg.norm(params[dyn.P_WIND:dyn.P_WIND + 3])
+    speed = np.sqrt(np.sum(v * v, axis=1) + 2.0 * g * z)
+    fk = params[dyn.P_FORCE_K]
+    if fk * params[dyn.P_CD0] > 0.0:
+        terminal = math.sqrt(g / (fk * params[dyn.P_CD0]))
+        speed = np.minimum(speed, np.maximum(np.linalg.norm(v, axis=1), terminal))
+    speed = speed + 2.0 * wind
+    h1 = np.abs(y0[:, 12])
+    spin = params[dyn.P_SPIN_RATIO] * h1
+    h = np.linalg.norm(y0[:, 9:12], axis=1)
+    damp = params[dyn.P_DAMP_K] * speed
+    stiffness = (params[dyn.P_MOMENT_K] * speed * speed
+                 + damp * spin * abs(params[dyn.P_CMPA]))
+    turning = np.maximum(h, 2.0 * np.sqrt(stiffness))
+    damping = damp * (abs(params[dyn.P_CMQ]) + abs(params[dyn.P_CLP]) * params[dyn.P_SPIN_RATIO])
+    forces = fk * (speed * (params[dyn.P_CD0] + params[dyn.P_CD2] + abs(params[dyn.P_CLA]))
+                   + spin * params[dyn.P_DIAMETER] * abs(params[dyn.P_CNPA]))
+    return turning + damping + forces
+
+
+def default_steps(rates: np.ndarray) -> np.ndarray:
+    """Step [s] for balls of the given :func:`fastest_rates` [1/s]."""
+    return np.minimum(MAX_STEP, STEP_PER_RADIAN / np.maximum(rates, 1e-9))
 
 
 # _block_derivative, _block_step and dynamics.loads are inlined into the prange body, where the
@@ -136,24 +173,27 @@ def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples,
                 samples[ball, 0, 1] = math.asin(min(1.0, max(-1.0, s3)))
         left = nb
         for i in range(n_steps):
-            _block_step(y, dt, params, k, tmp, nxt, nb)
+            h = dt if i < n_steps - 1 else max_time - i * dt  # the last step ends at max_time
+            _block_step(y, h, params, k, tmp, nxt, nb)
             j = (i + 1) // sample_every
             keep_sample = (i + 1) % sample_every == 0 and j < samples.shape[1]
             for b in range(nb):
                 if not flying[b]:
                     continue
                 ball = first + b
-                if y[2, b] > ground and nxt[2, b] <= ground and nxt[5, b] < 0.0:
+                # Above the ground (or on it at the release, going up), then at or below it.
+                above = y[2, b] > ground or (i == 0 and y[2, b] == ground and y[5, b] > 0.0)
+                if above and nxt[2, b] <= ground and nxt[5, b] < 0.0:
                     lo, hi = 0.0, 1.0
                     for _ in range(60):
                         mid = 0.5 * (lo + hi)
-                        if _hermite(y[2, b], y[5, b], nxt[2, b], nxt[5, b], dt, mid) > ground:
+                        if _hermite(y[2, b], y[5, b], nxt[2, b], nxt[5, b], h, mid) > ground:
                             lo = mid
                         else:
                             hi = mid
-                    results[ball, 0] = _hermite(y[0, b], y[3, b], nxt[0, b], nxt[3, b], dt, hi)
-                    results[ball, 1] = _hermite(y[1, b], y[4, b], nxt[1, b], nxt[4, b], dt, hi)
-                    results[ball, 2] = (i + hi) * dt
+                    results[ball, 0] = _hermite(y[0, b], y[3, b], nxt[0, b], nxt[3, b], h, hi)
+                    results[ball, 1] = _hermite(y[1, b], y[4, b], nxt[1, b], nxt[4, b], h, hi)
+                    results[ball, 2] = i * dt + hi * h
                     results[ball, 3] = 1.0
                     flying[b] = False
                     left -= 1
@@ -217,18 +257,19 @@ def simulate_batch(ball: BallPreset, states: dict[str, np.ndarray], model: str =
     or ``max_time`` [s] passes. ``step`` [s]: None = the default rule (module docstring)."""
     ball, aero = resolve(ball, model, aero)
     y0 = lean_states(ball, states)
+    params = dyn.make_params(ball, moment, aero)
     n = y0.shape[0]
     n_blocks = (n + BLOCK - 1) // BLOCK
-    spin_momentum = np.abs(y0[:, 12])
+    rates = fastest_rates(y0, params, ground)
     if step is None and not sample_count:
-        # Blocks of balls with similar spin momentum, each with its own step.
-        order = np.argsort(spin_momentum, kind="stable")
-        padded = np.pad(spin_momentum[order], (0, n_blocks * BLOCK - n), mode="edge")
-        steps = np.minimum(MAX_STEP, STEP_PER_RADIAN / np.maximum(padded.reshape(n_blocks, BLOCK).max(axis=1), 1e-9))
+        # Blocks of balls with similar rates, each with its own step.
+        order = np.argsort(rates, kind="stable")
+        padded = np.pad(rates[order], (0, n_blocks * BLOCK - n), mode="edge")
+        steps = default_steps(padded.reshape(n_blocks, BLOCK).max(axis=1))
     else:
         order = np.arange(n)
         if step is None:
-            step = min(MAX_STEP, STEP_PER_RADIAN / max(float(spin_momentum.max()), 1e-9))
+            step = float(default_steps(rates.max(initial=0.0)))
         steps = np.full(n_blocks, step)
     every = 1
     if sample_count:
@@ -237,7 +278,7 @@ def simulate_batch(ball: BallPreset, states: dict[str, np.ndarray], model: str =
             raise ValueError("sample_period must be a whole multiple of the step")
     samples = np.full((n, sample_count, 2), np.nan)
     results = np.empty((n, 7))
-    _integrate_batch(np.ascontiguousarray(y0[order]), dyn.make_params(ball, moment, aero), steps, max_time,
+    _integrate_batch(np.ascontiguousarray(y0[order]), params, steps, max_time,
                      ground, every, samples, results)
     unsorted = np.empty_like(results)
     unsorted[order] = results
