@@ -53,7 +53,7 @@ def fastest_rates(y0: np.ndarray, params: np.ndarray, ground: float = 0.0) -> np
     wind = np.linalg.norm(params[dyn.P_WIND:dyn.P_WIND + 3])
     speed = np.sqrt(np.sum(v * v, axis=1) + 2.0 * g * z)
     fk = params[dyn.P_FORCE_K]
-    if fk * params[dyn.P_CD0] > 0.0:
+    if fk * params[dyn.P_CD0] > 1e-9:
         terminal = math.sqrt(g / (fk * params[dyn.P_CD0]))
         speed = np.minimum(speed, np.maximum(np.linalg.norm(v, axis=1), terminal))
     speed = speed + 2.0 * wind
@@ -136,6 +136,39 @@ def _hermite(p0, d0, p1, d1, dt, u):
             + (-2 * u3 + 3 * u2) * p1 + (u3 - u2) * dt * d1)
 
 
+@njit(cache=True, fastmath=True)
+def _landing(y, nxt, b, h, params, ground, out):
+    """Fraction u of the step of length h from column b of y to nxt at which z = ground; the
+    state there (a partial step from y) into out[:, 0]. The root of the cubic Hermite
+    interpolant of z is taken, the state computed there, and the bracket narrowed on it
+    (3 rounds: the interpolation error shrinks as the bracket's length^4)."""
+    one = np.empty((N_LEAN, 1))
+    k = np.empty((_STAGES, N_LEAN, 1))
+    tmp = np.empty((N_LEAN, 1))
+    for j in range(N_LEAN):
+        one[j, 0] = y[j, b]
+    lo, hi = 0.0, 1.0
+    z0, d0, z1, d1 = y[2, b], y[5, b], nxt[2, b], nxt[5, b]
+    u = 1.0
+    for _ in range(3):
+        a, c = 0.0, 1.0  # bisection on the interpolant over [lo, hi]
+        for _ in range(60):
+            mid = 0.5 * (a + c)
+            if _hermite(z0, d0, z1, d1, (hi - lo) * h, mid) > ground:
+                a = mid
+            else:
+                c = mid
+        u = lo + c * (hi - lo)
+        _block_step(one, u * h, params, k, tmp, out, 1)
+        if out[2, 0] > ground:
+            lo, z0, d0 = u, out[2, 0], out[5, 0]
+        else:
+            hi, z1, d1 = u, out[2, 0], out[5, 0]
+        if hi - lo < 1e-15:
+            break
+    return u
+
+
 BLOCK = 32
 """Balls integrated together by one thread (SIMD lanes along the ball index)."""
 
@@ -158,6 +191,7 @@ def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples,
         k = np.empty((_STAGES, N_LEAN, BLOCK))
         flying = np.ones(BLOCK, np.bool_)
         worst = np.empty((4, BLOCK))
+        at = np.empty((N_LEAN, 1))
         for b in range(nb):
             ball = first + b
             y[:, b] = y0[ball]
@@ -184,16 +218,9 @@ def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples,
                 # Above the ground (or on it at the release, going up), then at or below it.
                 above = y[2, b] > ground or (i == 0 and y[2, b] == ground and y[5, b] > 0.0)
                 if above and nxt[2, b] <= ground and nxt[5, b] < 0.0:
-                    lo, hi = 0.0, 1.0
-                    for _ in range(60):
-                        mid = 0.5 * (lo + hi)
-                        if _hermite(y[2, b], y[5, b], nxt[2, b], nxt[5, b], h, mid) > ground:
-                            lo = mid
-                        else:
-                            hi = mid
-                    results[ball, 0] = _hermite(y[0, b], y[3, b], nxt[0, b], nxt[3, b], h, hi)
-                    results[ball, 1] = _hermite(y[1, b], y[4, b], nxt[1, b], nxt[4, b], h, hi)
-                    results[ball, 2] = i * dt + hi * h
+                    u = _landing(y, nxt, b, h, params, ground, at)
+                    results[ball, 0], results[ball, 1] = at[0, 0], at[1, 0]
+                    results[ball, 2] = i * dt + u * h
                     results[ball, 3] = 1.0
                     flying[b] = False
                     left -= 1
