@@ -198,3 +198,19 @@ def test_compile_ahead_into_a_per_user_cache_for_a_read_only_install(tmp_path):
     first, second = (line["COMPILED"].split() for line in lines)
     assert int(first[0]) >= 10 and lines[0]["UNCOVERED"] == "[]"  # every kernel, compiled once
     assert int(second[0]) == 0 and int(second[2]) >= 3  # ... then loaded
+
+
+def test_echo_with_a_timeout_and_no_publisher_says_so_and_fails():
+    """'football-ros echo TOPIC --timeout S' with nobody publishing: one line, exit code 1."""
+    proc = run("echo", "football/diagnostics_unused_topic_probe", "--timeout", "0.5", check=False)
+    assert proc.returncode == 2 and "unknown topic" in proc.stderr  # only the package's topics
+    proc = run("echo", "/diagnostics", "--timeout", "0.5", check=False)
+    assert proc.returncode == 1 and proc.stdout == ""
+    assert proc.stderr.strip().splitlines()[-1] == ("football-ros echo: error: no publisher on "
+                                                    "/diagnostics within 0.5 s")
+
+
+@pytest.mark.parametrize("command", ["record", "demo", "echo", "throw", "simulator", "release"])
+def test_node_command_help_has_no_raw_backticks(command):
+    proc = run(command, "--help")
+    assert "``" not in proc.stdout and proc.stdout.strip()

@@ -17,12 +17,30 @@ from dataclasses import dataclass
 
 import numpy as np
 from numba import njit, prange
-from scipy.integrate._ivp import dop853_coefficients as _dop853  # the published tableau
 
 from . import dynamics as dyn
 from .aero import AeroModel, resolve
 from .presets import BallPreset
 
+
+def _dop853_tableau():
+    """scipy's published DOP853 tableau (scipy/integrate/_ivp/dop853_coefficients.py), read
+    without importing scipy.integrate, which costs 0.2-2 s of start-up."""
+    import importlib.util
+    import os
+    spec = importlib.util.find_spec("scipy")
+    path = os.path.join(os.path.dirname(spec.origin or ""), "integrate", "_ivp",
+                        "dop853_coefficients.py")
+    if not os.path.exists(path):
+        from scipy.integrate._ivp import dop853_coefficients
+        return dop853_coefficients
+    spec = importlib.util.spec_from_file_location("_football_ros_dop853", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+_dop853 = _dop853_tableau()
 _STAGES = _dop853.N_STAGES
 _A = _dop853.A[:_STAGES, :_STAGES]
 _B = np.ascontiguousarray(_dop853.B)
