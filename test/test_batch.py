@@ -223,3 +223,21 @@ def test_strong_pitch_damping_lands_like_the_single_flight():
     assert result.landed[0] and tr.landed
     assert result.landing_x[0] == pytest.approx(tr.positions[-1, 0], abs=1e-5)
     assert result.landing_y[0] == pytest.approx(tr.positions[-1, 1], abs=1e-5)
+
+
+def test_a_wobble_pumped_by_the_magnus_moment_shortens_the_step_in_flight():
+    """A slow spinner in an updraft: the Magnus moment pumps its transverse rate from ~0 to
+    ~470 rad/s in 20 s, beyond any bound known at release. The kernel shortens the step as
+    the rates grow (with the release's step it diverged to 1e38 m)."""
+    release = Release(speed=1.0, elevation_deg=0.0, spin_rpm=14.0, position=(0.0, 0.0, 2.0),
+                      model="full", ball_params={"diameter": 0.3452},
+                      aero={"c_d0": 0.0, "c_d2": 1.0, "c_l_alpha": 0.0, "c_m_q": 0.0,
+                            "c_l_p": 0.0, "c_m_p_alpha": 1.0, "air_density": 1.0,
+                            "wind": [0.0, 0.0, 10.0]})
+    result = simulate_batch(release.preset(), states_of([release]), "full",
+                            aero=release.aero_model())
+    tr = Flight.from_release(release, step=1e-4).simulate(rate=10.0, duration=20.0)
+    assert not result.landed[0] and not tr.landed
+    assert np.abs(tr.angular_velocities[-1]).max() > 300.0  # the pumped wobble
+    assert result.landing_x[0] == pytest.approx(tr.positions[-1, 0], abs=1e-6)
+    assert result.landing_y[0] == pytest.approx(tr.positions[-1, 1], abs=1e-6)

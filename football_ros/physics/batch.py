@@ -56,15 +56,36 @@ DOP853 solution over the releases bench/flight_benchmark.py tries (the error gro
 MAX_STEP = 0.04
 
 
-def fastest_rates(y0: np.ndarray, params: np.ndarray, ground: float = 0.0) -> np.ndarray:
-    """Bound [1/s] on the fastest rate of each ball's motion over its flight (lean states y0).
+@njit(cache=True, inline="always")
+def _rate(speed, h, h1, params):
+    """Fastest rate [1/s] of the motion at air speed ``speed`` [m/s], |h| and |h1| [rad/s]:
+    the axis' rotation |h| (nutation, |h1| for a spiral) or 2 sqrt(M) (a ball tumbling in the
+    overturning moment M_alpha plus the Magnus moment's stiffness), plus the damping and force
+    rates (pitch and spin damping, lift, drag, Magnus force)."""
+    spin = params[dyn.P_SPIN_RATIO] * h1
+    damp = params[dyn.P_DAMP_K] * speed
+    stiffness = params[dyn.P_MOMENT_K] * speed * speed + damp * spin * abs(params[dyn.P_CMPA])
+    turning = max(h, 2.0 * math.sqrt(stiffness))
+    damping = damp * (abs(params[dyn.P_CMQ]) + abs(params[dyn.P_CLP]) * params[dyn.P_SPIN_RATIO])
+    forces = params[dyn.P_FORCE_K] * (
+        speed * (params[dyn.P_CD0] + params[dyn.P_CD2] + abs(params[dyn.P_CLA]))
+        + spin * params[dyn.P_DIAMETER] * abs(params[dyn.P_CNPA]))
+    return turning + damping + forces
 
-    The largest of: the axis' rotation |h| (nutation, |h1| for a spiral) or 2 sqrt(M) (an
-    unstable ball tumbling in the overturning moment M_alpha plus the Magnus moment's
-    stiffness), plus the damping and force rates (pitch damping, spin damping, lift, drag,
-    Magnus force). Each is taken at the largest air speed the flight can reach: energy bound
-    sqrt(V^2 + 2 g z) (capped at the terminal speed when there is drag) plus twice the wind.
-    """
+
+@njit(cache=True)
+def _rates(speed, h, h1, params):
+    out = np.empty(speed.size)
+    for i in range(speed.size):
+        out[i] = _rate(speed[i], h[i], h1[i], params)
+    return out
+
+
+def fastest_rates(y0: np.ndarray, params: np.ndarray, ground: float = 0.0) -> np.ndarray:
+    """Fastest rate [1/s] of each ball's motion (lean states y0), at the largest air speed its
+    flight can reach: energy bound sqrt(V^2 + 2 g z) (capped at the terminal speed when there
+    is drag) plus twice the wind. This sets each block's step; during the flight the kernel
+    shortens it if the current rates grow beyond it (a Magnus moment can pump the wobble)."""
     v = y0[:, 3:6]
     z = np.maximum(y0[:, 2] - ground, 0.0)
     g = params[dyn.P_GRAVITY]
@@ -75,17 +96,7 @@ def fastest_rates(y0: np.ndarray, params: np.ndarray, ground: float = 0.0) -> np
         terminal = math.sqrt(g / (fk * params[dyn.P_CD0]))
         speed = np.minimum(speed, np.maximum(np.linalg.norm(v, axis=1), terminal))
     speed = speed + 2.0 * wind
-    h1 = np.abs(y0[:, 12])
-    spin = params[dyn.P_SPIN_RATIO] * h1
-    h = np.linalg.norm(y0[:, 9:12], axis=1)
-    damp = params[dyn.P_DAMP_K] * speed
-    stiffness = (params[dyn.P_MOMENT_K] * speed * speed
-                 + damp * spin * abs(params[dyn.P_CMPA]))
-    turning = np.maximum(h, 2.0 * np.sqrt(stiffness))
-    damping = damp * (abs(params[dyn.P_CMQ]) + abs(params[dyn.P_CLP]) * params[dyn.P_SPIN_RATIO])
-    forces = fk * (speed * (params[dyn.P_CD0] + params[dyn.P_CD2] + abs(params[dyn.P_CLA]))
-                   + spin * params[dyn.P_DIAMETER] * abs(params[dyn.P_CNPA]))
-    return turning + damping + forces
+    return _rates(speed, np.linalg.norm(y0[:, 9:12], axis=1), np.abs(y0[:, 12]), params)
 
 
 def default_steps(rates: np.ndarray) -> np.ndarray:
@@ -192,8 +203,10 @@ BLOCK = 32
 
 
 @njit(parallel=True, cache=True)
-def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples, results):
-    """Integrate every row of y0 (N, N_LEAN), block b of BLOCK rows with step steps[b];
+def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples, results,
+                     adaptive):
+    """Integrate every row of y0 (N, N_LEAN), block b of BLOCK rows with step steps[b] (if
+    ``adaptive``, shortened whenever the block's current fastest rate needs it);
     results (N, 7) = landing x, y, time, landed, max|alpha|, max|beta|, max delta.
     ``samples`` (N, M, 2) gets alpha, beta every ``sample_every`` steps."""
     n_balls = y0.shape[0]
@@ -202,7 +215,6 @@ def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples,
         first = blk * BLOCK
         nb = min(BLOCK, n_balls - first)
         dt = steps[blk]
-        n_steps = int(math.ceil(max_time / dt))
         y = np.empty((N_LEAN, BLOCK))
         nxt = np.empty((N_LEAN, BLOCK))
         tmp = np.empty((N_LEAN, BLOCK))
@@ -224,8 +236,26 @@ def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples,
                 samples[ball, 0, 0] = math.atan2(s2, s1)
                 samples[ball, 0, 1] = math.asin(min(1.0, max(-1.0, s3)))
         left = nb
-        for i in range(n_steps):
-            h = dt if i < n_steps - 1 else max_time - i * dt  # the last step ends at max_time
+        t = 0.0
+        i = -1
+        last = False
+        while not last:
+            i += 1
+            h = dt
+            if adaptive:
+                fastest = 0.0
+                for b in range(nb):
+                    if flying[b]:
+                        speed = math.sqrt((y[3, b] - params[dyn.P_WIND]) ** 2
+                                          + (y[4, b] - params[dyn.P_WIND + 1]) ** 2
+                                          + (y[5, b] - params[dyn.P_WIND + 2]) ** 2)
+                        hn = math.sqrt(y[9, b] ** 2 + y[10, b] ** 2 + y[11, b] ** 2)
+                        fastest = max(fastest, _rate(speed, hn, abs(y[12, b]), params))
+                if fastest * h > 1.5 * STEP_PER_RADIAN:  # (margin: wobble moves |h| a little)
+                    h = STEP_PER_RADIAN / fastest
+            if t + h >= max_time - 1e-9 * h:  # the last step ends at max_time
+                h = max_time - t
+                last = True
             _block_step(y, h, params, k, tmp, nxt, nb)
             j = (i + 1) // sample_every
             keep_sample = (i + 1) % sample_every == 0 and j < samples.shape[1]
@@ -238,11 +268,14 @@ def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples,
                 if above and nxt[2, b] <= ground and nxt[5, b] < 0.0:
                     u = _landing(y, nxt, b, h, params, ground, at)
                     results[ball, 0], results[ball, 1] = at[0, 0], at[1, 0]
-                    results[ball, 2] = i * dt + u * h
+                    results[ball, 2] = t + u * h
                     results[ball, 3] = 1.0
                     flying[b] = False
                     left -= 1
                     continue
+                horizontal = nxt[3, b] ** 2 + nxt[4, b] ** 2
+                if not horizontal > 1e-20 * (horizontal + nxt[5, b] ** 2):
+                    continue  # vertical velocity: alpha and beta are undefined
                 s1, s2, s3 = dyn.velocity_frame_components((nxt[3, b], nxt[4, b], nxt[5, b]),
                                                            (nxt[6, b], nxt[7, b], nxt[8, b]))
                 if abs(s2) * worst[1, b] > worst[0, b] * s1:
@@ -253,6 +286,7 @@ def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples,
                     samples[ball, j, 0] = math.atan2(s2, s1)
                     samples[ball, j, 1] = math.asin(min(1.0, max(-1.0, s3)))
             y[:, :] = nxt
+            t += h
             if left == 0:
                 break
         for b in range(nb):
@@ -324,7 +358,7 @@ def simulate_batch(ball: BallPreset, states: dict[str, np.ndarray], model: str =
     samples = np.full((n, sample_count, 2), np.nan)
     results = np.empty((n, 7))
     _integrate_batch(np.ascontiguousarray(y0[order]), params, steps, max_time,
-                     ground, every, samples, results)
+                     ground, every, samples, results, step is None and not sample_count)
     unsorted = np.empty_like(results)
     unsorted[order] = results
     return BatchResult(unsorted[:, 0], unsorted[:, 1], unsorted[:, 2], unsorted[:, 3] > 0.5, unsorted[:, 4],
