@@ -90,13 +90,14 @@ def test_montecarlo_command(tmp_path):
     x = np.array([float(r["landing_x"]) for r in rows])
     elev = np.radians([float(r["elevation_deg"]) for r in rows])
     azim = np.radians([float(r["azimuth_deg"]) for r in rows])
-    assert np.allclose(x, speeds ** 2 * np.sin(2 * elev) / 9.81 * np.cos(azim), atol=1e-6)
+    assert np.allclose(x, speeds ** 2 * np.sin(2 * elev) / 9.81 * np.cos(azim), atol=1e-5)
     assert "landing x (downfield)" in proc.stdout and "ball-seconds per second" in proc.stdout
     assert (tmp_path / "mc.png").stat().st_size > 20_000
     # Angles in degrees, as the inputs: max |beta| is the single flight's (within the sampling).
     beta = np.array([float(r["max_beta_deg"]) for r in rows])
     assert 3.0 < np.median(beta) < 30.0
-    # The same balls as .npz: identical numbers at full precision, landed as integers.
+    # The same balls as .npz: the same numbers (the CSV's rounded to 6 decimals) at full
+    # precision, landed as integers.
     npz = tmp_path / "mc.npz"
     proc = subprocess.run([sys.executable, "-m", "football_ros.cli", "montecarlo", "--n", "600", "--seed", "1",
                            "--spread", "speed=0.5,spin_rpm=30", "--quiet", "--out", str(npz),
@@ -104,8 +105,9 @@ def test_montecarlo_command(tmp_path):
     assert proc.returncode == 0, proc.stderr
     with np.load(npz) as data:
         assert tuple(data.files) == COLUMNS and data["landed"].dtype.kind == "i"
-        assert np.allclose(data["landing_x"], x, rtol=1e-9, atol=0)
-        assert np.allclose(data["max_beta_deg"], beta, rtol=1e-9, atol=0)
+        assert np.abs(data["landing_x"] - x).max() <= 5.000001e-7
+        assert np.abs(data["max_beta_deg"] - beta).max() <= 5.000001e-7
+        assert np.abs(data["landing_x"] - x).max() > 0  # (full precision: not the CSV's)
     assert not (tmp_path / "mc.npz.png").exists()
 
 

@@ -214,3 +214,29 @@ def test_echo_with_a_timeout_and_no_publisher_says_so_and_fails():
 def test_node_command_help_has_no_raw_backticks(command):
     proc = run(command, "--help")
     assert "``" not in proc.stdout and proc.stdout.strip()
+
+
+def test_fast_csv_writer_matches_printf_rounding_and_reads_back(tmp_path):
+    """The numba CSV writer prints what '%.6f' prints (integers as integers, nan/inf named)."""
+    from football_ros.tools.fastcsv import write_csv
+    rng = np.random.default_rng(5)
+    values = np.concatenate([rng.normal(0, 1e3, 20000), rng.normal(0, 1e-5, 2000),
+                             [0.0, -0.0, 0.5e-6, -0.5e-6, 1.5, 99999.9999995, np.nan, np.inf,
+                              -np.inf, 9.99e11]])
+    flags = (np.arange(values.size) % 2).astype(np.int8)
+    write_csv(tmp_path / "t.csv", {"v": values, "flag": flags}, decimals=6)
+    lines = (tmp_path / "t.csv").read_text().splitlines()
+    assert lines[0] == "v,flag" and len(lines) == values.size + 1
+    differ = 0
+    for line, value, flag in zip(lines[1:], values, flags):
+        text, flag_text = line.split(",")
+        expected = "%.6f" % value
+        expected = expected if expected != "-0.000000" else "0.000000"
+        if text != expected:  # a value (nearly) half-way between two 6-decimal numbers
+            differ += 1
+            assert abs(float(text) - value) <= 5e-7 + 4e-16 * abs(value), (value, text)
+        assert flag_text == str(flag)
+    assert differ <= 3
+    big = {"v": np.array([1e13, 1.0])}  # beyond the fast path: full-precision fallback
+    write_csv(tmp_path / "b.csv", big)
+    assert (tmp_path / "b.csv").read_text().splitlines()[1:] == ["10000000000000", "1"]

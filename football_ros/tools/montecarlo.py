@@ -31,7 +31,7 @@ COLUMNS = (*SPREAD_DEFAULTS, "landing_x", "landing_y", "time_of_flight", "landed
 landed (0/1), the largest |alpha|, |beta| and delta over the flight [deg]."""
 FORMATS = (".csv", ".npz")
 SCATTER_MAX = 5000
-"""Above this many landed balls the landing figure is a density plot (hexbin), not dots."""
+"""Above this many landed balls the landing figure is a density image, not dots."""
 
 
 def parse_spread(items: list[str]) -> dict[str, float]:
@@ -80,7 +80,7 @@ def output_paths(out: str, figure: str = "auto") -> tuple[Path, Path | None]:
 def run(release: Release, n: int, spread: Mapping[str, float], seed: int,
         progress: bool = True) -> tuple[dict, "BatchResult", float]:
     """Sample and fly ``n`` releases; returns the samples, the concatenated results and the
-    seconds spent integrating."""
+    seconds spent integrating (inside simulate_batch)."""
     from ..physics.batch import BatchResult, simulate_batch
     from ..physics.release import release_states
     rng = np.random.default_rng(seed)
@@ -88,18 +88,21 @@ def run(release: Release, n: int, spread: Mapping[str, float], seed: int,
     ball = release.preset()
     parts = []
     start = time.perf_counter()
+    seconds = 0.0
+    aero = release.aero_model()
     for first in range(0, n, CHUNK):
         part = {k: v[first:first + CHUNK] for k, v in samples.items()}
         states = release_states(part["speed"], part["elevation_deg"], part["azimuth_deg"], part["spin_rpm"],
                                 part["alpha0_deg"], part["beta0_deg"], part["alpha_rate_deg_s"],
                                 part["beta_rate_deg_s"], np.array(release.position))
-        parts.append(simulate_batch(ball, states, release.model, release.moment, release.aero_model()))
+        begin = time.perf_counter()
+        parts.append(simulate_batch(ball, states, release.model, release.moment, aero))
+        seconds += time.perf_counter() - begin
         if progress:
             done = min(n, first + CHUNK)
             bar = "#" * int(30 * done / n)
             print(f"\r[{bar:<30}] {done}/{n} balls, {time.perf_counter() - start:.1f} s", end="",
                   file=sys.stderr, flush=True)
-    seconds = time.perf_counter() - start
     if progress:
         print(file=sys.stderr)
     fields = ("landing_x", "landing_y", "time_of_flight", "landed", "max_alpha", "max_beta", "max_delta")
@@ -129,35 +132,19 @@ def columns(samples: Mapping[str, np.ndarray], result) -> dict[str, np.ndarray]:
 
 
 def write(path: Path, samples: Mapping[str, np.ndarray], result) -> None:
-    """Write the per-ball table: .npz (one array per column) or CSV (header :data:`COLUMNS`,
-    10 significant digits, landed as 0/1)."""
+    """Write the per-ball table: .npz (one array per column, full precision) or CSV (header
+    :data:`COLUMNS`, 6 decimals, landed as 0/1; :mod:`football_ros.tools.fastcsv`)."""
     data = columns(samples, result)
     if path.suffix.lower() == ".npz":
         with open(path, "wb") as handle:  # keeps the name as given (savez would add .npz)
             np.savez(handle, **data)
     else:
-        write_csv(path, data)
-
-
-def write_csv(path: Path, data: Mapping[str, np.ndarray], rows_per_write: int = 65536) -> None:
-    """CSV of equal-length columns: one ``%`` formatting per block of rows (about 9x faster
-    than the csv module, bench/montecarlo_benchmark.py), integer columns as integers."""
-    names = list(data)
-    formats = ["%d" if np.issubdtype(np.asarray(data[k]).dtype, np.integer) else "%.10g"
-               for k in names]
-    row = ",".join(formats) + "\n"
-    n = len(data[names[0]])
-    with open(path, "w", newline="") as handle:
-        handle.write(",".join(names) + "\n")
-        for first in range(0, n, rows_per_write):
-            last = min(n, first + rows_per_write)
-            block = [np.asarray(data[k][first:last]).tolist() for k in names]
-            flat = [value for values in zip(*block) for value in values]
-            handle.write((row * (last - first)) % tuple(flat))
+        from .fastcsv import write_csv
+        write_csv(path, data, decimals=6)
 
 
 def plot(path: Path, result, title: str) -> None:
-    """Landing points (dots, or a hexbin density plot above SCATTER_MAX balls; equal aspect),
+    """Landing points (dots, or a density image above SCATTER_MAX balls; equal aspect),
     time of flight and wobble histograms, one PNG."""
     import matplotlib
     matplotlib.use("Agg")
@@ -167,9 +154,13 @@ def plot(path: Path, result, title: str) -> None:
     fig, axes = plt.subplots(1, 3, figsize=(14, 4.5))
     x, y = result.landing_x[landed], result.landing_y[landed]
     ax = axes[0]
-    if x.size > SCATTER_MAX:
-        cells = ax.hexbin(x, y, gridsize=60, mincnt=1, cmap="viridis", bins="log")
-        fig.colorbar(cells, ax=ax, label="balls per cell")
+    if x.size > SCATTER_MAX:  # density: a 2-D histogram drawn as one image
+        counts, xe, ye = np.histogram2d(x, y, bins=(120, 120))
+        counts[counts == 0] = np.nan
+        image = ax.imshow(counts.T, origin="lower", extent=(xe[0], xe[-1], ye[0], ye[-1]),
+                          cmap="viridis", norm=matplotlib.colors.LogNorm(), aspect="auto",
+                          interpolation="nearest")
+        fig.colorbar(image, ax=ax, label="balls per cell")
     elif x.size:
         ax.scatter(x, y, s=4, alpha=0.4, linewidths=0)
     if x.size:
@@ -190,7 +181,7 @@ def plot(path: Path, result, title: str) -> None:
     axes[2].set_title("Wobble amplitude")
     axes[2].legend(loc="upper right", framealpha=0.8)
     fig.suptitle(title)
-    fig.tight_layout()
+    fig.subplots_adjust(left=0.05, right=0.98, bottom=0.12, top=0.86, wspace=0.3)
     fig.savefig(path, dpi=100)
     plt.close(fig)
 
