@@ -51,8 +51,9 @@ _A_VAL = _A[np.nonzero(_A)]
 N_LEAN = 13  # r, v, s, h, h1
 STEP_PER_RADIAN = 1.1
 """Default step = STEP_PER_RADIAN / (fastest rate, :func:`fastest_rates`), at most MAX_STEP:
-about 1.1 rad of the fastest mode per step, which keeps alpha/beta within 3e-7 rad of a tight
-DOP853 solution over the releases bench/flight_benchmark.py tries (the error grows as step^8)."""
+about 1.1 rad of the fastest mode per step, which keeps alpha/beta within 6e-8 rad of a tight
+DOP853 solution over the releases bench/flight_benchmark.py tries and 6.5e-7 rad for wobblier
+ones (alpha0, beta0 ~ 4 deg, rates ~ 30 deg/s); the error grows as step^8 (1.3: 2.7e-6)."""
 MAX_STEP = 0.04
 
 
@@ -251,7 +252,7 @@ def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples,
                                           + (y[5, b] - params[dyn.P_WIND + 2]) ** 2)
                         hn = math.sqrt(y[9, b] ** 2 + y[10, b] ** 2 + y[11, b] ** 2)
                         fastest = max(fastest, _rate(speed, hn, abs(y[12, b]), params))
-                if fastest * h > 1.5 * STEP_PER_RADIAN:  # (margin: wobble moves |h| a little)
+                if fastest * h > 1.05 * STEP_PER_RADIAN:  # (margin: the wobble moves |h| a little)
                     h = STEP_PER_RADIAN / fastest
             if t + h >= max_time - 1e-9 * h:  # the last step ends at max_time
                 h = max_time - t
