@@ -249,12 +249,22 @@ def _cmd_montecarlo(args: argparse.Namespace) -> int:
     check_output_file(str(out), "--out")
     if figure is not None:
         check_output_file(str(figure), "--out (figure)")
-    samples, result, seconds = mc.run(release, args.n, spread, args.seed, progress=not args.quiet)
-    mc.write(out, samples, result)
-    if figure is not None:
-        mc.plot(figure, result, f"{args.n} releases around {release.ball} {release.speed:g} m/s, "
-                f"{release.elevation_deg:g} deg, {release.spin_rpm:g} rpm ({release.model} model)")
-    mc.print_summary(result, args.n, seconds)
+    drawing = None
+    if figure is not None:  # a child process imports matplotlib meanwhile
+        drawing = mc.FigureProcess(
+            figure, f"{args.n} releases around {release.ball} {release.speed:g} m/s, "
+            f"{release.elevation_deg:g} deg, {release.spin_rpm:g} rpm ({release.model} model)")
+    try:
+        samples, result, seconds = mc.run(release, args.n, spread, args.seed,
+                                          progress=not args.quiet)
+        if drawing is not None:
+            drawing.draw(result)
+        mc.write(out, samples, result)
+        mc.print_summary(result, args.n, seconds)
+    finally:
+        drew = drawing is None or drawing.finish()
+    if not drew:
+        return 1
     print(f"per-ball results: {out}" + (f"\nfigure: {figure}" if figure else "")
           + f"\ntotal {time.perf_counter() - start:.2f} s")
     return 0

@@ -11,6 +11,7 @@ prints a summary table.
 from __future__ import annotations
 
 import math
+import os
 import sys
 import time
 from pathlib import Path
@@ -184,6 +185,69 @@ def plot(path: Path, result, title: str) -> None:
     fig.subplots_adjust(left=0.05, right=0.98, bottom=0.12, top=0.86, wspace=0.3)
     fig.savefig(path, dpi=100)
     plt.close(fig)
+
+
+FIGURE_FIELDS = ("landing_x", "landing_y", "time_of_flight", "landed", "max_alpha", "max_beta")
+
+
+class FigureProcess:
+    """The figure drawn by a forked child, which imports matplotlib while this process
+    integrates and draws while it writes the table (start-up and drawing leave the critical
+    path). Without ``os.fork``, or once numba (and its threads) is loaded, it draws in-process.
+    """
+
+    def __init__(self, path: Path, title: str) -> None:
+        self.path, self.title, self.pid, self._pipe = path, title, None, None
+        if not hasattr(os, "fork") or "numba" in sys.modules:
+            return
+        read, write = os.pipe()
+        pid = os.fork()
+        if pid == 0:  # the child: never returns
+            os.close(write)
+            code = 1
+            try:
+                import matplotlib
+                matplotlib.use("Agg")
+                import matplotlib.pyplot  # noqa: F401
+                with os.fdopen(read, "rb") as pipe:
+                    payload = pipe.read()
+                if payload:
+                    import pickle
+                    plot(path, _Fields(pickle.loads(payload)), title)
+                code = 0
+            except BaseException as exc:  # reported by the parent's exit code
+                print(f"football-ros: error: figure {path}: {exc}", file=sys.stderr, flush=True)
+            finally:
+                os._exit(code)
+        os.close(read)
+        self.pid, self._pipe = pid, write
+
+    def draw(self, result) -> None:
+        """Hand the results over (or draw them here when there is no child)."""
+        if self.pid is None:
+            plot(self.path, result, self.title)
+            return
+        import pickle
+        payload = pickle.dumps({f: getattr(result, f) for f in FIGURE_FIELDS}, protocol=5)
+        with os.fdopen(self._pipe, "wb") as pipe:
+            self._pipe = None
+            pipe.write(payload)
+
+    def finish(self) -> bool:
+        """Wait for the child (after cancelling it if it got nothing); True if it drew."""
+        if self.pid is None:
+            return True
+        if self._pipe is not None:  # nothing sent: the child exits without drawing
+            os.close(self._pipe)
+            self._pipe = None
+        _, status = os.waitpid(self.pid, 0)
+        self.pid = None
+        return os.waitstatus_to_exitcode(status) == 0
+
+
+class _Fields:
+    def __init__(self, data: dict) -> None:
+        self.__dict__.update(data)
 
 
 def _histogram(ax, series) -> None:
