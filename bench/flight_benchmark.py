@@ -144,7 +144,8 @@ def batch(n: int, model: str, baseline_rtol: float, n_ivp: int) -> tuple[list[tu
             (f"solve_ivp loop, {n_ivp} balls", t_ivp, float("nan"))]
     lanes = steps_taken(ball, st, model, res.time_of_flight)
     work = lanes * flops_per_step()
-    return rows, ball_seconds / t_batch, ivp_ball_seconds / t_ivp, work / t_batch, work / ball_seconds
+    return (rows, ball_seconds / t_batch, ivp_ball_seconds / t_ivp, work / t_batch,
+            work / ball_seconds)
 
 
 def main() -> None:
@@ -158,7 +159,8 @@ def main() -> None:
         rows = one_flight(rtol)
         if rows[1][2] <= 1e-6:
             break
-    batch_rows, rate, ivp_rate, flop_rate, flop_per_ball_s = batch(args.n, args.model, rtol, args.n_ivp)
+    batch_rows, rate, ivp_rate, flop_rate, flop_per_ball_s = batch(args.n, args.model, rtol,
+                                                                   args.n_ivp)
     peak = peak_flops()
     print(f"\nfootball_ros headless speed, {os.cpu_count()} cores (best of 3; errors vs DOP853 rtol=atol=1e-13)\n")
     print(f"{'contender':<48}{'time [s]':>12}{'max alpha/beta err [rad]':>26}")
@@ -169,7 +171,8 @@ def main() -> None:
           f"({rate / ivp_rate:.0f}x); target >= 1e5")
     print(f"batch work: {flops_per_step()} flop per ball-step, {flop_per_ball_s:.3g} flop per "
           f"ball-second -> {flop_rate / 1e9:.1f} GFLOP/s; measured peak (BLAS dgemm, "
-          f"{os.cpu_count()} cores) {peak / 1e9:.1f} GFLOP/s: {100 * flop_rate / peak:.0f} % of it")
+          f"{os.cpu_count()} cores) {peak / 1e9:.1f} GFLOP/s: "
+          f"{100 * flop_rate / peak:.0f} % of it")
 
 
 if __name__ == "__main__":

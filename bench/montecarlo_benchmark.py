@@ -85,15 +85,17 @@ def main() -> None:
 
     env = dict(os.environ)
     cli = [sys.executable, "-m", "football_ros.cli", "montecarlo", "--quiet"]
-    t_e2e, proc = timed(lambda: subprocess.run([*cli, "--n", str(args.n), "--out", str(tmp / "e2e.csv")],
-                                               capture_output=True, text=True, env=env))
+    t_e2e, proc = timed(lambda: subprocess.run(
+        [*cli, "--n", str(args.n), "--out", str(tmp / "e2e.csv")], capture_output=True,
+        text=True, env=env))
     assert proc.returncode == 0, proc.stderr
     inner = float(proc.stdout.split("integrated in ")[1].split(" s")[0])
     t_one, proc = timed(lambda: subprocess.run([*cli, "--n", "1", "--out", str(tmp / "one.csv")],
                                                capture_output=True, text=True, env=env))
     assert proc.returncode == 0, proc.stderr
-    t_bad, proc = timed(lambda: subprocess.run([*cli, "--n", str(args.n), "--out", "/no/such/dir/x.csv"],
-                                               capture_output=True, text=True, env=env))
+    t_bad, proc = timed(lambda: subprocess.run(
+        [*cli, "--n", str(args.n), "--out", "/no/such/dir/x.csv"], capture_output=True,
+        text=True, env=env))
     assert proc.returncode == 2, proc.stderr
 
     print(f"\nMonte Carlo, {args.n} balls, {os.cpu_count()} cores; integration {t_int:.3f} s "
@@ -127,7 +129,8 @@ def main() -> None:
             return {k: z[k] for k in z.files}
     t_npz_load, _ = timed(npz_load)
     sizes = {s: (tmp / f"big.{s}").stat().st_size / 1e6 for s in ("csv", "npz")}
-    print(f"\n{f'load {len(big[mc.COLUMNS[0]])} rows':<46}{'time [s]':>10}{'x np.load':>15}{'MB':>8}")
+    title = f"load {len(big[mc.COLUMNS[0]])} rows"
+    print(f"\n{title:<46}{'time [s]':>10}{'x np.load':>15}{'MB':>8}")
     for name, sec, size in [("CSV with np.loadtxt", t_loadtxt, sizes["csv"]),
                             ("CSV with the csv module", t_csvread, sizes["csv"]),
                             (".npz with np.load", t_npz_load, sizes["npz"])]:

@@ -59,7 +59,8 @@ def main() -> None:
             if probe:
                 heavy[name] = proc.stderr.strip().split("HEAVY ", 1)[-1]
     base = statistics.median(times['python -c "import numpy" (baseline)'])
-    print(f"\nstart-up, {args.repeat} runs each, {os.cpu_count()} cores (median and best wall time)\n")
+    print(f"\nstart-up, {args.repeat} runs each, {os.cpu_count()} cores "
+          "(median and best wall time)\n")
     print(f"{'command':<40}{'median [s]':>11}{'best [s]':>10}{'x numpy':>9}  heavy imports")
     for name, _, _ in rows:
         med, best = statistics.median(times[name]), min(times[name])

@@ -20,5 +20,6 @@ if ! .venv/bin/python -m pip install --disable-pip-version-check -e ".[ros,test]
   exit 1
 fi
 .venv/bin/python -c "import rclpy, football_ros; print('[setup] ok: rclpy and football_ros', football_ros.__version__)"
-echo "[setup] compiling the numba kernels ahead (about 30 s after an install or a source change, < 1 s when cached)"
+echo "[setup] compiling the numba kernels ahead" \
+  "(about 30 s after an install or a source change, < 1 s when cached)"
 .venv/bin/football-ros compile

@@ -99,8 +99,9 @@ def test_montecarlo_command(tmp_path):
     # The same balls as .npz: the same numbers (the CSV's rounded to 6 decimals) at full
     # precision, landed as integers.
     npz = tmp_path / "mc.npz"
-    proc = subprocess.run([sys.executable, "-m", "football_ros.cli", "montecarlo", "--n", "600", "--seed", "1",
-                           "--spread", "speed=0.5,spin_rpm=30", "--quiet", "--out", str(npz),
+    proc = subprocess.run([sys.executable, "-m", "football_ros.cli", "montecarlo", "--n", "600",
+                           "--seed", "1", "--spread", "speed=0.5,spin_rpm=30", "--quiet",
+                           "--out", str(npz),
                            "--figure", "none"], capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr
     with np.load(npz) as data:
@@ -134,8 +135,8 @@ def test_montecarlo_bad_options_fail_before_any_work(tmp_path, args):
     args = [a.replace("{tmp}", str(tmp_path)) for a in args]
     if "--out" not in args:
         args += ["--out", str(tmp_path / "x.csv")]
-    proc = subprocess.run([sys.executable, "-m", "football_ros.cli", "montecarlo", "--n", "2000000",
-                           *args], capture_output=True, text=True, timeout=120)
+    proc = subprocess.run([sys.executable, "-m", "football_ros.cli", "montecarlo", "--n",
+                           "2000000", *args], capture_output=True, text=True, timeout=120)
     assert proc.returncode == 2 and proc.stderr.startswith("football-ros: error:"), proc.stderr
     assert len(proc.stderr.strip().splitlines()) == 1
     assert not list(tmp_path.glob("*.csv"))
@@ -168,8 +169,9 @@ def accepted_releases(draw):
     model = draw(hs.sampled_from(["paper", "full"]))
     aero = {}
     if model == "full":
-        aero = {key: draw(_aero_in(key)) for key in ("c_d0", "c_d2", "c_l_alpha", "c_n_p_alpha",
-                                                     "c_m_q", "c_l_p", "c_m_p_alpha", "air_density")}
+        aero = {key: draw(_aero_in(key))
+                for key in ("c_d0", "c_d2", "c_l_alpha", "c_n_p_alpha", "c_m_q", "c_l_p",
+                            "c_m_p_alpha", "air_density")}
         aero["c_m_q"] = draw(hs.sampled_from([aero["c_m_q"], -100.0]))  # the strongest damping
         aero["wind"] = [draw(_aero_in("wind")) for _ in range(3)]
     z = draw(hs.sampled_from([0.0, 2.0, draw(hs.floats(0.0, 1000.0))]))
@@ -213,7 +215,8 @@ def test_batch_agrees_with_the_single_flight_for_every_accepted_release(release)
     own = 2.0 * np.abs(tr.positions[-1] - half.positions[-1])
     if default.landed == tr.landed and np.isfinite(default.positions[-1]).all():
         own = np.maximum(own, np.abs(tr.positions[-1] - default.positions[-1]))
-        own_t = max(2.0 * abs(tr.times[-1] - half.times[-1]), abs(tr.times[-1] - default.times[-1]))
+        own_t = max(2.0 * abs(tr.times[-1] - half.times[-1]),
+                    abs(tr.times[-1] - default.times[-1]))
     else:
         own_t = 2.0 * abs(tr.times[-1] - half.times[-1])
     assert result.time_of_flight[0] == pytest.approx(tr.times[-1], abs=1e-6 + own_t)
@@ -225,7 +228,8 @@ def test_batch_agrees_with_the_single_flight_for_every_accepted_release(release)
 def test_strong_pitch_damping_lands_like_the_single_flight():
     """The case of issue 11.2: c_m_q = -100 at 40 m/s used to return NaN, not landed."""
     release = Release(model="full", speed=40.0, aero={"c_m_q": -100.0})
-    result = simulate_batch(release.preset(), states_of([release]), "full", aero=release.aero_model())
+    result = simulate_batch(release.preset(), states_of([release]), "full",
+                            aero=release.aero_model())
     tr = Flight.from_release(release).simulate(rate=100.0, duration=20.0)
     assert result.landed[0] and tr.landed
     assert result.landing_x[0] == pytest.approx(tr.positions[-1, 0], abs=1e-5)

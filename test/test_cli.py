@@ -180,7 +180,8 @@ def test_compile_ahead_into_a_per_user_cache_for_a_read_only_install(tmp_path):
             "from football_ros.physics import compile_ahead\n"
             "from football_ros.physics.precompile import uncovered\n"
             "steps = compile_ahead(print)\n"
-            "print('COMPILED', sum(s.compiled for s in steps), 'LOADED', sum(s.loaded for s in steps))\n"
+            "print('COMPILED', sum(s.compiled for s in steps),\n"
+            "      'LOADED', sum(s.loaded for s in steps))\n"
             "print('UNCOVERED', uncovered())\n") % str(install)
     try:
         runs = [subprocess.run(_read_only([sys.executable, "-c", code]), capture_output=True,

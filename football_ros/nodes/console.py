@@ -34,7 +34,8 @@ def _init(node_name: str):
 
 
 def echo(argv: Sequence[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="football-ros echo", description="Print messages of a topic as YAML.",
+    parser = argparse.ArgumentParser(prog="football-ros echo",
+                                     description="Print messages of a topic as YAML.",
                                      formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     parser.add_argument("topic", help=f"one of: {', '.join(TOPICS)} (relative names resolve to /...)")
     parser.add_argument("--count", type=int, default=0, help="exit after N messages (0 = never)")

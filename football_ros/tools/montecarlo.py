@@ -15,12 +15,15 @@ import os
 import sys
 import time
 from pathlib import Path
-from typing import Mapping
+from typing import TYPE_CHECKING, Mapping
 
 import numpy as np
 
 from ..physics import Release
 from ..physics.release import LIMITS
+
+if TYPE_CHECKING:  # the batch module imports numba: only when flights are flown
+    from ..physics.batch import BatchResult
 
 SPREAD_DEFAULTS = {"speed": 0.5, "elevation_deg": 1.0, "azimuth_deg": 1.0, "spin_rpm": 30.0,
                    "alpha0_deg": 1.0, "beta0_deg": 1.0, "alpha_rate_deg_s": 10.0, "beta_rate_deg_s": 10.0}
@@ -79,7 +82,7 @@ def output_paths(out: str, figure: str = "auto") -> tuple[Path, Path | None]:
 
 
 def run(release: Release, n: int, spread: Mapping[str, float], seed: int,
-        progress: bool = True) -> tuple[dict, "BatchResult", float]:
+        progress: bool = True) -> tuple[dict, BatchResult, float]:
     """Sample and fly ``n`` releases; returns the samples, the concatenated results and the
     seconds spent integrating (inside simulate_batch)."""
     from ..physics.batch import BatchResult, simulate_batch
@@ -127,7 +130,8 @@ def columns(samples: Mapping[str, np.ndarray], result) -> dict[str, np.ndarray]:
     data = {k: samples[k] for k in SPREAD_DEFAULTS}
     data.update(landing_x=result.landing_x, landing_y=result.landing_y,
                 time_of_flight=result.time_of_flight, landed=result.landed.astype(np.int8),
-                max_alpha_deg=np.degrees(result.max_alpha), max_beta_deg=np.degrees(result.max_beta),
+                max_alpha_deg=np.degrees(result.max_alpha),
+                max_beta_deg=np.degrees(result.max_beta),
                 max_delta_deg=np.degrees(result.max_delta))
     return data
 
