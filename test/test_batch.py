@@ -148,6 +148,7 @@ from hypothesis import strategies as hs  # noqa: E402
 
 from football_ros.physics.aero import AeroModel, resolve  # noqa: E402
 from football_ros.physics.batch import fastest_rates, lean_states  # noqa: E402
+from football_ros.physics import dynamics as dyn  # noqa: E402
 from football_ros.physics.dynamics import make_params  # noqa: E402
 from football_ros.physics.release import LIMITS  # noqa: E402
 
@@ -211,6 +212,10 @@ def test_batch_agrees_with_the_single_flight_for_every_accepted_release(release)
     assert np.isfinite([result.landing_x[0], result.landing_y[0], result.max_alpha[0],
                         result.max_beta[0], result.max_delta[0]]).all()
     assume(tr.landed == half.landed)  # else the single flight does not know either
+    # A Magnus moment can pump the wobble far beyond its release value (10^4 rad/s seen); where
+    # the tight single flight no longer resolves it (RK4 beyond 0.5 rad per step), it is no
+    # reference (test_a_wobble_pumped_by_the_magnus_moment... covers pumping).
+    assume(np.linalg.norm(tr.states[:, dyn.H:dyn.H + 3], axis=1).max() * step <= 0.5)
     assert result.landed[0] == tr.landed
     own = 2.0 * np.abs(tr.positions[-1] - half.positions[-1])
     if default.landed == tr.landed and np.isfinite(default.positions[-1]).all():
