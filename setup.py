@@ -75,7 +75,6 @@ setup(
     maintainer_email="football-ros@example.org",
     description="Spinning American football / rugby ball flight (Dzielski & Blackburn 2022) for ROS 2 Jazzy",
     license="Apache-2.0",
-    tests_require=["pytest"],
     entry_points={
         "console_scripts": [
             "football-ros = football_ros.cli:main",

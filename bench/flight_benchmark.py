@@ -2,6 +2,11 @@
 
     .venv/bin/python bench/flight_benchmark.py [--n 20000] [--model paper|full]
 
+The batch's floating-point work is estimated by counting (FLOPS_* below: the terms of
+dynamics.loads and the DOP853 stage sums; a sqrt or a division counts 1) times the steps its
+blocks take; the machine's peak is measured in the same run as the best of 3 float64 matrix
+products (numpy's BLAS, 2048^2, every core), and the fraction reached is printed.
+
 Reference: solve_ivp DOP853 with rtol = atol = 1e-13 on the s/h form of the equations
 (docs/physics.md section 2; written out here independently of football_ros). Every contender's
 max |alpha|, |beta| difference from it is printed; the targets (issue 6) are <= 1e-6 rad,
@@ -23,6 +28,41 @@ from football_ros.physics.batch import simulate_batch
 from football_ros.physics.release import release_states
 
 G = 9.81
+FLOPS_LOADS = 115   # dynamics.loads: air velocity, |u|, u_hat, cos, u_hat x s, forces, moments
+FLOPS_DERIVATIVE = FLOPS_LOADS + 9  # + s' = h x s
+FLOPS_PER_STEP_EXTRA = 90  # projection, landing test, velocity-frame extremes, step check
+
+
+def flops_per_step() -> int:
+    """Floating-point operations of one DOP853 step of one ball in the batch kernel."""
+    from football_ros.physics import batch as bt
+    stage_sums = 2 * bt.N_LEAN * (bt._A_VAL.size + bt._B.size)  # multiply-adds over stages
+    return bt._STAGES * FLOPS_DERIVATIVE + stage_sums + FLOPS_PER_STEP_EXTRA
+
+
+def steps_taken(ball, states, model, tof) -> float:
+    """Steps the batch takes (its default step rule, balls sorted and blocked as it does)."""
+    from football_ros.physics import batch as bt
+    from football_ros.physics import dynamics as dyn
+    from football_ros.physics.aero import resolve
+    b, aero = resolve(ball, model, None)
+    y0 = bt.lean_states(b, states)
+    rates = bt.fastest_rates(y0, dyn.make_params(b, "linear", aero))
+    order = np.argsort(rates, kind="stable")
+    n_blocks = (len(rates) + bt.BLOCK - 1) // bt.BLOCK
+    padded = np.pad(rates[order], (0, n_blocks * bt.BLOCK - len(rates)), mode="edge")
+    steps = np.repeat(bt.default_steps(padded.reshape(n_blocks, bt.BLOCK).max(axis=1)), bt.BLOCK)
+    tof_blocks = np.pad(tof[order], (0, n_blocks * bt.BLOCK - len(rates)))
+    # A block steps until its last ball lands; every lane computes meanwhile.
+    return float(np.sum(tof_blocks.reshape(n_blocks, bt.BLOCK).max(axis=1)
+                        / steps.reshape(n_blocks, bt.BLOCK)[:, 0]) * bt.BLOCK)
+
+
+def peak_flops() -> float:
+    """Measured float64 peak [flop/s]: best of 3 BLAS matrix products 2048 x 2048 (all cores)."""
+    a, b = np.random.rand(2048, 2048), np.random.rand(2048, 2048)
+    seconds, _ = best_of(lambda: a @ b)
+    return 2 * 2048 ** 3 / seconds
 
 
 def rhs_factory(ball):
@@ -102,7 +142,10 @@ def batch(n: int, model: str, baseline_rtol: float, n_ivp: int) -> tuple[list[tu
     ivp_ball_seconds = float(res.time_of_flight[:n_ivp].sum())
     rows = [(f"batch of {n} ({model} model)", t_batch, err_batch if model == "paper" else float("nan")),
             (f"solve_ivp loop, {n_ivp} balls", t_ivp, float("nan"))]
-    return rows, ball_seconds / t_batch, ivp_ball_seconds / t_ivp
+    lanes = steps_taken(ball, st, model, res.time_of_flight)
+    work = lanes * flops_per_step()
+    return (rows, ball_seconds / t_batch, ivp_ball_seconds / t_ivp, work / t_batch,
+            work / ball_seconds)
 
 
 def main() -> None:
@@ -116,7 +159,9 @@ def main() -> None:
         rows = one_flight(rtol)
         if rows[1][2] <= 1e-6:
             break
-    batch_rows, rate, ivp_rate = batch(args.n, args.model, rtol, args.n_ivp)
+    batch_rows, rate, ivp_rate, flop_rate, flop_per_ball_s = batch(args.n, args.model, rtol,
+                                                                   args.n_ivp)
+    peak = peak_flops()
     print(f"\nfootball_ros headless speed, {os.cpu_count()} cores (best of 3; errors vs DOP853 rtol=atol=1e-13)\n")
     print(f"{'contender':<48}{'time [s]':>12}{'max alpha/beta err [rad]':>26}")
     for name, seconds, err in rows + batch_rows:
@@ -124,6 +169,10 @@ def main() -> None:
     print(f"\none flight: football_ros is {rows[1][1] / rows[0][1]:.0f}x faster than solve_ivp (target >= 10x)")
     print(f"batch: {rate:.3g} ball-seconds per second vs {ivp_rate:.3g} for the solve_ivp loop "
           f"({rate / ivp_rate:.0f}x); target >= 1e5")
+    print(f"batch work: {flops_per_step()} flop per ball-step, {flop_per_ball_s:.3g} flop per "
+          f"ball-second -> {flop_rate / 1e9:.1f} GFLOP/s; measured peak (BLAS dgemm, "
+          f"{os.cpu_count()} cores) {peak / 1e9:.1f} GFLOP/s: "
+          f"{100 * flop_rate / peak:.0f} % of it")
 
 
 if __name__ == "__main__":

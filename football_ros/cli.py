@@ -1,25 +1,25 @@
 """``football-ros``: command-line front end.
 
-Headless commands (no ROS needed): ``modes``, ``simulate``, ``plot``, ``paper``. Node commands
-(``simulator``, ``release``, ``record``, ``demo``) need rclpy and pass ``--ros-args`` through.
-Bad options print one line on stderr and exit with code 2.
+Headless commands (no ROS needed): ``modes``, ``simulate``, ``montecarlo``, ``plot``,
+``paper``, ``compile``. Node commands (``simulator``, ``release``, ``tracker``, ``record``,
+``demo``, ``echo``, ``throw``) need rclpy and pass ``--ros-args`` through. Bad options print
+one line on stderr and exit with code 2. Start-up: numba, matplotlib and rclpy are imported
+only by the commands that integrate, draw or talk to ROS (``modes`` and ``--help`` need none).
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import math
+import os
 import sys
 from typing import Sequence
 
-import yaml
-
-from .physics import PRESETS, Flight, Release, ReleaseError
-from .physics.aero import AeroModel, dynamic_stability
+from .physics import PRESETS, Release, ReleaseError
 from .physics.release import MODELS, MOMENT_CURVES
 
 EXIT_USAGE = 2
+DESCRIPTION = "football-ros: a spinning American football or rugby ball in flight (ROS 2 Jazzy)."
 
 NODE_COMMANDS = {  # command -> (module, function); these need rclpy and parse their own options
     "simulator": ("football_ros.nodes.simulator", "main"),
@@ -36,20 +36,47 @@ class UsageError(Exception):
     """A bad command line; reported as one line and exit code 2."""
 
 
+class HelpFormatter(argparse.RawDescriptionHelpFormatter):
+    """Help with each option's default (when it has a meaningful one) and descriptions as
+    written (paragraphs kept)."""
+
+    def _get_help_string(self, action: argparse.Action) -> str:
+        text = action.help or ""
+        default = action.default
+        if ("%(default)" in text or default is None or default is False or default == []
+                or default is argparse.SUPPRESS or not action.option_strings):
+            return text
+        return f"{text} (default: %(default)s)"
+
+
 class _Parser(argparse.ArgumentParser):
+    def __init__(self, *args, **kwargs) -> None:
+        kwargs.setdefault("formatter_class", HelpFormatter)
+        super().__init__(*args, **kwargs)
+
     def error(self, message: str) -> None:  # one line, no usage block
         raise UsageError(message)
+
+
+def plain(text: str | None) -> str:
+    """A docstring as terminal text: reStructuredText ``literals`` lose their backticks."""
+    return (text or "").replace("``", "").replace(":func:", "").replace(":mod:", "")
 
 
 def add_release_options(parser: argparse.ArgumentParser) -> None:
     """The release options shared by every command that throws a ball."""
     g = parser.add_argument_group("release (defaults: the preset's nominal release)")
     g.add_argument("--ball", default="american", help=f"preset: {', '.join(PRESETS)}")
-    g.add_argument("--speed", type=float, help="release speed [m/s]")
-    g.add_argument("--elevation-deg", type=float, help="elevation above the horizontal [deg]")
+    g.add_argument("--speed", type=float, help="release speed [m/s] (default: the preset's, "
+                   + ", ".join(f"{p.speed:g} {n}" for n, p in PRESETS.items()) + ")")
+    g.add_argument("--elevation-deg", type=float, help="elevation above the horizontal [deg] "
+                   "(default: the preset's, "
+                   + ", ".join(f"{p.elevation_deg:g} {n}" for n, p in PRESETS.items()) + ")")
     g.add_argument("--azimuth-deg", type=float, default=0.0,
                    help="direction, counter-clockwise from +x (downfield) [deg]")
-    g.add_argument("--spin-rpm", type=float, help="spin [rev/min], > 0 right-handed spiral")
+    g.add_argument("--spin-rpm", type=float, help="spin [rev/min], > 0 right-handed spiral "
+                   "(default: the preset's, "
+                   + ", ".join(f"{p.spin_rpm:g} {n}" for n, p in PRESETS.items()) + ")")
     g.add_argument("--alpha0-deg", type=float, default=0.0, help="initial angle of attack [deg]")
     g.add_argument("--beta0-deg", type=float, default=0.0, help="initial sideslip [deg]")
     g.add_argument("--alpha-rate-deg-s", type=float, default=0.0,
@@ -62,7 +89,10 @@ def add_release_options(parser: argparse.ArgumentParser) -> None:
                    help="override a preset parameter, e.g. c_m_alpha=0.3 (repeatable)")
     g.add_argument("--model", default="paper", choices=MODELS,
                    help="paper: torque only; full: + drag, lift, Magnus, damping, wind")
-    g.add_argument("--moment", default="linear", choices=MOMENT_CURVES)
+    g.add_argument("--moment", default="linear", choices=MOMENT_CURVES,
+                   help="overturning moment against the total angle delta: linear = C_Malpha "
+                        "sin(delta) (the paper), sin2delta = (C_Malpha / 2) sin(2 delta) "
+                        "(Rae & Streit's wind-tunnel shape)")
     g.add_argument("--aero", action="append", default=[], metavar="KEY=VALUE",
                    help="full-model setting, e.g. drag=false, c_l_alpha=0.3, air_density=1.1 (repeatable)")
     g.add_argument("--wind", type=float, nargs=3, metavar=("X", "Y", "Z"),
@@ -71,6 +101,7 @@ def add_release_options(parser: argparse.ArgumentParser) -> None:
 
 def _key_values(items: list[str], option: str, convert) -> dict:
     """KEY=VALUE command-line items as a dict, each VALUE through ``convert``."""
+    import yaml
     out = {}
     for item in items:
         key, sep, value = item.partition("=")
@@ -85,6 +116,7 @@ def _key_values(items: list[str], option: str, convert) -> dict:
 
 def release_from_args(args: argparse.Namespace) -> Release:
     """Build a validated :class:`Release` from parsed options (raises ReleaseError/UsageError)."""
+    import yaml
     aero = _key_values(args.aero, "--aero", yaml.safe_load)
     if args.wind is not None:
         aero["wind"] = list(args.wind)
@@ -97,11 +129,18 @@ def release_from_args(args: argparse.Namespace) -> Release:
 
 
 def modes_report(release: Release) -> dict:
-    """Linear-theory numbers of a release as plain data (rad, rad/s, rpm)."""
-    flight = Flight.from_release(release)
-    m = flight.modes
-    aero = flight.aero or AeroModel().without_extras()
-    dyn = dynamic_stability(flight.ball, m.speed, release.initial_state().spin, aero)
+    """Linear-theory numbers of a release as plain data (rad, rad/s, rpm).
+
+    The same ball, settings and modes as :class:`football_ros.physics.Flight` builds, without
+    importing the integrator (numba).
+    """
+    from .physics.aero import AeroModel, dynamic_stability, resolve
+    from .physics.linear_theory import linear_modes
+    initial = release.initial_state()
+    ball, aero = resolve(release.preset(), release.model, release.aero_model())
+    m = linear_modes(ball, initial)
+    aero = aero or AeroModel().without_extras()
+    dyn = dynamic_stability(ball, m.speed, initial.spin, aero)
     return {
         "ball": release.ball, "speed": m.speed, "flight_path_angle": m.flight_path_angle,
         "m_alpha": m.m_alpha, "h1": m.h1, "omega_fast": m.omega_fast, "omega_slow": m.omega_slow,
@@ -157,6 +196,7 @@ def _fmt(value, spec: str) -> str:
 def _cmd_modes(args: argparse.Namespace) -> int:
     report = modes_report(release_from_args(args))
     if args.json:
+        import json
         print(json.dumps(report, indent=2))
     else:
         _print_modes(report)
@@ -173,6 +213,8 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         raise UsageError(f"--rate must be in (0, 100000] Hz, got {args.rate}")
     if not (0.0 < args.step <= 0.05):
         raise UsageError(f"--step must be in (0, 0.05] s, got {args.step}")
+    from .physics import Flight
+    check_output_file(args.out, "--out")
     flight = Flight.from_release(release, step=args.step)
     trajectory = flight.simulate(rate=args.rate, duration=args.duration)
     warnings = simulate_warnings(release, flight, trajectory)
@@ -219,28 +261,67 @@ def simulate_warnings(release: Release, flight: Flight, trajectory) -> list[str]
     return out
 
 
+def check_output_file(path: str, option: str) -> None:
+    """Raise UsageError now (before any work) if ``path`` cannot be written as a file."""
+    folder = os.path.dirname(os.path.abspath(path))
+    if os.path.isdir(path):
+        raise UsageError(f"{option} {path}: is a folder, not a file")
+    if not os.path.isdir(folder):
+        raise UsageError(f"{option} {path}: folder {folder} does not exist")
+    if not os.access(folder, os.W_OK | os.X_OK) or (os.path.exists(path)
+                                                    and not os.access(path, os.W_OK)):
+        raise UsageError(f"{option} {path}: not writable")
+
+
 def _cmd_montecarlo(args: argparse.Namespace) -> int:
     import time
-    from pathlib import Path
-
-    from .tools import montecarlo as mc
+    start = time.perf_counter()
     release = release_from_args(args)
     if not 1 <= args.n <= 10_000_000:
         raise UsageError(f"--n must be in [1, 10000000], got {args.n}")
+    from .tools import montecarlo as mc
     try:
         spread = mc.parse_spread(args.spread)
+        out, figure = mc.output_paths(args.out, args.figure)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
-    out = Path(args.out)
-    start = time.perf_counter()
-    samples, result = mc.run(release, args.n, spread, args.seed, progress=not args.quiet)
-    seconds = time.perf_counter() - start
-    mc.write_csv(out, samples, result)
-    figure = out.with_suffix(".png")
-    mc.plot(figure, result, f"{args.n} releases around {release.ball} {release.speed:g} m/s, "
+    check_output_file(str(out), "--out")
+    if figure is not None:
+        check_output_file(str(figure), "--out (figure)")
+    drawing = None
+    if figure is not None:  # a child process imports matplotlib meanwhile
+        drawing = mc.FigureProcess(
+            figure, f"{args.n} releases around {release.ball} {release.speed:g} m/s, "
             f"{release.elevation_deg:g} deg, {release.spin_rpm:g} rpm ({release.model} model)")
-    mc.print_summary(result, args.n, seconds)
-    print(f"per-ball results: {out}\nfigure: {figure}")
+    try:
+        samples, result, seconds = mc.run(release, args.n, spread, args.seed,
+                                          progress=not args.quiet)
+        if drawing is not None:
+            drawing.draw(result)
+        mc.write(out, samples, result)
+        mc.print_summary(result, args.n, seconds)
+    finally:
+        drew = drawing is None or drawing.finish()
+    if not drew:
+        return 1
+    print(f"per-ball results: {out}" + (f"\nfigure: {figure}" if figure else "")
+          + f"\ntotal {time.perf_counter() - start:.2f} s")
+    return 0
+
+
+def _cmd_compile(args: argparse.Namespace) -> int:
+    from . import numba_cache_dir
+    from .physics.precompile import compile_ahead
+    where = numba_cache_dir() or "beside the sources (__pycache__)"
+    print(f"football-ros compile: numba kernels; cache: {where}", flush=True)
+    steps = compile_ahead(lambda line: print(line, flush=True) if not args.quiet else None)
+    from .tools.fastcsv import warm_up
+    steps.append(warm_up())  # the Monte Carlo CSV writer
+    if not args.quiet:
+        print(f"[+] {steps[-1].name}: {steps[-1].seconds:.1f} s", flush=True)
+    total = sum(step.seconds for step in steps)
+    compiled = sum(step.compiled for step in steps)
+    print(f"ready: {compiled} kernel(s) compiled, the rest loaded, in {total:.1f} s", flush=True)
     return 0
 
 
@@ -259,13 +340,19 @@ def _cmd_paper(args: argparse.Namespace) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="football-ros", description=__doc__.splitlines()[0])
-    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    p = sub.add_parser("modes", help="linear-theory modes, stability and equilibrium of a release")
+    parser = _Parser(prog="football-ros", description=DESCRIPTION,
+                     epilog="'football-ros COMMAND --help' describes each command.")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser,
+                                metavar="COMMAND")
+
+    def add(name: str, text: str) -> argparse.ArgumentParser:
+        return sub.add_parser(name, help=text, description=text[0].upper() + text[1:] + ".")
+
+    p = add("modes", "linear-theory modes, stability and equilibrium of a release")
     add_release_options(p)
     p.add_argument("--json", action="store_true", help="print JSON instead of a table")
     p.set_defaults(func=_cmd_modes)
-    p = sub.add_parser("simulate", help="integrate a flight headless and write a CSV")
+    p = add("simulate", "integrate a flight headless and write a CSV")
     add_release_options(p)
     p.add_argument("--duration", type=float, default=10.0, help="max simulated time [s]")
     p.add_argument("--rate", type=float, default=100.0, help="output rows per second [Hz]")
@@ -274,7 +361,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="CSV file to write (and <out>.json beside it: the release, ball, "
                         "model)")
     p.set_defaults(func=_cmd_simulate)
-    p = sub.add_parser("montecarlo", help="landing dispersion and wobble statistics of release errors")
+    p = add("montecarlo", "landing dispersion and wobble statistics of release errors")
     add_release_options(p)
     p.add_argument("--n", type=int, default=10000, help="number of balls")
     p.add_argument("--spread", action="append", default=[], metavar="KEY=SIGMA[,KEY=SIGMA]",
@@ -282,9 +369,16 @@ def build_parser() -> argparse.ArgumentParser:
                         "(defaults: speed 0.5 m/s, angles 1 deg, spin 30 rpm, rates 10 deg/s)")
     p.add_argument("--seed", type=int, default=0, help="random seed")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.add_argument("--out", required=True, help="CSV file of per-ball results (figure: same name .png)")
+    p.add_argument("--out", required=True,
+                   help="per-ball results: FILE.csv (text) or FILE.npz (numpy arrays, loads "
+                        "10^6 balls in a fraction of the CSV's time)")
+    p.add_argument("--figure", default="auto",
+                   help="PNG file, 'auto' = the --out name with .png, 'none' = no figure")
     p.set_defaults(func=_cmd_montecarlo)
-    p = sub.add_parser("plot", help="figures (PNG) from a recorded bag or a simulate CSV")
+    p = add("compile", "compile (first time) or load every numba kernel ahead of use")
+    p.add_argument("--quiet", action="store_true", help="only the final line")
+    p.set_defaults(func=_cmd_compile)
+    p = add("plot", "figures (PNG) from a recorded bag or a simulate CSV")
     p.add_argument("source", help="bag folder / .mcap file, or CSV from 'simulate'")
     p.add_argument("--out", required=True, help="folder for the PNG files")
     p.add_argument("--ball", choices=list(PRESETS),
@@ -303,6 +397,19 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    """Run one command; the exit code. A closed output pipe (``| head``) ends it quietly."""
+    try:
+        code = _main(argv)
+        sys.stdout.flush()
+        return code
+    except BrokenPipeError:
+        # The reader went away: send the rest of the output nowhere and exit quietly.
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 0
+
+
+def _main(argv: Sequence[str] | None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv and argv[0] in NODE_COMMANDS:
         import importlib
@@ -310,7 +417,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         own = argv[1:argv.index("--ros-args")] if "--ros-args" in argv else argv[1:]
         if argv[0] in ("simulator", "release", "tracker") and ({"-h", "--help"} & set(own)):
             print(f"usage: football-ros {argv[0]} [--ros-args -p NAME:=VALUE ...]\n")
-            print(importlib.import_module(module_name).__doc__)
+            print(plain(importlib.import_module(module_name).__doc__))
             print("Parameters, topics and QoS: config/football.yaml and msg_docs/.")
             return 0
         return getattr(importlib.import_module(module_name), function)(argv[1:]) or 0
@@ -324,6 +431,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"football-ros: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
     except OSError as exc:
+        if isinstance(exc, BrokenPipeError):
+            raise
         print(f"football-ros: error: {exc.strerror or exc}: {exc.filename or ''}".rstrip(": "),
               file=sys.stderr)
         return EXIT_USAGE

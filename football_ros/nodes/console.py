@@ -11,7 +11,7 @@ from typing import Sequence
 
 import yaml
 
-from ..cli import UsageError, add_release_options, release_from_args
+from ..cli import HelpFormatter, UsageError, add_release_options, release_from_args
 from ..physics import ReleaseError
 from . import messages as mb
 from .recorder import TOPICS
@@ -46,10 +46,13 @@ def _init(node_name: str):
 
 
 def echo(argv: Sequence[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="football-ros echo", description="print messages of a topic as YAML")
+    parser = argparse.ArgumentParser(prog="football-ros echo",
+                                     description="Print messages of a topic as YAML.",
+                                     formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     parser.add_argument("topic", help=f"one of: {', '.join(TOPICS)} (relative names resolve to /...)")
     parser.add_argument("--count", type=int, default=0, help="exit after N messages (0 = never)")
-    parser.add_argument("--timeout", type=float, default=0.0, help="exit after S seconds (0 = never)")
+    parser.add_argument("--timeout", type=float, default=0.0,
+                        help="exit after S seconds (0 = never); no message by then: exit code 1")
     args = parser.parse_args(argv)
     topic = args.topic if args.topic in TOPICS else args.topic.lstrip("/")
     if topic not in TOPICS:
@@ -66,19 +69,32 @@ def echo(argv: Sequence[str] | None = None) -> int:
 
     node.create_subscription(msg_type, topic, show, profile)
     end = time.monotonic() + args.timeout if args.timeout > 0 else float("inf")
+    publishers = 0
     try:
         while rclpy.ok() and time.monotonic() < end and not (args.count and seen[0] >= args.count):
             rclpy.spin_once(node, timeout_sec=0.1)
+        publishers = node.count_publishers(node.resolve_topic_name(topic))
     except KeyboardInterrupt:
-        pass
+        return 0
     finally:
         node.destroy_node()
         rclpy.try_shutdown()
+    if args.timeout > 0 and seen[0] == 0:
+        name = topic if topic.startswith("/") else f"/{topic}"
+        why = ("no publisher" if publishers == 0
+               else f"no message from {publishers} publisher(s)")
+        print(f"football-ros echo: error: {why} on {name} within {args.timeout:g} s",
+              file=sys.stderr)
+        return 1
+    if args.count and seen[0] < args.count:
+        print(f"football-ros echo: error: {seen[0]} of {args.count} messages within "
+              f"{args.timeout:g} s", file=sys.stderr)
+        return 1
     return 0
 
 
 def throw(argv: Sequence[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="football-ros throw",
+    parser = argparse.ArgumentParser(prog="football-ros throw", formatter_class=HelpFormatter,
                                      description="send one release request and print the answer")
     add_release_options(parser)
     parser.add_argument("--id", default=f"throw-{int(time.time())}", help="correlation id")

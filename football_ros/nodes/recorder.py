@@ -465,7 +465,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     ros_args = argv[argv.index("--ros-args"):] if "--ros-args" in argv else []
     own = argv[:len(argv) - len(ros_args)]
-    parser = argparse.ArgumentParser(prog="football-ros record", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="football-ros record",
+                                     description=__doc__.splitlines()[0].replace("``", ""))
     parser.add_argument("--out", help="bag folder to create (default: football_<date>_<time>)")
     parser.add_argument("--storage", choices=("mcap", "sqlite3"), help="storage plugin (default mcap)")
     parser.add_argument("--topics", nargs="+", help="topics to record (default: all football_ros topics)")

@@ -397,6 +397,8 @@ def _landed_text(position, time_of_flight: float) -> str:
 
 def _warm_up() -> None:
     """Load the compiled kernels now, so that the first flight's ticks are not late."""
+    from ..physics.precompile import compile_ahead
+    compile_ahead()  # every kernel of the nodes and commands (compiled once, then loaded)
     flight = Flight.from_release(Release())
     flight.sample(0.0105)
     flight.sample(10.0)

@@ -5,9 +5,9 @@ The kernel integrates each ball with the forces and moments of
 lean state (r, v, s, h, h1), with the 8th-order Dormand-Prince weights (scipy's DOP853 tableau)
 at a fixed step, |s| = 1 and h.s = h1 restored after every step, balls spread over the cores
 with numba ``prange`` (blocks of balls, the ball index innermost). The default step follows the
-fastest mode (``STEP_PER_RADIAN``): 29 ms for the nominal spiral. The maxima of |alpha|, |beta|
-and delta are taken at the steps. The landing is located inside its step on
-the cubic Hermite interpolant of z.
+fastest rate of each ball's motion (:func:`fastest_rates`, ``STEP_PER_RADIAN``): 29 ms for the
+nominal spiral, shorter for strong damping. The maxima of |alpha|, |beta| and delta are taken at
+the steps. The landing is located inside its step on the cubic Hermite interpolant of z.
 """
 
 from __future__ import annotations
@@ -17,12 +17,30 @@ from dataclasses import dataclass
 
 import numpy as np
 from numba import njit, prange
-from scipy.integrate._ivp import dop853_coefficients as _dop853  # the published tableau
 
 from . import dynamics as dyn
 from .aero import AeroModel, resolve
 from .presets import BallPreset
 
+
+def _dop853_tableau():
+    """scipy's published DOP853 tableau (scipy/integrate/_ivp/dop853_coefficients.py), read
+    without importing scipy.integrate, which costs 0.2-2 s of start-up."""
+    import importlib.util
+    import os
+    spec = importlib.util.find_spec("scipy")
+    path = os.path.join(os.path.dirname(spec.origin or ""), "integrate", "_ivp",
+                        "dop853_coefficients.py")
+    if not os.path.exists(path):
+        from scipy.integrate._ivp import dop853_coefficients
+        return dop853_coefficients
+    spec = importlib.util.spec_from_file_location("_football_ros_dop853", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+_dop853 = _dop853_tableau()
 _STAGES = _dop853.N_STAGES
 _A = _dop853.A[:_STAGES, :_STAGES]
 _B = np.ascontiguousarray(_dop853.B)
@@ -32,10 +50,59 @@ _A_COL = np.nonzero(_A)[1].astype(np.int64)
 _A_VAL = _A[np.nonzero(_A)]
 N_LEAN = 13  # r, v, s, h, h1
 STEP_PER_RADIAN = 1.1
-"""Default step = STEP_PER_RADIAN / max |h1| (at most MAX_STEP): about 1.1 rad of the fastest
-mode per step, which keeps alpha/beta within 3e-7 rad of a tight DOP853 solution over the
-releases bench/flight_benchmark.py tries (the error grows as step^8)."""
+"""Default step = STEP_PER_RADIAN / (fastest rate, :func:`fastest_rates`), at most MAX_STEP:
+about 1.1 rad of the fastest mode per step, which keeps alpha/beta within 6e-8 rad of a tight
+DOP853 solution over the releases bench/flight_benchmark.py tries and 6.5e-7 rad for wobblier
+ones (alpha0, beta0 ~ 4 deg, rates ~ 30 deg/s); the error grows as step^8 (1.3: 2.7e-6)."""
 MAX_STEP = 0.04
+
+
+@njit(cache=True, inline="always")
+def _rate(speed, h, h1, params):
+    """Fastest rate [1/s] of the motion at air speed ``speed`` [m/s], |h| and |h1| [rad/s]:
+    the axis' rotation |h| (nutation, |h1| for a spiral) or 2 sqrt(M) (a ball tumbling in the
+    overturning moment M_alpha plus the Magnus moment's stiffness), plus the damping and force
+    rates (pitch and spin damping, lift, drag, Magnus force)."""
+    spin = params[dyn.P_SPIN_RATIO] * h1
+    damp = params[dyn.P_DAMP_K] * speed
+    stiffness = params[dyn.P_MOMENT_K] * speed * speed + damp * spin * abs(params[dyn.P_CMPA])
+    turning = max(h, 2.0 * math.sqrt(stiffness))
+    damping = damp * (abs(params[dyn.P_CMQ]) + abs(params[dyn.P_CLP]) * params[dyn.P_SPIN_RATIO])
+    forces = params[dyn.P_FORCE_K] * (
+        speed * (params[dyn.P_CD0] + params[dyn.P_CD2] + abs(params[dyn.P_CLA]))
+        + spin * params[dyn.P_DIAMETER] * abs(params[dyn.P_CNPA]))
+    return turning + damping + forces
+
+
+@njit(cache=True)
+def _rates(speed, h, h1, params):
+    out = np.empty(speed.size)
+    for i in range(speed.size):
+        out[i] = _rate(speed[i], h[i], h1[i], params)
+    return out
+
+
+def fastest_rates(y0: np.ndarray, params: np.ndarray, ground: float = 0.0) -> np.ndarray:
+    """Fastest rate [1/s] of each ball's motion (lean states y0), at the largest air speed its
+    flight can reach: energy bound sqrt(V^2 + 2 g z) (capped at the terminal speed when there
+    is drag) plus twice the wind. This sets each block's step; during the flight the kernel
+    shortens it if the current rates grow beyond it (a Magnus moment can pump the wobble)."""
+    v = y0[:, 3:6]
+    z = np.maximum(y0[:, 2] - ground, 0.0)
+    g = params[dyn.P_GRAVITY]
+    wind = np.linalg.norm(params[dyn.P_WIND:dyn.P_WIND + 3])
+    speed = np.sqrt(np.sum(v * v, axis=1) + 2.0 * g * z)
+    fk = params[dyn.P_FORCE_K]
+    if fk * params[dyn.P_CD0] > 1e-9:
+        terminal = math.sqrt(g / (fk * params[dyn.P_CD0]))
+        speed = np.minimum(speed, np.maximum(np.linalg.norm(v, axis=1), terminal))
+    speed = speed + 2.0 * wind
+    return _rates(speed, np.linalg.norm(y0[:, 9:12], axis=1), np.abs(y0[:, 12]), params)
+
+
+def default_steps(rates: np.ndarray) -> np.ndarray:
+    """Step [s] for balls of the given :func:`fastest_rates` [1/s]."""
+    return np.minimum(MAX_STEP, STEP_PER_RADIAN / np.maximum(rates, 1e-9))
 
 
 # _block_derivative, _block_step and dynamics.loads are inlined into the prange body, where the
@@ -99,13 +166,73 @@ def _hermite(p0, d0, p1, d1, dt, u):
             + (-2 * u3 + 3 * u2) * p1 + (u3 - u2) * dt * d1)
 
 
+@njit(cache=True)
+def _hermite_root(z0, d0, z1, d1, h, ground):
+    """Fraction u of a step of length h where the cubic Hermite interpolant of z reaches
+    ``ground`` (bisection; z0 above, z1 at or below it)."""
+    lo, hi = 0.0, 1.0
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if _hermite(z0, d0, z1, d1, h, mid) > ground:
+            lo = mid
+        else:
+            hi = mid
+    return hi
+
+
+@njit(cache=True)
+def _curved(y, nxt, j, b, h, u):
+    """|cubic Hermite - quadratic| at fraction u for coordinate j (velocity j + 3) of column b:
+    a bound on the cubic's interpolation error, which is far smaller (~ h^4 vs h^3)."""
+    p0, d0, p1 = y[j, b], y[j + 3, b], nxt[j, b]
+    quadratic = p0 + d0 * h * u + (p1 - p0 - d0 * h) * u * u
+    return abs(_hermite(p0, d0, p1, nxt[j + 3, b], h, u) - quadratic)
+
+
+@njit(cache=True, fastmath=True)
+def _landing(y, nxt, b, h, params, ground, out):
+    """Fraction u of the step of length h from column b of y to nxt at which z = ground; the
+    state there (a partial step from y) into out[:, 0]. The root of the cubic Hermite
+    interpolant of z is taken, the state computed there, and, if z misses the ground there by
+    more than 1e-12 m, the bracket narrowed on it (at most 3 rounds: the interpolation error
+    shrinks as the bracket's length^4)."""
+    one = np.empty((N_LEAN, 1))
+    k = np.empty((_STAGES, N_LEAN, 1))
+    tmp = np.empty((N_LEAN, 1))
+    for j in range(N_LEAN):
+        one[j, 0] = y[j, b]
+    lo, hi = 0.0, 1.0
+    z0, d0, z1, d1 = y[2, b], y[5, b], nxt[2, b], nxt[5, b]
+    u = 1.0
+    for _ in range(3):
+        a, c = 0.0, 1.0  # bisection on the interpolant over [lo, hi]
+        for _ in range(60):
+            mid = 0.5 * (a + c)
+            if _hermite(z0, d0, z1, d1, (hi - lo) * h, mid) > ground:
+                a = mid
+            else:
+                c = mid
+        u = lo + c * (hi - lo)
+        _block_step(one, u * h, params, k, tmp, out, 1)
+        miss = out[2, 0] - ground  # the interpolant's error there
+        if abs(miss) <= 1e-12 * (1.0 + abs(ground)) or hi - lo < 1e-15:
+            break  # usually after the first round: one scalar partial step per landing
+        if miss > 0.0:
+            lo, z0, d0 = u, out[2, 0], out[5, 0]
+        else:
+            hi, z1, d1 = u, out[2, 0], out[5, 0]
+    return u
+
+
 BLOCK = 32
 """Balls integrated together by one thread (SIMD lanes along the ball index)."""
 
 
 @njit(parallel=True, cache=True)
-def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples, results):
-    """Integrate every row of y0 (N, N_LEAN), block b of BLOCK rows with step steps[b];
+def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples, results,
+                     adaptive):
+    """Integrate every row of y0 (N, N_LEAN), block b of BLOCK rows with step steps[b] (if
+    ``adaptive``, shortened whenever the block's current fastest rate needs it);
     results (N, 7) = landing x, y, time, landed, max|alpha|, max|beta|, max delta.
     ``samples`` (N, M, 2) gets alpha, beta every ``sample_every`` steps."""
     n_balls = y0.shape[0]
@@ -114,13 +241,13 @@ def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples,
         first = blk * BLOCK
         nb = min(BLOCK, n_balls - first)
         dt = steps[blk]
-        n_steps = int(math.ceil(max_time / dt))
         y = np.empty((N_LEAN, BLOCK))
         nxt = np.empty((N_LEAN, BLOCK))
         tmp = np.empty((N_LEAN, BLOCK))
         k = np.empty((_STAGES, N_LEAN, BLOCK))
         flying = np.ones(BLOCK, np.bool_)
         worst = np.empty((4, BLOCK))
+        at = np.empty((N_LEAN, 1))
         for b in range(nb):
             ball = first + b
             y[:, b] = y0[ball]
@@ -135,29 +262,53 @@ def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples,
                 samples[ball, 0, 0] = math.atan2(s2, s1)
                 samples[ball, 0, 1] = math.asin(min(1.0, max(-1.0, s3)))
         left = nb
-        for i in range(n_steps):
-            _block_step(y, dt, params, k, tmp, nxt, nb)
+        t = 0.0
+        i = -1
+        last = False
+        while not last:
+            i += 1
+            h = dt
+            if adaptive:
+                fastest = 0.0
+                for b in range(nb):
+                    if flying[b]:
+                        speed = math.sqrt((y[3, b] - params[dyn.P_WIND]) ** 2
+                                          + (y[4, b] - params[dyn.P_WIND + 1]) ** 2
+                                          + (y[5, b] - params[dyn.P_WIND + 2]) ** 2)
+                        hn = math.sqrt(y[9, b] ** 2 + y[10, b] ** 2 + y[11, b] ** 2)
+                        fastest = max(fastest, _rate(speed, hn, abs(y[12, b]), params))
+                if fastest * h > 1.05 * STEP_PER_RADIAN:  # (margin: the wobble moves |h| a little)
+                    h = STEP_PER_RADIAN / fastest
+            if t + h >= max_time - 1e-9 * h:  # the last step ends at max_time
+                h = max_time - t
+                last = True
+            _block_step(y, h, params, k, tmp, nxt, nb)
             j = (i + 1) // sample_every
             keep_sample = (i + 1) % sample_every == 0 and j < samples.shape[1]
             for b in range(nb):
                 if not flying[b]:
                     continue
                 ball = first + b
-                if y[2, b] > ground and nxt[2, b] <= ground and nxt[5, b] < 0.0:
-                    lo, hi = 0.0, 1.0
-                    for _ in range(60):
-                        mid = 0.5 * (lo + hi)
-                        if _hermite(y[2, b], y[5, b], nxt[2, b], nxt[5, b], dt, mid) > ground:
-                            lo = mid
-                        else:
-                            hi = mid
-                    results[ball, 0] = _hermite(y[0, b], y[3, b], nxt[0, b], nxt[3, b], dt, hi)
-                    results[ball, 1] = _hermite(y[1, b], y[4, b], nxt[1, b], nxt[4, b], dt, hi)
-                    results[ball, 2] = (i + hi) * dt
+                # Above the ground (or on it at the release, going up), then at or below it.
+                above = y[2, b] > ground or (i == 0 and y[2, b] == ground and y[5, b] > 0.0)
+                if above and nxt[2, b] <= ground and nxt[5, b] < 0.0:
+                    u = _hermite_root(y[2, b], y[5, b], nxt[2, b], nxt[5, b], h, ground)
+                    if (_curved(y, nxt, 0, b, h, u) + _curved(y, nxt, 1, b, h, u)
+                            + _curved(y, nxt, 2, b, h, u)) > 1e-6:
+                        # Far from a parabola: locate it on exact partial steps instead.
+                        u = _landing(y, nxt, b, h, params, ground, at)
+                        results[ball, 0], results[ball, 1] = at[0, 0], at[1, 0]
+                    else:
+                        results[ball, 0] = _hermite(y[0, b], y[3, b], nxt[0, b], nxt[3, b], h, u)
+                        results[ball, 1] = _hermite(y[1, b], y[4, b], nxt[1, b], nxt[4, b], h, u)
+                    results[ball, 2] = t + u * h
                     results[ball, 3] = 1.0
                     flying[b] = False
                     left -= 1
                     continue
+                horizontal = nxt[3, b] ** 2 + nxt[4, b] ** 2
+                if not horizontal > 1e-20 * (horizontal + nxt[5, b] ** 2):
+                    continue  # vertical velocity: alpha and beta are undefined
                 s1, s2, s3 = dyn.velocity_frame_components((nxt[3, b], nxt[4, b], nxt[5, b]),
                                                            (nxt[6, b], nxt[7, b], nxt[8, b]))
                 if abs(s2) * worst[1, b] > worst[0, b] * s1:
@@ -168,6 +319,7 @@ def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples,
                     samples[ball, j, 0] = math.atan2(s2, s1)
                     samples[ball, j, 1] = math.asin(min(1.0, max(-1.0, s3)))
             y[:, :] = nxt
+            t += h
             if left == 0:
                 break
         for b in range(nb):
@@ -217,18 +369,19 @@ def simulate_batch(ball: BallPreset, states: dict[str, np.ndarray], model: str =
     or ``max_time`` [s] passes. ``step`` [s]: None = the default rule (module docstring)."""
     ball, aero = resolve(ball, model, aero)
     y0 = lean_states(ball, states)
+    params = dyn.make_params(ball, moment, aero)
     n = y0.shape[0]
     n_blocks = (n + BLOCK - 1) // BLOCK
-    spin_momentum = np.abs(y0[:, 12])
+    rates = fastest_rates(y0, params, ground)
     if step is None and not sample_count:
-        # Blocks of balls with similar spin momentum, each with its own step.
-        order = np.argsort(spin_momentum, kind="stable")
-        padded = np.pad(spin_momentum[order], (0, n_blocks * BLOCK - n), mode="edge")
-        steps = np.minimum(MAX_STEP, STEP_PER_RADIAN / np.maximum(padded.reshape(n_blocks, BLOCK).max(axis=1), 1e-9))
+        # Blocks of balls with similar rates, each with its own step.
+        order = np.argsort(rates, kind="stable")
+        padded = np.pad(rates[order], (0, n_blocks * BLOCK - n), mode="edge")
+        steps = default_steps(padded.reshape(n_blocks, BLOCK).max(axis=1))
     else:
         order = np.arange(n)
         if step is None:
-            step = min(MAX_STEP, STEP_PER_RADIAN / max(float(spin_momentum.max()), 1e-9))
+            step = float(default_steps(rates.max(initial=0.0)))
         steps = np.full(n_blocks, step)
     every = 1
     if sample_count:
@@ -237,8 +390,8 @@ def simulate_batch(ball: BallPreset, states: dict[str, np.ndarray], model: str =
             raise ValueError("sample_period must be a whole multiple of the step")
     samples = np.full((n, sample_count, 2), np.nan)
     results = np.empty((n, 7))
-    _integrate_batch(np.ascontiguousarray(y0[order]), dyn.make_params(ball, moment, aero), steps, max_time,
-                     ground, every, samples, results)
+    _integrate_batch(np.ascontiguousarray(y0[order]), params, steps, max_time,
+                     ground, every, samples, results, step is None and not sample_count)
     unsorted = np.empty_like(results)
     unsorted[order] = results
     return BatchResult(unsorted[:, 0], unsorted[:, 1], unsorted[:, 2], unsorted[:, 3] > 0.5, unsorted[:, 4],

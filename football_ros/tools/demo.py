@@ -167,7 +167,8 @@ def run_demo(args: argparse.Namespace) -> int:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="football-ros demo", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="football-ros demo",
+                                     description=__doc__.splitlines()[0].replace("``", ""))
     add_release_options(parser)
     parser.add_argument("--out", help="run folder to create (default runs/demo_<date>_<time>)")
     parser.add_argument("--rate", type=float, default=200.0, help="simulator publish rate [Hz]")

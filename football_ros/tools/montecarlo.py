@@ -2,33 +2,40 @@
 
 Each release quantity gets a Gaussian error (standard deviations from ``--spread``) around the
 nominal release; samples are clipped to the accepted ranges. The flights run in batches through
-:func:`football_ros.physics.batch.simulate_batch`. Writes one CSV row per ball, a PNG figure
-next to it, and prints a summary table.
+:func:`football_ros.physics.batch.simulate_batch`. Writes one row per ball (:data:`COLUMNS`:
+the sampled release in the units of its name, landing_x/landing_y [m], time_of_flight [s],
+landed 0/1, max_alpha_deg/max_beta_deg/max_delta_deg [deg]) as CSV or .npz, a PNG figure, and
+prints a summary table.
 """
 
 from __future__ import annotations
 
-import csv
 import math
+import os
 import sys
 import time
 from pathlib import Path
-from typing import Mapping
+from typing import TYPE_CHECKING, Mapping
 
 import numpy as np
 
 from ..physics import Release
-from ..physics.batch import BatchResult, simulate_batch
-from ..physics.release import LIMITS, release_states
+from ..physics.release import LIMITS
+
+if TYPE_CHECKING:  # the batch module imports numba: only when flights are flown
+    from ..physics.batch import BatchResult
 
 SPREAD_DEFAULTS = {"speed": 0.5, "elevation_deg": 1.0, "azimuth_deg": 1.0, "spin_rpm": 30.0,
                    "alpha0_deg": 1.0, "beta0_deg": 1.0, "alpha_rate_deg_s": 10.0, "beta_rate_deg_s": 10.0}
 """Default standard deviations of the release errors (units of each quantity)."""
 CHUNK = 4096
-DENSITY_ABOVE = 5000
-"""Landing points above this count are drawn as a density (hexbin), not a scatter."""
-COLUMNS = (*SPREAD_DEFAULTS, "landing_x", "landing_y", "time_of_flight", "landed", "max_alpha",
-           "max_beta", "max_delta")
+COLUMNS = (*SPREAD_DEFAULTS, "landing_x", "landing_y", "time_of_flight", "landed", "max_alpha_deg",
+           "max_beta_deg", "max_delta_deg")
+"""Per-ball columns: release (units in the name; speed m/s), landing_x/y [m], time_of_flight [s],
+landed (0/1), the largest |alpha|, |beta| and delta over the flight [deg]."""
+FORMATS = (".csv", ".npz")
+SCATTER_MAX = 5000
+"""Above this many landed balls the landing figure is a density image, not dots."""
 
 
 def parse_spread(items: list[str]) -> dict[str, float]:
@@ -60,19 +67,41 @@ def sample_releases(release: Release, spread: Mapping[str, float], n: int,
     return out
 
 
-def run(release: Release, n: int, spread: Mapping[str, float], seed: int, progress=True) -> tuple[dict, BatchResult]:
-    """Sample and fly ``n`` releases; returns the samples and the concatenated results."""
+def output_paths(out: str, figure: str = "auto") -> tuple[Path, Path | None]:
+    """The results file (its suffix picks the format: .csv or .npz) and the figure (``auto`` =
+    beside it as .png, ``none`` = no figure); ValueError for an unknown format."""
+    path = Path(out)
+    if path.suffix.lower() not in FORMATS:
+        raise ValueError(f"--out {out}: use a .csv or .npz file name")
+    if figure == "none":
+        return path, None
+    fig = path.with_suffix(".png") if figure == "auto" else Path(figure)
+    if fig.suffix.lower() != ".png":
+        raise ValueError(f"--figure {figure}: use a .png file name (or auto, none)")
+    return path, fig
+
+
+def run(release: Release, n: int, spread: Mapping[str, float], seed: int,
+        progress: bool = True) -> tuple[dict, BatchResult, float]:
+    """Sample and fly ``n`` releases; returns the samples, the concatenated results and the
+    seconds spent integrating (inside simulate_batch)."""
+    from ..physics.batch import BatchResult, simulate_batch
+    from ..physics.release import release_states
     rng = np.random.default_rng(seed)
     samples = sample_releases(release, spread, n, rng)
     ball = release.preset()
     parts = []
     start = time.perf_counter()
+    seconds = 0.0
+    aero = release.aero_model()
     for first in range(0, n, CHUNK):
         part = {k: v[first:first + CHUNK] for k, v in samples.items()}
         states = release_states(part["speed"], part["elevation_deg"], part["azimuth_deg"], part["spin_rpm"],
                                 part["alpha0_deg"], part["beta0_deg"], part["alpha_rate_deg_s"],
                                 part["beta_rate_deg_s"], np.array(release.position))
-        parts.append(simulate_batch(ball, states, release.model, release.moment, release.aero_model()))
+        begin = time.perf_counter()
+        parts.append(simulate_batch(ball, states, release.model, release.moment, aero))
+        seconds += time.perf_counter() - begin
         if progress:
             done = min(n, first + CHUNK)
             bar = "#" * int(30 * done / n)
@@ -81,11 +110,12 @@ def run(release: Release, n: int, spread: Mapping[str, float], seed: int, progre
     if progress:
         print(file=sys.stderr)
     fields = ("landing_x", "landing_y", "time_of_flight", "landed", "max_alpha", "max_beta", "max_delta")
-    result = BatchResult(*(np.concatenate([getattr(p, f) for p in parts]) for f in fields), None, parts[0].sample_period)
-    return samples, result
+    result = BatchResult(*(np.concatenate([getattr(p, f) for p in parts]) for f in fields), None,
+                         parts[0].sample_period)
+    return samples, result, seconds
 
 
-def summary_rows(result: BatchResult) -> list[tuple[str, np.ndarray, str]]:
+def summary_rows(result) -> list[tuple[str, np.ndarray, str]]:
     landed = result.landed
     return [("landing x (downfield)", result.landing_x[landed], "m"),
             ("landing y (left > 0)", result.landing_y[landed], "m"),
@@ -95,16 +125,32 @@ def summary_rows(result: BatchResult) -> list[tuple[str, np.ndarray, str]]:
             ("max total angle delta", np.degrees(result.max_delta), "deg")]
 
 
-def write_csv(path: Path, samples: dict, result: BatchResult) -> None:
-    data = [*(samples[k] for k in SPREAD_DEFAULTS), result.landing_x, result.landing_y, result.time_of_flight,
-            result.landed.astype(int), result.max_alpha, result.max_beta, result.max_delta]
-    with open(path, "w", newline="") as handle:
-        writer = csv.writer(handle)
-        writer.writerow(COLUMNS)
-        writer.writerows(np.column_stack(data).tolist())
+def columns(samples: Mapping[str, np.ndarray], result) -> dict[str, np.ndarray]:
+    """The per-ball table as named columns in the order and units of :data:`COLUMNS`."""
+    data = {k: samples[k] for k in SPREAD_DEFAULTS}
+    data.update(landing_x=result.landing_x, landing_y=result.landing_y,
+                time_of_flight=result.time_of_flight, landed=result.landed.astype(np.int8),
+                max_alpha_deg=np.degrees(result.max_alpha),
+                max_beta_deg=np.degrees(result.max_beta),
+                max_delta_deg=np.degrees(result.max_delta))
+    return data
 
 
-def plot(path: Path, result: BatchResult, title: str) -> None:
+def write(path: Path, samples: Mapping[str, np.ndarray], result) -> None:
+    """Write the per-ball table: .npz (one array per column, full precision) or CSV (header
+    :data:`COLUMNS`, 6 decimals, landed as 0/1; :mod:`football_ros.tools.fastcsv`)."""
+    data = columns(samples, result)
+    if path.suffix.lower() == ".npz":
+        with open(path, "wb") as handle:  # keeps the name as given (savez would add .npz)
+            np.savez(handle, **data)
+    else:
+        from .fastcsv import write_csv
+        write_csv(path, data, decimals=6)
+
+
+def plot(path: Path, result, title: str) -> None:
+    """Landing points (dots, or a density image above SCATTER_MAX balls; equal aspect),
+    time of flight and wobble histograms, one PNG."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -112,35 +158,114 @@ def plot(path: Path, result: BatchResult, title: str) -> None:
     landed = result.landed
     fig, axes = plt.subplots(1, 3, figsize=(14, 4.5))
     x, y = result.landing_x[landed], result.landing_y[landed]
-    if x.size > DENSITY_ABOVE:  # a scatter of this many points is a solid blob: plot the density
-        cells = axes[0].hexbin(x, y, gridsize=60, bins="log", mincnt=1, cmap="viridis")
-        fig.colorbar(cells, ax=axes[0], label="balls per cell")
-    else:
-        axes[0].scatter(x, y, s=2, alpha=0.3)
-    axes[0].set_aspect("equal", adjustable="datalim")  # metres are metres both ways
-    axes[0].plot(np.mean(x), np.mean(y), "r+", ms=14, label="mean")
-    axes[0].set_xlabel("landing x, downfield [m]")
-    axes[0].set_ylabel("landing y, left > 0 [m]")
-    axes[0].set_title("Landing points")
-    axes[0].legend(loc="upper left", bbox_to_anchor=(0.0, -0.15), fontsize=8)
-    axes[0].grid(alpha=0.3)
-    axes[1].hist(result.time_of_flight[landed], bins=50)
+    ax = axes[0]
+    if x.size > SCATTER_MAX:  # density: a 2-D histogram drawn as one image
+        counts, xe, ye = np.histogram2d(x, y, bins=(120, 120))
+        counts[counts == 0] = np.nan
+        image = ax.imshow(counts.T, origin="lower", extent=(xe[0], xe[-1], ye[0], ye[-1]),
+                          cmap="viridis", norm=matplotlib.colors.LogNorm(), aspect="auto",
+                          interpolation="nearest")
+        fig.colorbar(image, ax=ax, label="balls per cell")
+    elif x.size:
+        ax.scatter(x, y, s=4, alpha=0.4, linewidths=0)
+    if x.size:
+        ax.plot(np.mean(x), np.mean(y), "r+", ms=14, mew=2, label="mean")
+        ax.legend(loc="upper right", framealpha=0.8)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("landing x, downfield [m]")
+    ax.set_ylabel("landing y, left > 0 [m]")
+    ax.set_title(f"Landing points ({x.size} landed)")
+    ax.grid(alpha=0.3)
+    _histogram(axes[1], [(result.time_of_flight[landed], None)])
     axes[1].set_xlabel("time of flight [s]")
     axes[1].set_ylabel("balls")
     axes[1].set_title("Time of flight")
-    axes[2].hist(np.degrees(result.max_alpha), bins=50, alpha=0.7, label="max |alpha|")
-    axes[2].hist(np.degrees(result.max_beta), bins=50, alpha=0.7, label="max |beta|")
+    _histogram(axes[2], [(np.degrees(result.max_alpha), "max |alpha|"),
+                         (np.degrees(result.max_beta), "max |beta|")])
     axes[2].set_xlabel("angle [deg]")
     axes[2].set_title("Wobble amplitude")
-    axes[2].legend(fontsize=8, loc="upper right")
+    axes[2].legend(loc="upper right", framealpha=0.8)
     fig.suptitle(title)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.subplots_adjust(left=0.05, right=0.98, bottom=0.12, top=0.86, wspace=0.3)
+    fig.savefig(path, dpi=100)
     plt.close(fig)
 
 
-def print_summary(result: BatchResult, n: int, seconds: float) -> None:
-    print(f"{n} balls, {int(result.landed.sum())} landed, {seconds:.2f} s "
+FIGURE_FIELDS = ("landing_x", "landing_y", "time_of_flight", "landed", "max_alpha", "max_beta")
+
+
+class FigureProcess:
+    """The figure drawn by a forked child, which imports matplotlib while this process
+    integrates and draws while it writes the table (start-up and drawing leave the critical
+    path). Without ``os.fork``, or once numba (and its threads) is loaded, it draws in-process.
+    """
+
+    def __init__(self, path: Path, title: str) -> None:
+        self.path, self.title, self.pid, self._pipe = path, title, None, None
+        if not hasattr(os, "fork") or "numba" in sys.modules:
+            return
+        read, write = os.pipe()
+        pid = os.fork()
+        if pid == 0:  # the child: never returns
+            os.close(write)
+            code = 1
+            try:
+                import matplotlib
+                matplotlib.use("Agg")
+                import matplotlib.pyplot  # noqa: F401
+                with os.fdopen(read, "rb") as pipe:
+                    payload = pipe.read()
+                if payload:
+                    import pickle
+                    plot(path, _Fields(pickle.loads(payload)), title)
+                code = 0
+            except BaseException as exc:  # reported by the parent's exit code
+                print(f"football-ros: error: figure {path}: {exc}", file=sys.stderr, flush=True)
+            finally:
+                os._exit(code)
+        os.close(read)
+        self.pid, self._pipe = pid, write
+
+    def draw(self, result) -> None:
+        """Hand the results over (or draw them here when there is no child)."""
+        if self.pid is None:
+            plot(self.path, result, self.title)
+            return
+        import pickle
+        payload = pickle.dumps({f: getattr(result, f) for f in FIGURE_FIELDS}, protocol=5)
+        with os.fdopen(self._pipe, "wb") as pipe:
+            self._pipe = None
+            pipe.write(payload)
+
+    def finish(self) -> bool:
+        """Wait for the child (after cancelling it if it got nothing); True if it drew."""
+        if self.pid is None:
+            return True
+        if self._pipe is not None:  # nothing sent: the child exits without drawing
+            os.close(self._pipe)
+            self._pipe = None
+        _, status = os.waitpid(self.pid, 0)
+        self.pid = None
+        return os.waitstatus_to_exitcode(status) == 0
+
+
+class _Fields:
+    def __init__(self, data: dict) -> None:
+        self.__dict__.update(data)
+
+
+def _histogram(ax, series) -> None:
+    """Step histograms from np.histogram (one artist each, cheap at any n)."""
+    for values, label in series:
+        values = values[np.isfinite(values)]
+        if values.size == 0:
+            continue
+        counts, edges = np.histogram(values, bins=50)
+        ax.stairs(counts, edges, fill=True, alpha=0.6, label=label)
+
+
+def print_summary(result, n: int, seconds: float) -> None:
+    print(f"{n} balls, {int(result.landed.sum())} landed, integrated in {seconds:.2f} s "
           f"({result.time_of_flight.sum() / seconds:.3g} ball-seconds per second)")
     print(f"{'quantity':<24}{'mean':>10}{'std':>10}{'p5':>10}{'p50':>10}{'p95':>10}  unit")
     for name, values, unit in summary_rows(result):
