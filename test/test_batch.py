@@ -150,7 +150,7 @@ from football_ros.physics.aero import AeroModel, resolve  # noqa: E402
 from football_ros.physics.batch import fastest_rates, lean_states  # noqa: E402
 from football_ros.physics import dynamics as dyn  # noqa: E402
 from football_ros.physics.dynamics import make_params  # noqa: E402
-from football_ros.physics.release import LIMITS  # noqa: E402
+from football_ros.physics.release import LIMITS, ReleaseError  # noqa: E402
 
 
 def _in(key):
@@ -183,6 +183,13 @@ def accepted_releases(draw):
                                                         "inertia_transverse", "c_m_alpha")}
     ball = draw(hs.sampled_from(["american", "rugby"]))
     preset = get_preset(ball)
+    try:
+        return _release(ball, draw, elevation, z, model, aero, preset, scale)
+    except ReleaseError:  # outside a combined limit (total axis offset, transverse rate, ...)
+        assume(False)
+
+
+def _release(ball, draw, elevation, z, model, aero, preset, scale) -> Release:
     return Release(ball=ball, speed=draw(_in("speed")), elevation_deg=elevation,
                    azimuth_deg=draw(_in("azimuth_deg")), spin_rpm=draw(_in("spin_rpm")),
                    alpha0_deg=draw(_in("alpha0_deg")), beta0_deg=draw(_in("beta0_deg")),

@@ -31,7 +31,7 @@ from rcl_interfaces.msg import SetParametersResult
 from rclpy.node import Node
 from std_msgs.msg import String
 
-from ..physics import Flight, InitialState, Release, ReleaseError, get_preset
+from ..physics import Flight, InitialState, ReleaseError, compile_ahead, get_preset
 from ..physics.frames import BODY_FRAME, FIELD_FRAME, quaternion_to_matrix
 from ..physics.release import MODELS, MOMENT_CURVES
 from ..requests import (MAX_REQUEST_BYTES, FlightOrder, RequestError, brief, capped, flight_summary,
@@ -120,7 +120,7 @@ class ReleaseNode(Node):
         self.counts = {'received': 0, 'accepted': 0, 'rejected': 0, 'busy': 0}
         self._responses = self.create_publisher(DiagnosticStatus, qos.RELEASE_RESPONSE, qos.REQUEST)
         self._orders = self.create_publisher(String, qos.FLIGHT_ORDER, qos.ORDER)
-        prediction(Flight.from_release(Release()))  # compile the prediction before 'ready'
+        compile_ahead()  # every kernel loaded (compiled on a cold cache) before 'ready'
         self.create_subscription(DiagnosticStatus, qos.FLIGHT_ACK, self._on_ack, qos.REQUEST)
         self.create_subscription(String, qos.RELEASE_REQUEST, self._on_request, qos.REQUEST)
         self.create_subscription(Odometry, qos.RELEASE_STATE, self._on_state, qos.REQUEST)
