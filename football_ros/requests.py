@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 import yaml
 
-from .physics import BallPreset, Flight, InitialState, Release, ReleaseError, get_preset
+from .physics import BallPreset, Flight, InitialState, Release, get_preset
 from .physics.aero import AeroModel
 from .physics.release import MODELS, MOMENT_CURVES
 

@@ -11,7 +11,7 @@ from typing import Sequence
 
 import yaml
 
-from ..cli import HelpFormatter, UsageError, add_release_options, release_from_args
+from ..command_line import HelpFormatter, UsageError, add_release_options, release_from_args
 from ..physics import ReleaseError
 from . import messages as mb
 from .recorder import TOPICS

@@ -20,7 +20,7 @@ import time
 from pathlib import Path
 from typing import Sequence
 
-from ..cli import UsageError, add_release_options, release_from_args
+from ..command_line import UsageError, add_release_options, release_from_args
 from ..physics import ReleaseError
 
 
