@@ -4,11 +4,14 @@
     ros2 launch football_ros football.launch.py record:=true rviz:=true
     ros2 launch football_ros football.launch.py namespace:=team1 publish_rate:=1000
     ros2 launch football_ros football.launch.py use_sim_time:=true
+    ros2 launch football_ros football.launch.py tracker:=true rviz:=true
 
 Parameters come from ``params_file`` (keys ``/**/NODE_NAME``, so they apply in any namespace).
 An argument left empty overrides nothing: ``publish_rate`` only replaces the file's value when
 given (an integer is taken as Hz like a float). ``use_sim_time:=true`` makes the simulator the
 clock source (``publish_clock``) and the release node, the recorder and RViz follow /clock.
+``tracker:=true`` also runs the tracker and turns the simulator's camera on (``camera_rate``,
+default 60 Hz; a given ``camera_rate`` always replaces the file's ``observation_rate``).
 /tf is global (tf2 convention): with several namespaced simulators give each its own
 ``child_frame_id`` in its params file.
 """
@@ -25,6 +28,7 @@ from launch_ros.actions import Node, PushRosNamespace
 from launch_ros.parameter_descriptions import ParameterValue
 
 PACKAGE = 'football_ros'
+DEFAULT_CAMERA_RATE = 60.0
 
 
 def _flag(context, name):
@@ -35,20 +39,33 @@ def _flag(context, name):
     return text in ('true', '1')
 
 
+def _rate(context, name):
+    """A rate launch argument [Hz] as a float, or None when left empty."""
+    text = LaunchConfiguration(name).perform(context).strip()
+    if not text:
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value):
+        raise ValueError(f"launch argument '{name}' must be a number [Hz], got '{text[:80]}'")
+    return value
+
+
 def simulator_overrides(context):
     """Simulator parameters set by launch arguments (on top of the params file)."""
     overrides = {}
-    rate = LaunchConfiguration('publish_rate').perform(context).strip()
-    if rate:
-        try:
-            value = float(rate)
-        except ValueError:
-            value = math.nan
-        if not math.isfinite(value):
-            raise ValueError(f"launch argument 'publish_rate' must be a number [Hz], got '{rate[:80]}'")
-        overrides['publish_rate'] = value
+    rate = _rate(context, 'publish_rate')
+    if rate is not None:
+        overrides['publish_rate'] = rate
     if _flag(context, 'use_sim_time'):
         overrides['publish_clock'] = True
+    camera = _rate(context, 'camera_rate')
+    if camera is None and _flag(context, 'tracker'):
+        camera = DEFAULT_CAMERA_RATE
+    if camera is not None:
+        overrides['observation_rate'] = camera
     return overrides
 
 
@@ -74,6 +91,11 @@ def generate_launch_description():
         DeclareLaunchArgument('use_sim_time', default_value='false',
                               description='simulator publishes /clock; the other nodes follow it'),
         DeclareLaunchArgument('record', default_value='false', description='also run the recorder'),
+        DeclareLaunchArgument('tracker', default_value='false',
+                              description="also run the tracker (and the simulator's camera)"),
+        DeclareLaunchArgument('camera_rate', default_value='',
+                              description='simulated camera frames per second [Hz]; empty = '
+                                          'params file, or 60 with tracker:=true'),
         DeclareLaunchArgument('rviz', default_value='false', description='also start rviz2'),
         DeclareLaunchArgument('rviz_config',
                               default_value=os.path.join(share, 'rviz', 'football.rviz'),
@@ -83,6 +105,9 @@ def generate_launch_description():
             OpaqueFunction(function=_simulator),
             Node(package=PACKAGE, executable='release', name='football_release',
                  output='screen', parameters=[params_file, sim_time]),
+            Node(package=PACKAGE, executable='tracker', name='football_tracker',
+                 output='screen', parameters=[params_file, sim_time],
+                 condition=IfCondition(LaunchConfiguration('tracker'))),
             Node(package=PACKAGE, executable='recorder', name='football_recorder',
                  output='screen', parameters=[params_file, sim_time],
                  condition=IfCondition(LaunchConfiguration('record'))),

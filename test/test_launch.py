@@ -111,7 +111,7 @@ def launch(monkeypatch, **arguments):
 def test_defaults_leave_the_params_file_in_force(monkeypatch):
     declared, nodes = launch(monkeypatch)
     assert set(declared) == {"params_file", "namespace", "publish_rate", "use_sim_time", "record",
-                             "rviz", "rviz_config"}
+                             "tracker", "camera_rate", "rviz", "rviz_config"}
     assert set(nodes) == {"football_simulator", "football_release"}
     assert nodes["football_simulator"][1] == [str(CONFIG)]  # no override of the file's values
     assert nodes["football_release"][1] == [str(CONFIG), {"use_sim_time": False}]
@@ -146,8 +146,21 @@ def test_sim_time_record_rviz_namespace(monkeypatch):
         "-d", "rviz_config"]
 
 
+def test_tracker_turns_the_camera_on(monkeypatch):
+    _, nodes = launch(monkeypatch, tracker="true")
+    assert set(nodes) == {"football_simulator", "football_release", "football_tracker"}
+    assert nodes["football_simulator"][1][1] == {"observation_rate": 60.0}
+    _, nodes = launch(monkeypatch, tracker="true", camera_rate="120")
+    assert nodes["football_simulator"][1][1] == {"observation_rate": 120.0}
+    _, nodes = launch(monkeypatch, camera_rate="30")  # a detector elsewhere; the camera alone
+    assert set(nodes) == {"football_simulator", "football_release"}
+    assert nodes["football_simulator"][1][1] == {"observation_rate": 30.0}
+    with pytest.raises(ValueError, match="'camera_rate'"):
+        launch(monkeypatch, camera_rate="often")
+
+
 def test_every_launched_node_has_a_section_in_the_yaml(monkeypatch):
-    _, nodes = launch(monkeypatch, record="true")
+    _, nodes = launch(monkeypatch, record="true", tracker="true")
     sections = yaml.safe_load(CONFIG.read_text())
     for name, (node, _params) in nodes.items():
         assert node.kwargs["package"] == "football_ros"
