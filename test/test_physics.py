@@ -45,6 +45,58 @@ def test_stability_and_critical_spin(paper_modes):
     assert not below.stable and below.growth_rate > 0
 
 
+@pytest.mark.parametrize("ball", ["american", "rugby"])
+def test_left_handed_spin_mirrors_the_modes(ball):
+    """Mirror symmetry (the vertical plane of flight): spin -p with mirrored beta and beta
+    rate has w_f, w_s and s3p of +p with their signs flipped and conj(C1), conj(C2); the fast
+    mode is still the larger |w| and C1 still its amplitude; the full model's rates are equal."""
+    from football_ros.cli import modes_report
+    from football_ros.physics.aero import AeroModel, dynamic_stability
+    kw = dict(ball=ball, alpha0_deg=2.0, beta0_deg=1.5, alpha_rate_deg_s=15.0,
+              beta_rate_deg_s=-10.0)
+    spin = Release(ball=ball).spin_rpm
+    right = Release(spin_rpm=spin, **kw)
+    kw.update(beta0_deg=-1.5, beta_rate_deg_s=10.0)
+    left = Release(spin_rpm=-spin, **kw)
+    r = linear_modes(right.preset(), right.initial_state())
+    m = linear_modes(left.preset(), left.initial_state())
+    assert m.omega_fast == pytest.approx(-r.omega_fast, rel=1e-12)
+    assert m.omega_slow == pytest.approx(-r.omega_slow, rel=1e-12)
+    assert abs(m.omega_fast) > abs(m.omega_slow) and m.omega_fast < 0
+    assert m.equilibrium_sideslip == pytest.approx(-r.equilibrium_sideslip, rel=1e-12)
+    assert m.c1 == pytest.approx(r.c1.conjugate(), abs=1e-14)
+    assert m.c2 == pytest.approx(r.c2.conjugate(), abs=1e-14)
+    # The linear solution of the mirrored release is the mirror image: x -> conj(x).
+    t = np.linspace(0.0, 2.0, 50)
+    assert np.allclose(m.axis_components(t), np.conj(r.axis_components(t)), atol=1e-14)
+    # w_f + w_s = h1 and w_f w_s = M_alpha hold for either hand.
+    assert m.omega_fast + m.omega_slow == pytest.approx(m.h1, rel=1e-12)
+    assert m.omega_fast * m.omega_slow == pytest.approx(m.m_alpha, rel=1e-12)
+    preset = right.preset()
+    a = dynamic_stability(preset, 25.0, spin * RPM, AeroModel(c_m_p_alpha=0.03))
+    b = dynamic_stability(preset, 25.0, -spin * RPM, AeroModel(c_m_p_alpha=0.03))
+    assert (b.fast_damping_rate, b.slow_damping_rate) == pytest.approx(
+        (a.fast_damping_rate, a.slow_damping_rate), rel=1e-12)
+    assert (b.fast_frequency, b.slow_frequency) == pytest.approx(
+        (-a.fast_frequency, -a.slow_frequency), rel=1e-12)
+    rep_r = modes_report(Release(spin_rpm=spin, model="full", **kw))
+    rep_l = modes_report(Release(spin_rpm=-spin, model="full", **kw))
+    assert rep_l["omega_fast"] == pytest.approx(-rep_r["omega_fast"], rel=1e-12)
+    assert rep_l["fast_damping_rate"] == pytest.approx(rep_r["fast_damping_rate"], rel=1e-12)
+
+
+def test_left_handed_flight_is_the_mirror_image():
+    """Integrated flights (nonlinear, frozen and quasi-steady theories) of mirrored releases
+    are mirror images: alpha equal, beta opposite."""
+    kw = dict(alpha0_deg=2.0, alpha_rate_deg_s=15.0, model="full")
+    right = Flight.from_release(Release(spin_rpm=600.0, beta0_deg=1.0, **kw)).simulate(rate=100.0)
+    left = Flight.from_release(Release(spin_rpm=-600.0, beta0_deg=-1.0, **kw)).simulate(rate=100.0)
+    flip = np.array([1.0, -1.0])
+    for name in ("aero_angles_linear", "aero_angles_quasi_steady"):
+        assert np.allclose(getattr(left, name), getattr(right, name) * flip, atol=1e-10), name
+    assert np.allclose(left.aero_angles[:, :2], right.aero_angles[:, :2] * flip, atol=1e-9)
+
+
 def test_preset_inputs_give_paper_moment_slope():
     ball = get_preset("american")
     m_alpha = 1.225 * math.pi * 0.1726 ** 2 / 4 * 0.1726 * 27.4 ** 2 * 0.33 / (2 * 0.00321)

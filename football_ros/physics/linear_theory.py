@@ -42,8 +42,9 @@ def angles_from_components(x) -> tuple[np.ndarray, np.ndarray]:
 class LinearModes:
     """Linear-theory numbers of one release. Rates in rad/s, angles in rad.
 
-    m_alpha [1/s^2], h1 [rad/s], omega_fast/omega_slow: real parts of the mode frequencies
-    (for an unstable ball the modes are complex and ``growth_rate`` [1/s] is the e-folding rate
+    m_alpha [1/s^2], h1 [rad/s], omega_fast/omega_slow: real parts of the mode frequencies,
+    fast = the larger |omega|; both have the sign of h1 (negative for a left-handed spiral,
+    p < 0), and c1 is the fast mode's amplitude whatever the sign (for an unstable ball the modes are complex and ``growth_rate`` [1/s] is the e-folding rate
     of the growing one), equilibrium_sideslip s3p [rad] (positive = nose right), c1, c2:
     complex mode amplitudes [rad], omega_v: turn rate of the velocity frame [rad/s]; speed [m/s]
     and flight_path_angle [rad] of the air-relative velocity at release.
@@ -69,8 +70,7 @@ class LinearModes:
         return self.h1 ** 2 / (4.0 * self.m_alpha)
 
     def _roots(self) -> tuple[complex, complex]:
-        disc = cmath.sqrt(self.h1 ** 2 - 4.0 * self.m_alpha)
-        return (self.h1 + disc) / 2.0, (self.h1 - disc) / 2.0
+        return mode_frequencies(self.h1, self.m_alpha)
 
     def axis_components(self, t: np.ndarray) -> np.ndarray:
         """x(t) = s2 + i s3 at times ``t`` [s] after release (complex array)."""
@@ -83,6 +83,18 @@ class LinearModes:
         """Predicted alpha, beta [rad] at times ``t``: the angles of the unit axis with
         velocity-frame components (sqrt(1 - s2^2 - s3^2), s2, s3)."""
         return angles_from_components(self.axis_components(t))
+
+
+def mode_frequencies(h1: float, m_alpha: float) -> tuple[complex, complex]:
+    """(w_fast, w_slow) [rad/s], the roots of w^2 - h1 w + M_alpha = 0, fast = larger |w|.
+
+    w = (h1 +- sign(h1) sqrt(h1^2 - 4 M_alpha)) / 2: both carry the sign of h1 (a left-handed
+    spiral's modes turn the other way, w(-h1) = -w(h1)); complex when gyroscopically unstable.
+    """
+    disc = cmath.sqrt(h1 ** 2 - 4.0 * m_alpha)
+    if h1 < 0.0:
+        disc = -disc
+    return (h1 + disc) / 2.0, (h1 - disc) / 2.0
 
 
 def moment_slope(ball: BallPreset, speed: float) -> float:
@@ -101,8 +113,7 @@ def linear_modes(ball: BallPreset, state: InitialState, gravity: float = frames.
     phi = float(frames.flight_path_angle(air))
     m_alpha = moment_slope(ball, speed)
     h1 = ball.inertia_ratio * state.spin
-    disc = cmath.sqrt(h1 ** 2 - 4.0 * m_alpha)
-    w_f, w_s = (h1 + disc) / 2.0, (h1 - disc) / 2.0
+    w_f, w_s = mode_frequencies(h1, m_alpha)
     omega_v = -gravity * math.cos(phi) / speed
     s3p = gravity * math.cos(phi) * h1 / (m_alpha * speed)
     # Initial axis and its rate seen in the velocity frame (which turns at omega_v about e3).
@@ -118,7 +129,7 @@ def linear_modes(ball: BallPreset, state: InitialState, gravity: float = frames.
     c2 = (-rate + w_f * offset) / (w_f - w_s)
     return LinearModes(
         m_alpha=m_alpha, h1=h1, omega_fast=w_f.real, omega_slow=w_s.real,
-        growth_rate=abs(disc.imag) / 2.0, stable=h1 ** 2 > 4.0 * m_alpha,
+        growth_rate=abs(w_f.imag), stable=h1 ** 2 > 4.0 * m_alpha,
         critical_spin_rpm=2.0 * math.sqrt(m_alpha) / ball.inertia_ratio / RPM,
         equilibrium_sideslip=s3p, c1=complex(c1), c2=complex(c2), omega_v=omega_v,
         speed=speed, flight_path_angle=phi)
@@ -128,8 +139,9 @@ def local_modes(moment_k: float, air_velocity: np.ndarray, h1, gravity: float = 
     """Local linear-theory numbers along a flight (arrays broadcast over samples).
 
     ``moment_k`` = M_alpha / U^2 [1/m^2], ``air_velocity`` (..., 3) [m/s], ``h1`` [rad/s].
-    Returns (w_f, w_s, D, s3p): complex mode frequencies [rad/s], D = sqrt(h1^2 - 4 M_alpha)
-    (complex), and the local equilibrium sideslip s3p [rad].
+    Returns (w_f, w_s, D, s3p): complex mode frequencies [rad/s] (fast = larger |w|, as
+    :func:`mode_frequencies`), D = sqrt(h1^2 - 4 M_alpha) (complex), and the local equilibrium
+    sideslip s3p [rad].
     """
     air = np.asarray(air_velocity, dtype=float)
     speed = np.linalg.norm(air, axis=-1)
@@ -138,7 +150,8 @@ def local_modes(moment_k: float, air_velocity: np.ndarray, h1, gravity: float = 
     h1 = np.asarray(h1, dtype=float)
     disc = np.sqrt((h1 ** 2 - 4.0 * m_alpha).astype(complex))
     s3p = gravity * np.cos(phi) * h1 / (m_alpha * speed)
-    return (h1 + disc) / 2.0, (h1 - disc) / 2.0, disc, s3p
+    signed = np.where(h1 < 0.0, -disc, disc)
+    return (h1 + signed) / 2.0, (h1 - signed) / 2.0, disc, s3p
 
 
 def local_exponents(params: np.ndarray, air_velocity: np.ndarray, h1):
@@ -168,6 +181,48 @@ def local_exponents(params: np.ndarray, air_velocity: np.ndarray, h1):
     w_v = -params[dyn.P_GRAVITY] * np.cos(phi) / speed
     x_p = -(1j * h1 + dk * params[dyn.P_CMQ]) * w_v / c
     return (-b + 1j * d_c) / 2.0, (-b - 1j * d_c) / 2.0, b, d_c, x_p
+
+
+def mode_rates(params: np.ndarray, speed: float, h1: float, speed_rate: float | None = None,
+               h1_rate: float | None = None) -> tuple[complex, complex]:
+    """Per-second exponents of the two modes of the full model's linear equation at air
+    speed ``speed`` [m/s] and spin momentum ``h1`` [rad/s] (kernel ``params``), fast first.
+
+    Returns (fast, slow): complex, real part the damping rate [1/s] of the mode's amplitude
+    (< 0 decays), imaginary part its frequency [rad/s] (fast = larger |frequency|). In the
+    time domain, as :func:`quasi_steady_components` builds the flight:
+
+        rate = Re(sigma) - Re(D_c' / D_c) / 2 +- Re(B' / (2 i D_c))
+
+    with sigma, B, D_c of :func:`local_exponents` and B', D_c' from U' = ``speed_rate``
+    (default: drag alone, -fk C_D0 U^2) and h1' = ``h1_rate`` (default: spin damping,
+    dk U C_lp p). The WKB terms are what McCoy's per-calibre rates lambda U / D miss when p
+    is not proportional to U (docs/physics.md section 5).
+    """
+    from . import dynamics as dyn
+    a, fk, dk = params[dyn.P_SPIN_RATIO], params[dyn.P_FORCE_K], params[dyn.P_DAMP_K]
+    c_la, c_mq, c_np, c_mp = (params[dyn.P_CLA], params[dyn.P_CMQ], params[dyn.P_CNPA],
+                              params[dyn.P_CMPA])
+    diameter, k = params[dyn.P_DIAMETER], params[dyn.P_MOMENT_K]
+    u, spin = float(speed), a * h1
+    if speed_rate is None:
+        speed_rate = -fk * params[dyn.P_CD0] * u * u
+    if h1_rate is None:
+        h1_rate = dk * u * params[dyn.P_CLP] * spin
+    magnus = fk * a * diameter * c_np  # Magnus force term per unit h1
+    b = complex(fk * u * c_la - dk * u * c_mq, -(h1 + magnus * h1))
+    c = complex(k * u * u + magnus * h1 * h1, h1 * fk * u * c_la + dk * u * spin * c_mp)
+    b_dot = (fk * c_la - dk * c_mq) * speed_rate - 1j * (1.0 + magnus) * h1_rate
+    c_dot = (complex(2.0 * k * u, h1 * fk * c_la + dk * spin * c_mp) * speed_rate
+             + complex(2.0 * magnus * h1, fk * u * c_la + dk * u * a * c_mp) * h1_rate)
+    d_c = cmath.sqrt(-(b * b + 4.0 * c))
+    d_c_dot = -(b * b_dot + 2.0 * c_dot) / d_c
+    common = -0.5 * (d_c_dot / d_c).real
+    wkb = (b_dot / (2j * d_c)).real
+    sig1, sig2 = (-b + 1j * d_c) / 2.0, (-b - 1j * d_c) / 2.0
+    one = complex(sig1.real + common + wkb, sig1.imag)
+    two = complex(sig2.real + common - wkb, sig2.imag)
+    return (one, two) if abs(one.imag) >= abs(two.imag) else (two, one)
 
 
 def _scalar_constants(params: np.ndarray) -> tuple:
