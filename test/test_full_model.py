@@ -198,11 +198,33 @@ def test_aero_angles_are_relative_to_the_air():
     assert sample.aero_angles == pytest.approx(windy.aero_angles[50], abs=1e-12)
 
 
+def test_linear_moment_range_is_where_it_leaves_rae_and_streit_by_10_percent():
+    """The kernel's linear torque against the sin2delta one (Rae & Streit's 0.165 sin 2 delta
+    scaled to the slope): ratio 1/cos(delta), 1.10 at the 24.6 deg limit of VALIDITY."""
+    from football_ros.physics.aero import VALIDITY
+    ball = get_preset("american")
+    lin, curve = dyn.make_params(ball, "linear"), dyn.make_params(ball, "sin2delta")
+    limit = VALIDITY["moment_linear"].max_delta_deg
+    for deg, ratio in ((10.0, None), (limit, 1.10), (30.0, None)):
+        d = math.radians(deg)
+        s = (math.cos(d), 0.0, math.sin(d))
+        m_lin = np.array(dyn.loads((20.0, 0.0, 0.0), s, (0, 0, 0), 0.0, lin)[3:6])
+        m_rs = np.array(dyn.loads((20.0, 0.0, 0.0), s, (0, 0, 0), 0.0, curve)[3:6])
+        # Independent magnitude: k U^2 sin(delta) for the linear slope.
+        assert np.linalg.norm(m_lin) == pytest.approx(
+            ball.moment_coefficient() * 400.0 * math.sin(d), rel=1e-12)
+        got = np.linalg.norm(m_lin) / np.linalg.norm(m_rs)
+        assert got == pytest.approx(1.0 / math.cos(d), rel=1e-12)
+        if ratio:
+            assert got == pytest.approx(ratio, abs=1e-3)
+    assert limit == pytest.approx(math.degrees(math.acos(1 / 1.1)), abs=0.05)
+
+
 def test_validity_ranges_flag_large_angles():
     aero = AeroModel()
     assert out_of_validity(math.radians(10.0), "full", "sin2delta", aero) == []
     msgs = out_of_validity(math.radians(30.0), "full", "linear", aero)
-    assert len(msgs) == 2 and "23 deg" in msgs[0]  # linear moment and pitch damping (Magnus off)
+    assert len(msgs) == 2 and "24.6 deg" in msgs[0]  # linear moment and pitch damping (Magnus off)
     assert any("pitch damping" in m for m in msgs)
     msgs = out_of_validity(math.radians(55.0), "full", "sin2delta", aero)
     assert any("0.165 sin 2 delta" in m for m in msgs) and any("lift" in m for m in msgs)

@@ -27,7 +27,8 @@ range of total angle delta each form covers:
 - C_Lalpha = 0.40 /rad: ESTIMATE from Rae & Streit's normal-force fit ~ 0.2 sin(2 delta): the
   lift follows sin(2 delta) over their range, delta 0-50 deg.
 - C_Malpha: the preset's (0.33 /rad, the paper); ``sin2delta`` uses Rae & Streit's curve
-  0.165 sin 2 delta (valid to 50 deg); the linear slope is within 10 % of it up to 23 deg.
+  0.165 sin 2 delta (valid to 50 deg). The ``linear`` torque is C_Malpha sin(delta) (a cross
+  product), 1/cos(delta) times Rae & Streit's: 10 % above it at acos(1/1.1) = 24.6 deg.
 - C_Mq = -0.10: ESTIMATE (no football measurement known to us; chosen small so that the wobble
   decays over seconds, as films of spirals show). Small-angle linear form, 0-20 deg.
 - C_lp = -0.005: ESTIMATE (spin decays by a few percent per second). Any delta.
@@ -224,8 +225,9 @@ class ValidityRange:
 
 VALIDITY: dict[str, ValidityRange] = {
     "moment_linear": ValidityRange(
-        "overturning moment, linear slope C_Malpha delta", 23.0,
-        "the paper's linear slope; within 10 % of Rae & Streit's 0.165 sin 2 delta up to 23 deg"),
+        "overturning moment, linear slope C_Malpha sin delta", 24.6,
+        "the paper's linear slope; at most 10 % above Rae & Streit's 0.165 sin 2 delta (ratio "
+        "1/cos delta) up to 24.6 deg"),
     "moment_sin2delta": ValidityRange(
         "overturning moment, Rae & Streit C_M = 0.165 sin 2 delta", 50.0,
         "Rae & Streit wind-tunnel fit, 0-50 deg"),
