@@ -161,7 +161,8 @@ def local_exponents(params: np.ndarray, air_velocity: np.ndarray, h1):
     B = fk U C_Lalpha - dk U C_Mq - i (h1 + fk p D C_Npalpha),
     C = M_alpha + h1 fk p D C_Npalpha + i (h1 fk U C_Lalpha + dk U p C_Mpalpha),
     F = (i h1 + dk U C_Mq) w_V, w_V = -g cos(Phi) / U (docs/physics.md section 5), with
-    fk = rho S / 2m, dk = rho S D^2 / (2 I_t), p = (I_t/I_s) h1. Returns (sigma_1, sigma_2, B,
+    fk = rho S / 2m [1/m], dk = rho S D^2 / (2 I_t) [1/m] (without U, as everywhere in
+    docs/physics.md), p = (I_t/I_s) h1. Returns (sigma_1, sigma_2, B,
     D_c, x_p): the exponents (-B +- i D_c) / 2 with D_c = sqrt(-(B^2 + 4C)) (= sqrt(h1^2 -
     4 M_alpha) for the paper: sigma = i w_f, i w_s), and the equilibrium x_p = -F / C.
     """
@@ -171,15 +172,15 @@ def local_exponents(params: np.ndarray, air_velocity: np.ndarray, h1):
     phi = frames.flight_path_angle(air)
     h1 = np.asarray(h1, dtype=float)
     spin = params[dyn.P_SPIN_RATIO] * h1
-    fk, dk, diameter = params[dyn.P_FORCE_K], params[dyn.P_DAMP_K] * speed, params[dyn.P_DIAMETER]
+    fk, dk_u, diameter = params[dyn.P_FORCE_K], params[dyn.P_DAMP_K] * speed, params[dyn.P_DIAMETER]
     m_alpha = params[dyn.P_MOMENT_K] * speed ** 2
     magnus = fk * spin * diameter * params[dyn.P_CNPA]
-    b = fk * speed * params[dyn.P_CLA] - dk * params[dyn.P_CMQ] - 1j * (h1 + magnus)
+    b = fk * speed * params[dyn.P_CLA] - dk_u * params[dyn.P_CMQ] - 1j * (h1 + magnus)
     c = m_alpha + h1 * magnus + 1j * (h1 * fk * speed * params[dyn.P_CLA]
-                                      + dk * spin * params[dyn.P_CMPA])
+                                      + dk_u * spin * params[dyn.P_CMPA])
     d_c = np.sqrt(-(b * b + 4.0 * c))
     w_v = -params[dyn.P_GRAVITY] * np.cos(phi) / speed
-    x_p = -(1j * h1 + dk * params[dyn.P_CMQ]) * w_v / c
+    x_p = -(1j * h1 + dk_u * params[dyn.P_CMQ]) * w_v / c
     return (-b + 1j * d_c) / 2.0, (-b - 1j * d_c) / 2.0, b, d_c, x_p
 
 
@@ -236,18 +237,18 @@ def _scalar_constants(params: np.ndarray) -> tuple:
 def _local_exponents_scalar(consts: tuple, air_velocity, h1: float) -> tuple:
     """:func:`local_exponents` for one sample in plain floats (the real-time path);
     ``consts`` from :func:`_scalar_constants`."""
-    spin_ratio, fk, dk0, c_la, c_mq, diameter, c_np, moment_k, c_mp, gravity = consts
+    spin_ratio, fk, dk, c_la, c_mq, diameter, c_np, moment_k, c_mp, gravity = consts
     ux, uy, uz = (float(c) for c in air_velocity)
     speed = math.sqrt(ux * ux + uy * uy + uz * uz)
     cos_phi = math.hypot(ux, uy) / speed
     spin = spin_ratio * h1
-    dk = dk0 * speed
+    dk_u = dk * speed
     magnus = fk * spin * diameter * c_np
-    b = complex(fk * speed * c_la - dk * c_mq, -(h1 + magnus))
-    c = complex(moment_k * speed * speed + h1 * magnus, h1 * fk * speed * c_la + dk * spin * c_mp)
+    b = complex(fk * speed * c_la - dk_u * c_mq, -(h1 + magnus))
+    c = complex(moment_k * speed * speed + h1 * magnus, h1 * fk * speed * c_la + dk_u * spin * c_mp)
     d_c = cmath.sqrt(-(b * b + 4.0 * c))
     w_v = -gravity * cos_phi / speed
-    x_p = -complex(dk * c_mq, h1) * w_v / c
+    x_p = -complex(dk_u * c_mq, h1) * w_v / c
     return (-b + 1j * d_c) / 2.0, (-b - 1j * d_c) / 2.0, b, d_c, x_p
 
 
