@@ -12,8 +12,8 @@ p the spin [rad/s], w_perp the transverse angular velocity, q = 1/2 rho U^2 S (S
     spin damping  M =  q D (D / U) C_lp p s                        (C_lp < 0: spin decays)
     Magnus moment M =  q D (p D / U) C_Mpalpha (u_hat - cos(delta) s)
 
-Signs: a positive C_Npalpha pushes a right-handed spiral (p > 0) flying nose-right UP (the
-classical Magnus direction p s x u); a positive C_Mpalpha enters McCoy's lift-like factor
+Signs: a positive C_Npalpha gives the classical Magnus direction p s x u (with p > 0 and the
+nose right of u, an upward force); a positive C_Mpalpha enters McCoy's lift-like factor
 T = rho S D / (2m) [C_Lalpha + (m D^2 / I_s) C_Mpalpha] with a plus sign (so both match McCoy's
 linear theory, derived in docs/physics.md). With every coefficient zero and no wind the model is
 the paper's, to round-off.
