@@ -15,7 +15,9 @@ p the spin [rad/s], w_perp the transverse angular velocity, q = 1/2 rho U^2 S (S
 Signs: a positive C_Npalpha gives the classical Magnus direction p s x u (with p > 0 and the
 nose right of u, an upward force); a positive C_Mpalpha enters McCoy's lift-like factor
 T = rho S D / (2m) [C_Lalpha + (m D^2 / I_s) C_Mpalpha] with a plus sign (so both match McCoy's
-linear theory, derived in docs/physics.md). With every coefficient zero and no wind the model is
+linear theory, derived in docs/physics.md). These signs are this package's convention:
+a tabulated C_Npalpha or C_Mpalpha from a source with another convention may need its sign
+flipped (docs/physics.md, "Signs"). With every coefficient zero and no wind the model is
 the paper's, to round-off.
 
 Coefficients for the American football. Data are scarce (Dzielski & Blackburn, ASME Open J.
