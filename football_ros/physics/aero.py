@@ -26,8 +26,13 @@ range of total angle delta each form covers:
 - C_D0 = 0.055, C_D2 = 0.30: ESTIMATE from Rae & Streit's wind-tunnel drag of a football, which
   rises from about 0.05-0.06 end-on to about 0.35 broadside (also Alam et al.); the sin^2 form
   joins the two ends, delta 0-90 deg (McCoy's C_D0 + C_Ddelta2 delta^2 at small delta).
-- C_Lalpha = 0.40 /rad: ESTIMATE from Rae & Streit's normal-force fit ~ 0.2 sin(2 delta): the
-  lift follows sin(2 delta) over their range, delta 0-50 deg.
+- C_Lalpha = 0.40 /rad: ESTIMATE, C_L = 0.2 sin(2 delta), applied as LIFT (perpendicular to
+  u). The secondary sources that use Rae & Streit's data (Rae 2003; Dzielski & Blackburn,
+  ASME 2022; the project's physics reference) call them drag, lift and moment (C_D, C_L,
+  C_M), i.e. wind axes, not normal and axial force; the original table was not available to
+  us. The sin 2 delta shape covers delta 0-50 deg. Were it a normal-force fit, the lift would
+  be C_N cos(delta) - C_X sin(delta) (slope about 0.345, 40 % less at 30 deg):
+  docs/physics.md, "Lift or normal force".
 - C_Malpha: the preset's (0.33 /rad, the paper); ``sin2delta`` uses Rae & Streit's curve
   0.165 sin 2 delta (valid to 50 deg). The ``linear`` torque is C_Malpha sin(delta) (a cross
   product), 1/cos(delta) times Rae & Streit's: 10 % above it at acos(1/1.1) = 24.6 deg.
@@ -234,7 +239,7 @@ VALIDITY: dict[str, ValidityRange] = {
         "overturning moment, Rae & Streit C_M = 0.165 sin 2 delta", 50.0,
         "Rae & Streit wind-tunnel fit, 0-50 deg"),
     "lift": ValidityRange("lift C_Lalpha/2 sin 2 delta", 50.0,
-                          "Rae & Streit normal-force fit ~ sin 2 delta, 0-50 deg "
+                          "Rae & Streit lift (wind axes) ~ sin 2 delta, 0-50 deg "
                           "(C_Lalpha ESTIMATE)"),
     "drag": ValidityRange("drag C_D0 + C_D2 sin^2 delta", 90.0,
                           "Rae & Streit / Alam et al.: end-on to broadside (ESTIMATE)"),
