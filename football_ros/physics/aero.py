@@ -31,7 +31,8 @@ range of total angle delta each form covers:
   ASME 2022; the project's physics reference) call them drag, lift and moment (C_D, C_L,
   C_M), i.e. wind axes, not normal and axial force; the original table was not available to
   us. The sin 2 delta shape covers delta 0-50 deg. Were it a normal-force fit, the lift would
-  be C_N cos(delta) - C_X sin(delta) (slope about 0.345, 40 % less at 30 deg):
+  be C_N cos(delta) - C_X sin(delta) (slope about 0.345; at 30 deg the lift here would be
+  about 40 % too high):
   docs/physics.md, "Lift or normal force".
 - C_Malpha: the preset's (0.33 /rad, the paper); ``sin2delta`` uses Rae & Streit's curve
   0.165 sin 2 delta (valid to 50 deg). The ``linear`` torque is C_Malpha sin(delta) (a cross
