@@ -356,10 +356,10 @@ def test_quasi_steady_theory_carries_the_full_models_damping(aero):
     assert np.max(np.abs(tr.aero_angles_linear - nl)) > 0.03
 
 
-@pytest.mark.parametrize("ball, ratio", [("american", 0.25), ("rugby", 0.6)])
+@pytest.mark.parametrize("ball, ratio", [("american", 0.15), ("rugby", 0.5)])
 def test_quasi_steady_tracks_full_flights_better(ball, ratio):
-    """Nominal full-model flights, rms over alpha, beta: measured American 0.0111 vs 0.0646 rad,
-    rugby 0.093 vs 0.222 rad."""
+    """Nominal full-model flights, rms over alpha, beta: measured American 0.0057 vs 0.0646 rad,
+    rugby 0.088 vs 0.222 rad (0.0111 and 0.093 before the equilibrium's drift was added)."""
     tr = Flight.from_release(Release(ball=ball, model="full")).simulate(rate=1000.0, duration=10.0)
     rms = lambda a: float(np.sqrt(np.mean((a - tr.aero_angles[:, :2]) ** 2)))
     assert rms(tr.aero_angles_quasi_steady) < ratio * rms(tr.aero_angles_linear)

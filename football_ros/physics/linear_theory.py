@@ -10,8 +10,9 @@ x(t) = C1 exp(i w_f t) + C2 exp(i w_s t) + i s3p.
 
 Quasi-steady (the paper's remark that the solution "can be applied at any point along the
 trajectory", made into a solution): the local M_alpha(U(t)), h1(t), mode exponents and
-equilibrium along the flight, the phases integrated, with the first-order WKB amplitudes. For
-the paper's model x(t) = A(t) [C1 exp(i int w_f) + C2 exp(i int w_s)] + i s3p(t),
+equilibrium along the flight, the phases integrated, with the first-order WKB amplitudes and
+the equilibrium's first-order drift. For the paper's model
+x(t) = A(t) [K1 exp(i int w_f) + K2 exp(i int w_s)] + i s3p(t) + h1 s3p'(t) / M_alpha(t),
 A = sqrt(D(0) / D(t)), D = sqrt(h1^2 - 4 M_alpha); for the full model the exponents and
 equilibrium of its own linear equation (lift, damping, Magnus; :func:`local_exponents`).
 """
@@ -230,14 +231,14 @@ def _scalar_constants(params: np.ndarray) -> tuple:
     """The kernel parameters :func:`_local_exponents_scalar` reads, as Python floats."""
     from . import dynamics as dyn
     keys = (dyn.P_SPIN_RATIO, dyn.P_FORCE_K, dyn.P_DAMP_K, dyn.P_CLA, dyn.P_CMQ, dyn.P_DIAMETER,
-            dyn.P_CNPA, dyn.P_MOMENT_K, dyn.P_CMPA, dyn.P_GRAVITY)
+            dyn.P_CNPA, dyn.P_MOMENT_K, dyn.P_CMPA, dyn.P_GRAVITY, dyn.P_CD0, dyn.P_CLP)
     return tuple(float(params[k]) for k in keys)
 
 
 def _local_exponents_scalar(consts: tuple, air_velocity, h1: float) -> tuple:
     """:func:`local_exponents` for one sample in plain floats (the real-time path);
     ``consts`` from :func:`_scalar_constants`."""
-    spin_ratio, fk, dk, c_la, c_mq, diameter, c_np, moment_k, c_mp, gravity = consts
+    spin_ratio, fk, dk, c_la, c_mq, diameter, c_np, moment_k, c_mp, gravity = consts[:10]
     ux, uy, uz = (float(c) for c in air_velocity)
     speed = math.sqrt(ux * ux + uy * uy + uz * uz)
     cos_phi = math.hypot(ux, uy) / speed
@@ -252,11 +253,45 @@ def _local_exponents_scalar(consts: tuple, air_velocity, h1: float) -> tuple:
     return (-b + 1j * d_c) / 2.0, (-b - 1j * d_c) / 2.0, b, d_c, x_p
 
 
-def _start(modes: LinearModes, sigma_1, sigma_2, x_p0) -> tuple[complex, complex]:
-    """Mode amplitudes for the release state of ``modes`` (x0, x0') and the local exponents."""
+EQUILIBRIUM_STEP = 1e-4
+"""Time step [s] of the central difference that gives the equilibrium's drift x_p'."""
+
+
+def _path_rates(consts: tuple, air, h1):
+    """u' [m/s^2] and h1' [rad/s^2] of the linearised flight (zero yaw): gravity and drag
+    C_D0 on u, spin damping on h1 (arrays (..., 3) and (...) or plain floats)."""
+    spin_ratio, fk, dk, gravity, c_d0, c_lp = (consts[0], consts[1], consts[2], consts[9],
+                                                consts[10], consts[11])
+    air = np.asarray(air, dtype=float)
+    speed = np.linalg.norm(air, axis=-1)
+    u_dot = -fk * c_d0 * speed[..., None] * air if air.ndim > 1 else -fk * c_d0 * speed * air
+    u_dot = u_dot - np.array([0.0, 0.0, gravity])
+    return u_dot, dk * speed * c_lp * spin_ratio * h1
+
+
+def _drifting_equilibrium(exponents, consts, air, h1, b, d_c, x_p):
+    """The equilibrium to first order in its drift and that drift: (x_p + B x_p' / C, x_p').
+
+    Inserting x = x_p(t) + y in x'' + B x' - C x = F leaves B x_p' on the right; its
+    quasi-static answer is y = B x_p' / C. x_p' is a central difference of ``exponents``
+    (:func:`local_exponents` or the scalar twin) along the linearised path rates.
+    """
+    u_dot, h1_dot = _path_rates(consts, air, h1)
+    eps = EQUILIBRIUM_STEP
+    air = np.asarray(air, dtype=float)
+    ahead = exponents(air + eps * u_dot, h1 + eps * h1_dot)[4]
+    behind = exponents(air - eps * u_dot, h1 - eps * h1_dot)[4]
+    x_p_dot = (ahead - behind) / (2.0 * eps)
+    c = -(b * b + d_c * d_c) / 4.0
+    return x_p + b * x_p_dot / c, x_p_dot
+
+
+def _start(modes: LinearModes, sigma_1, sigma_2, x_p0, x_p_dot0=0.0) -> tuple[complex, complex]:
+    """Mode amplitudes for the release state of ``modes`` (x0, x0'), the local exponents and
+    the equilibrium x_p0 and its rate x_p_dot0 at release."""
     w_f, w_s = modes._roots()
     x0 = modes.c1 + modes.c2 + 1j * modes.equilibrium_sideslip
-    x0_dot = 1j * w_f * modes.c1 + 1j * w_s * modes.c2
+    x0_dot = 1j * w_f * modes.c1 + 1j * w_s * modes.c2 - x_p_dot0
     k1 = (x0_dot - sigma_2 * (x0 - x_p0)) / (sigma_1 - sigma_2)
     k2 = (sigma_1 * (x0 - x_p0) - x0_dot) / (sigma_1 - sigma_2)
     return complex(k1), complex(k2)
@@ -267,15 +302,20 @@ def quasi_steady_components(modes: LinearModes, params: np.ndarray, times: np.nd
     """x(t) = s2 + i s3 of the quasi-steady linear theory at ``times`` [s] (increasing, the
     first one the release), from the flight's air-relative velocities (N, 3) [m/s] and h1.
 
-    x = A1 K1 exp(int sigma_1) + A2 K2 exp(int sigma_2) + x_p(t) with the local exponents and
-    equilibrium of :func:`local_exponents`, K1, K2 from the release state, and the first-order
-    WKB amplitudes ln A_1,2 = -ln(D_c / D_c(0)) / 2 +- int dB / (2 i D_c). Integrals by the
-    trapezoid rule over the samples (error ~ dt^2 times the second derivative of the rates).
+    x = A1 K1 exp(int sigma_1) + A2 K2 exp(int sigma_2) + X_p(t) with the local exponents of
+    :func:`local_exponents`, the equilibrium to the same (first) order as the amplitudes,
+    X_p = x_p + B x_p' / C (x_p = -F/C), K1, K2 from the release state (x0 - X_p, x0' - x_p'),
+    and the first-order WKB amplitudes ln A_1,2 = -ln(D_c / D_c(0)) / 2 +- int dB / (2 i D_c).
+    Integrals by the trapezoid rule over the samples (error ~ dt^2 times the second derivative
+    of the rates).
     """
     times = np.asarray(times, dtype=float)
     h1 = np.broadcast_to(h1, times.shape)
     sig1, sig2, b, d_c, x_p = local_exponents(params, air_velocities, h1)
-    k1, k2 = _start(modes, sig1[0], sig2[0], x_p[0])
+    x_p, x_p_dot = _drifting_equilibrium(
+        lambda air, h: local_exponents(params, air, h), _scalar_constants(params),
+        air_velocities, h1, b, d_c, x_p)
+    k1, k2 = _start(modes, sig1[0], sig2[0], x_p[0], x_p_dot[0])
     dt = np.diff(times)
 
     def integral(f, df=None):
@@ -300,7 +340,8 @@ class QuasiSteadyTracker:
         self._consts = _scalar_constants(params)
         sig1, sig2, b, d_c, x_p = _local_exponents_scalar(self._consts, release_air_velocity,
                                                           modes.h1)
-        self._k = _start(modes, sig1, sig2, x_p)
+        x_p, x_p_dot = self._equilibrium(release_air_velocity, modes.h1, b, d_c, x_p)
+        self._k = _start(modes, sig1, sig2, x_p, x_p_dot)
         self._t = 0.0
         self._last = (sig1, sig2, b, d_c)
         self._d0 = d_c
@@ -310,6 +351,7 @@ class QuasiSteadyTracker:
         """alpha, beta [rad] of the quasi-steady theory at ``t`` [s] since release (NaN once
         an unstable ball's theory overflows)."""
         sig1, sig2, b, d_c, x_p = _local_exponents_scalar(self._consts, air_velocity, float(h1))
+        x_p = self._equilibrium(air_velocity, float(h1), b, d_c, x_p)[0]
         if t > self._t:
             l1, l2, lb, ld = self._last
             dt = t - self._t
@@ -328,3 +370,9 @@ class QuasiSteadyTracker:
         s2, s3 = min(1.0, max(-1.0, x.real)), min(1.0, max(-1.0, x.imag))
         s1 = math.sqrt(max(0.0, 1.0 - s2 * s2 - s3 * s3))
         return np.array([math.atan2(s2, s1), math.asin(s3)])
+
+    def _equilibrium(self, air, h1, b, d_c, x_p):
+        def exponents(air_, h1_):
+            return _local_exponents_scalar(self._consts, air_, float(h1_))
+        x_p, x_p_dot = _drifting_equilibrium(exponents, self._consts, air, h1, b, d_c, x_p)
+        return complex(x_p), complex(x_p_dot)
