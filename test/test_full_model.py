@@ -243,7 +243,8 @@ def _mccoy_rates(ball, speed, spin, c_l_alpha=0.40, c_d0=0.0, c_m_q=-0.10, c_m_p
     """McCoy's per-calibre rates lambda_F,S = -[H -+ P (2T - H)/sqrt(P^2 - 4M)]/2, times V/D."""
     area = math.pi * ball.diameter ** 2 / 4
     fk_d = 1.225 * area * ball.diameter / (2 * ball.mass)
-    h_nd = fk_d * (c_l_alpha - c_d0 - ball.mass * ball.diameter ** 2 / ball.inertia_transverse * c_m_q)
+    h_nd = fk_d * (c_l_alpha - c_d0
+                   - ball.mass * ball.diameter ** 2 / ball.inertia_transverse * c_m_q)
     t_nd = fk_d * (c_l_alpha + ball.mass * ball.diameter ** 2 / ball.inertia_spin * c_m_p_alpha)
     p_nd = ball.inertia_ratio * spin * ball.diameter / speed
     m_nd = ball.moment_coefficient() * ball.diameter ** 2
@@ -263,7 +264,8 @@ def test_mccoy_factors_are_consistent():
     assert d.s_d == pytest.approx(_mccoy_rates(ball, 27.4, spin, c_d0=0.055)[2], rel=1e-12)
     assert d.dynamically_stable and d.fast_damping_rate < 0 and d.slow_damping_rate < 0
     # Without drag and spin damping (constant coefficients) the time-domain rates are McCoy's
-    # lambda V / D (to 2e-5: his formula is first order in H and T, the roots are exact), and the frequencies the full model's (close to w_f, w_s).
+    # lambda V / D (to 2e-5: his formula is first order in H and T, the roots are exact), and
+    # the frequencies the full model's (close to w_f, w_s).
     calm = dynamic_stability(ball, 27.4, spin, AeroModel(drag=False, spin_damping=False))
     lam_f, lam_s, _ = _mccoy_rates(ball, 27.4, spin)
     assert calm.fast_damping_rate == pytest.approx(lam_f, rel=1e-4)

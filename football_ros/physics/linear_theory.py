@@ -45,7 +45,8 @@ class LinearModes:
 
     m_alpha [1/s^2], h1 [rad/s], omega_fast/omega_slow: real parts of the mode frequencies,
     fast = the larger |omega|; both have the sign of h1 (negative for a left-handed spiral,
-    p < 0), and c1 is the fast mode's amplitude whatever the sign (for an unstable ball the modes are complex and ``growth_rate`` [1/s] is the e-folding rate
+    p < 0), and c1 is the fast mode's amplitude whatever the sign
+    (for an unstable ball the modes are complex and ``growth_rate`` [1/s] is the e-folding rate
     of the growing one), equilibrium_sideslip s3p [rad] (positive = nose right), c1, c2:
     complex mode amplitudes [rad], omega_v: turn rate of the velocity frame [rad/s]; speed [m/s]
     and flight_path_angle [rad] of the air-relative velocity at release.
@@ -173,7 +174,8 @@ def local_exponents(params: np.ndarray, air_velocity: np.ndarray, h1):
     phi = frames.flight_path_angle(air)
     h1 = np.asarray(h1, dtype=float)
     spin = params[dyn.P_SPIN_RATIO] * h1
-    fk, dk_u, diameter = params[dyn.P_FORCE_K], params[dyn.P_DAMP_K] * speed, params[dyn.P_DIAMETER]
+    fk, diameter = params[dyn.P_FORCE_K], params[dyn.P_DIAMETER]
+    dk_u = params[dyn.P_DAMP_K] * speed
     m_alpha = params[dyn.P_MOMENT_K] * speed ** 2
     magnus = fk * spin * diameter * params[dyn.P_CNPA]
     b = fk * speed * params[dyn.P_CLA] - dk_u * params[dyn.P_CMQ] - 1j * (h1 + magnus)
@@ -246,7 +248,8 @@ def _local_exponents_scalar(consts: tuple, air_velocity, h1: float) -> tuple:
     dk_u = dk * speed
     magnus = fk * spin * diameter * c_np
     b = complex(fk * speed * c_la - dk_u * c_mq, -(h1 + magnus))
-    c = complex(moment_k * speed * speed + h1 * magnus, h1 * fk * speed * c_la + dk_u * spin * c_mp)
+    c = complex(moment_k * speed * speed + h1 * magnus,
+                h1 * fk * speed * c_la + dk_u * spin * c_mp)
     d_c = cmath.sqrt(-(b * b + 4.0 * c))
     w_v = -gravity * cos_phi / speed
     x_p = -complex(dk_u * c_mq, h1) * w_v / c
