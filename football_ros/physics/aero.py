@@ -12,10 +12,12 @@ p the spin [rad/s], w_perp the transverse angular velocity, q = 1/2 rho U^2 S (S
     spin damping  M =  q D (D / U) C_lp p s                        (C_lp < 0: spin decays)
     Magnus moment M =  q D (p D / U) C_Mpalpha (u_hat - cos(delta) s)
 
-Signs: a positive C_Npalpha pushes a right-handed spiral (p > 0) flying nose-right UP (the
-classical Magnus direction p s x u); a positive C_Mpalpha enters McCoy's lift-like factor
+Signs: a positive C_Npalpha gives the classical Magnus direction p s x u (with p > 0 and the
+nose right of u, an upward force); a positive C_Mpalpha enters McCoy's lift-like factor
 T = rho S D / (2m) [C_Lalpha + (m D^2 / I_s) C_Mpalpha] with a plus sign (so both match McCoy's
-linear theory, derived in docs/physics.md). With every coefficient zero and no wind the model is
+linear theory, derived in docs/physics.md). These signs are this package's convention:
+a tabulated C_Npalpha or C_Mpalpha from a source with another convention may need its sign
+flipped (docs/physics.md, "Signs"). With every coefficient zero and no wind the model is
 the paper's, to round-off.
 
 Coefficients for the American football. Data are scarce (Dzielski & Blackburn, ASME Open J.
@@ -24,10 +26,17 @@ range of total angle delta each form covers:
 - C_D0 = 0.055, C_D2 = 0.30: ESTIMATE from Rae & Streit's wind-tunnel drag of a football, which
   rises from about 0.05-0.06 end-on to about 0.35 broadside (also Alam et al.); the sin^2 form
   joins the two ends, delta 0-90 deg (McCoy's C_D0 + C_Ddelta2 delta^2 at small delta).
-- C_Lalpha = 0.40 /rad: ESTIMATE from Rae & Streit's normal-force fit ~ 0.2 sin(2 delta): the
-  lift follows sin(2 delta) over their range, delta 0-50 deg.
+- C_Lalpha = 0.40 /rad: ESTIMATE, C_L = 0.2 sin(2 delta), applied as LIFT (perpendicular to
+  u). The secondary sources that use Rae & Streit's data (Rae 2003; Dzielski & Blackburn,
+  ASME 2022; the project's physics reference) call them drag, lift and moment (C_D, C_L,
+  C_M), i.e. wind axes, not normal and axial force; the original table was not available to
+  us. The sin 2 delta shape covers delta 0-50 deg. Were it a normal-force fit, the lift would
+  be C_N cos(delta) - C_X sin(delta) (slope about 0.345; at 30 deg the lift here would be
+  about 40 % too high):
+  docs/physics.md, "Lift or normal force".
 - C_Malpha: the preset's (0.33 /rad, the paper); ``sin2delta`` uses Rae & Streit's curve
-  0.165 sin 2 delta (valid to 50 deg); the linear slope is within 10 % of it up to 23 deg.
+  0.165 sin 2 delta (valid to 50 deg). The ``linear`` torque is C_Malpha sin(delta) (a cross
+  product), 1/cos(delta) times Rae & Streit's: 10 % above it at acos(1/1.1) = 24.6 deg.
 - C_Mq = -0.10: ESTIMATE (no football measurement known to us; chosen small so that the wobble
   decays over seconds, as films of spirals show). Small-angle linear form, 0-20 deg.
 - C_lp = -0.005: ESTIMATE (spin decays by a few percent per second). Any delta.
@@ -159,11 +168,13 @@ def _checked(name: str, value: Any, limits: tuple[float, float]) -> float:
 
 @dataclass(frozen=True)
 class DynamicStability:
-    """McCoy's linearised stability numbers (per calibre travelled, made per second with V/D).
+    """McCoy's stability factors and the modes' per-second rates, at one air speed and spin.
 
-    s_g: gyroscopic stability factor P^2/(4M); s_d: dynamic stability factor 2T/H;
-    dynamically_stable: 1/S_g < S_d (2 - S_d); fast/slow_damping_rate [1/s]: the modes'
-    exponential rates lambda V / D (negative = the mode decays).
+    s_g: gyroscopic stability factor P^2/(4M); s_d: dynamic stability factor 2T/H (McCoy's
+    definition, per calibre); dynamically_stable: 1/S_g < S_d (2 - S_d);
+    fast/slow_damping_rate [1/s]: the modes' amplitude rates in time (negative = the mode
+    decays), fast/slow_frequency [rad/s]: their frequencies (fast = larger |frequency|; both
+    negative for a left-handed spiral).
     """
 
     s_g: float
@@ -171,18 +182,26 @@ class DynamicStability:
     dynamically_stable: bool
     fast_damping_rate: float
     slow_damping_rate: float
+    fast_frequency: float = math.nan
+    slow_frequency: float = math.nan
 
 
 def dynamic_stability(ball: BallPreset, speed: float, spin: float, model: AeroModel) -> DynamicStability:
-    """McCoy's P, M, T, H and the mode damping rates at air speed ``speed`` [m/s] and ``spin``
-    [rad/s], for the terms switched on in ``model`` (the ball's air density).
+    """McCoy's S_g, S_d and the modes' per-second damping rates at air speed ``speed`` [m/s]
+    and ``spin`` [rad/s], for the terms switched on in ``model`` (the ball's air density).
 
-    P = (I_s/I_t) p D / V, M = rho S D^3 C_Malpha / (2 I_t),
+    S_g = P^2 / (4M), S_d = 2T/H with P = (I_s/I_t) p D / V, M = rho S D^3 C_Malpha / (2 I_t),
     H = rho S D / (2m) [C_Lalpha - C_D0 - (m D^2/I_t) C_Mq],
-    T = rho S D / (2m) [C_Lalpha + (m D^2/I_s) C_Mpalpha] (the Magnus MOMENT). The Magnus force
-    adds fk p D C_Npalpha to h1 and h1 fk p D C_Npalpha to M_alpha (fk = rho S / 2m): it moves
-    the frequencies (w_s by 2 % at C_Npalpha = 0.3), not the damping (docs/physics.md).
+    T = rho S D / (2m) [C_Lalpha + (m D^2/I_s) C_Mpalpha] (the Magnus MOMENT).
+
+    The rates are NOT McCoy's lambda V / D: his H holds -C_D0 because, per calibre, P is
+    assumed constant (spin falling with speed), while a football's spin barely changes. They
+    come from the time-domain equation with the WKB terms of the slowing flight (drag and spin
+    damping): :func:`football_ros.physics.linear_theory.mode_rates` (docs/physics.md
+    section 5), checked against rates measured in integrated flights.
     """
+    from . import dynamics as dyn
+    from .linear_theory import mode_rates
     mass, diameter, density, c_m_alpha = ball.mass, ball.diameter, ball.air_density, ball.c_m_alpha
     inertia_spin, inertia_transverse = ball.inertia_spin, ball.inertia_transverse
     area = math.pi * diameter ** 2 / 4.0
@@ -197,11 +216,10 @@ def dynamic_stability(ball: BallPreset, speed: float, spin: float, model: AeroMo
     h_nd = density * area * diameter / (2.0 * mass) * (c_l - c_d - mass * diameter ** 2 / inertia_transverse * c_mq)
     s_g = p_nd ** 2 / (4.0 * m_nd) if m_nd else math.inf
     s_d = 2.0 * t_nd / h_nd if h_nd else math.nan
-    root = math.sqrt(p_nd ** 2 - 4.0 * m_nd) if p_nd ** 2 > 4.0 * m_nd else math.nan
-    lam_f = -0.5 * (h_nd - p_nd * (2.0 * t_nd - h_nd) / root)
-    lam_s = -0.5 * (h_nd + p_nd * (2.0 * t_nd - h_nd) / root)
     stable = bool(s_g > 1.0 and np.isfinite(s_d) and 1.0 / s_g < s_d * (2.0 - s_d))
-    return DynamicStability(s_g, s_d, stable, lam_f * speed / diameter, lam_s * speed / diameter)
+    params = dyn.make_params(ball, "linear", model)
+    fast, slow = mode_rates(params, speed, ball.inertia_ratio * spin)
+    return DynamicStability(s_g, s_d, stable, fast.real, slow.real, fast.imag, slow.imag)
 
 
 @dataclass(frozen=True)
@@ -215,13 +233,14 @@ class ValidityRange:
 
 VALIDITY: dict[str, ValidityRange] = {
     "moment_linear": ValidityRange(
-        "overturning moment, linear slope C_Malpha delta", 23.0,
-        "the paper's linear slope; within 10 % of Rae & Streit's 0.165 sin 2 delta up to 23 deg"),
+        "overturning moment, linear slope C_Malpha sin delta", 24.6,
+        "the paper's linear slope; at most 10 % above Rae & Streit's 0.165 sin 2 delta (ratio "
+        "1/cos delta) up to 24.6 deg"),
     "moment_sin2delta": ValidityRange(
         "overturning moment, Rae & Streit C_M = 0.165 sin 2 delta", 50.0,
         "Rae & Streit wind-tunnel fit, 0-50 deg"),
     "lift": ValidityRange("lift C_Lalpha/2 sin 2 delta", 50.0,
-                          "Rae & Streit normal-force fit ~ sin 2 delta, 0-50 deg "
+                          "Rae & Streit lift (wind axes) ~ sin 2 delta, 0-50 deg "
                           "(C_Lalpha ESTIMATE)"),
     "drag": ValidityRange("drag C_D0 + C_D2 sin^2 delta", 90.0,
                           "Rae & Streit / Alam et al.: end-on to broadside (ESTIMATE)"),
