@@ -237,6 +237,7 @@ def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples,
     ``samples`` (N, M, 2) gets alpha, beta every ``sample_every`` steps."""
     n_balls = y0.shape[0]
     n_blocks = (n_balls + BLOCK - 1) // BLOCK
+    wx, wy, wz = params[dyn.P_WIND], params[dyn.P_WIND + 1], params[dyn.P_WIND + 2]
     for blk in prange(n_blocks):
         first = blk * BLOCK
         nb = min(BLOCK, n_balls - first)
@@ -251,8 +252,8 @@ def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples,
         for b in range(nb):
             ball = first + b
             y[:, b] = y0[ball]
-            s1, s2, s3 = dyn.velocity_frame_components((y[3, b], y[4, b], y[5, b]),
-                                                       (y[6, b], y[7, b], y[8, b]))
+            s1, s2, s3 = dyn.velocity_frame_components(  # against the air: v - wind
+                (y[3, b] - wx, y[4, b] - wy, y[5, b] - wz), (y[6, b], y[7, b], y[8, b]))
             # Extremes are kept as components (no trigonometry per step): the largest |alpha|
             # as the pair (|s2|, s1) of largest angle, the largest |beta| as max |s3|, the
             # largest delta as min s1; angles are taken once at the end.
@@ -306,11 +307,11 @@ def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples,
                     flying[b] = False
                     left -= 1
                     continue
-                horizontal = nxt[3, b] ** 2 + nxt[4, b] ** 2
-                if not horizontal > 1e-20 * (horizontal + nxt[5, b] ** 2):
-                    continue  # vertical velocity: alpha and beta are undefined
-                s1, s2, s3 = dyn.velocity_frame_components((nxt[3, b], nxt[4, b], nxt[5, b]),
-                                                           (nxt[6, b], nxt[7, b], nxt[8, b]))
+                ux, uy, uz = nxt[3, b] - wx, nxt[4, b] - wy, nxt[5, b] - wz  # air-relative
+                horizontal = ux ** 2 + uy ** 2
+                if not horizontal > 1e-20 * (horizontal + uz ** 2):
+                    continue  # vertical air velocity: alpha and beta are undefined
+                s1, s2, s3 = dyn.velocity_frame_components((ux, uy, uz), (nxt[6, b], nxt[7, b], nxt[8, b]))
                 if abs(s2) * worst[1, b] > worst[0, b] * s1:
                     worst[0, b], worst[1, b] = abs(s2), s1
                 worst[2, b] = max(worst[2, b], abs(s3))
