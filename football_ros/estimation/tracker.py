@@ -23,9 +23,15 @@ quasi-steady axis (the equilibrium sideslip beta = g cos(Phi) h1 / (k U^3)) was 
 misses the landing by 7 to 25 cm at 1 s lead even with the true state and spin.
 
 The axis and spin are not observable from positions at first. A throw starts with the axis
-along the velocity, no transverse rate, and |h1| = the ball preset's nominal spin (40 %
-sigma); the hand is unknown, so two filters run (right- and left-handed spin) and the one
-whose innovations are the more likely is reported; the other is dropped once the odds exceed
+along the velocity, no mean transverse rate, and |h1| = the ball preset's nominal spin
+(``spin_sigma``). The transverse rate's prior is wide (``rate_sigma`` 2 rad/s): by the time a
+track starts (``min_points`` fixes, ~70 ms) the overturning moment k U^2 delta has already
+built 0.4 rad/s from a release 2 deg off the velocity at 25 m/s (1 rad/s at 5 deg), and the
+nutation it starts is not seen in the fixes for long; a tight prior (0.3 rad/s) made the filter lock on wrong spin and coefficients with an overconfident covariance (the
+landing NEES was 8 to 9 instead of 2 for a ball with 30 % more lift; benchmark, 20 flights:
+defaults median at 1 s lead 14.0 -> 11.5 cm, p95 at 0.5 s lead 25 -> 11 cm for that ball).
+The hand is unknown, so two filters run (right- and left-handed spin) and the one whose
+innovations are the more likely is reported; the other is dropped once the odds exceed
 ``hand_odds`` (the lateral drift tells the hands apart within a few tenths of a second).
 
 Track management: a throw starts when ``min_points`` unassociated fixes within
@@ -229,7 +235,7 @@ class TrackerSettings:
     rate_noise: float = 0.01
     scale_rate: float = 0.003
     axis_sigma: float = 0.05
-    rate_sigma: float = 0.3
+    rate_sigma: float = 2.0
     spin_sigma: float = 0.3
     scale_sigma: float = 0.3
     spread: float = 0.5
