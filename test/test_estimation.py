@@ -116,11 +116,10 @@ def test_coefficients_30_percent_off_are_estimated():
 
 def test_a_lob_with_more_lift_is_not_locked_on_a_wrong_spin():
     """A 44 deg lob, 720 rpm left-handed, axis 1.7 deg off the velocity at release, 30 % less
-    drag and 30 % more lift than the filter's defaults. With a tight prior on the transverse
-    rate at track start (0.3 rad/s) the filter settled on a wrong spin and lift scale and
-    missed by 37 to 146 cm at 1 s lead with a landing NEES of 30 to 55 (seeds 1 to 3): its
-    covariance lied. The default (2 rad/s) misses by 5.1 cm at 1 s, 3.1 cm at 0.5 s, and
-    the error is inside its own covariance."""
+    drag and 30 % more lift than the filter's defaults. With a prior that did not correlate h
+    with the axis the filter settled on a wrong spin and lift scale and missed by 37 to 146 cm
+    at 1 s lead with a landing NEES of 30 to 55 (seeds 1 to 3): its covariance lied. Now it
+    misses by 6.3 cm at 1 s, 3.1 cm at 0.5 s, and the error is inside its own covariance."""
     aero = {"c_d0": 0.055 * 0.7, "c_d2": 0.30 * 0.7, "c_l_alpha": 0.40 * 1.3}
     lob = Release(model="full", speed=25.0, elevation_deg=44.0, spin_rpm=-720.0,
                   alpha0_deg=1.0, beta0_deg=1.4, position=(0.0, 0.0, 1.8), aero=aero)
