@@ -11,8 +11,10 @@ landing point and time:
 - oracle: the tracker told the true |spin| and the true coefficients (an information limit:
   what the tracker could do if the throw's unknowns were known; only the hand is left).
 Cases: true coefficients = the defaults, and true drag +30 % / lift -30 % (and the reverse).
-Also prints the tracker's time per fix (update, and update + landing prediction) against the
-16.7 ms frame, wall and CPU.
+NEES: mean over the flights of e' C^-1 e (e the landing point error, C the published 2x2
+covariance): 2 for an honest covariance (above: overconfident), and the fraction inside the
+95 % ellipse. Also prints the tracker's time per fix (update, and update + landing
+prediction) against the 16.7 ms frame, wall and CPU.
 
     .venv/bin/python bench/prediction_benchmark.py [--flights 60] [--seed 1]
 """
@@ -33,6 +35,7 @@ from football_ros.physics.aero import AeroModel
 
 LEADS = (1.5, 1.0, 0.5)
 RATE, NOISE, LATENCY = 60.0, 0.02, 0.02
+CHI2_2_95 = 5.991  # chi-square 2 dof, 95 %: an honest covariance has NEES mean 2, 95 % inside
 G = 9.81
 DEFAULT = AeroModel()
 CASES = {
@@ -164,9 +167,9 @@ def run_flight(release: Release, seed: int, settings=None, oracle: bool = True):
             i += 1
         row = {}
         pred = tracker.predict_landing()
-        row["tracker"] = None if pred is None else (pred.time, pred.position[:2])
+        row["tracker"] = None if pred is None else (pred.time, pred.position[:2], pred.covariance)
         pred = known.predict_landing() if oracle else None
-        row["oracle"] = None if pred is None else (pred.time, pred.position[:2])
+        row["oracle"] = None if pred is None else (pred.time, pred.position[:2], pred.covariance)
         t_arr, z_arr = np.array(delivered_t), np.array(delivered_z)
         if len(t_arr) >= 6:
             par = parabola_landing(t_arr, z_arr)
@@ -175,11 +178,17 @@ def run_flight(release: Release, seed: int, settings=None, oracle: bool = True):
             row["drag"] = drag_landing(t_arr, z_arr, guess)
         else:
             row["parabola"] = row["drag"] = None
-        results[lead] = {k: (None if v is None else (float(np.linalg.norm(np.asarray(v[1])
-                                                                          - xy_land)),
-                                                     float(v[0] - t_land)))
+        results[lead] = {k: (None if v is None else _errors(v, xy_land, t_land))
                          for k, v in row.items()}
     return results
+
+
+def _errors(pred, xy_land, t_land) -> tuple[float, float, float]:
+    """(landing point error [m], landing time error [s], NEES of the landing point: e' C^-1 e
+    with the published covariance C, NaN for the baselines that give none)."""
+    err = np.asarray(pred[1]) - xy_land
+    nees = float(err @ np.linalg.solve(pred[2], err)) if len(pred) > 2 else math.nan
+    return float(np.linalg.norm(err)), float(pred[0] - t_land), nees
 
 
 def time_tracker(releases: list[Release], seed: int) -> dict[str, np.ndarray]:
@@ -226,7 +235,8 @@ def main() -> None:
                for k, r in enumerate(releases)]
         print(f"\ncase: true coefficients {case}")
         print(f"{'lead [s]':>8} {'method':>9} {'n':>4} {'median [m]':>11} {'p95 [m]':>9} "
-              f"{'|dt| med [s]':>13} {'|dt| p95 [s]':>13} {'failed':>7}")
+              f"{'|dt| med [s]':>13} {'|dt| p95 [s]':>13} {'failed':>7} {'NEES':>6} "
+              f"{'in 95%':>7}")
         for lead in LEADS:
             for m in methods:
                 vals = [p[lead][m] for p in per if p[lead][m] is not None]
@@ -236,9 +246,12 @@ def main() -> None:
                     continue
                 err = np.array([v[0] for v in vals])
                 dt = np.abs(np.array([v[1] for v in vals]))
+                nees = np.array([v[2] for v in vals])
+                consistency = (f" {np.mean(nees):>6.2f} {np.mean(nees <= CHI2_2_95):>7.2f}"
+                               if np.all(np.isfinite(nees)) else "")
                 print(f"{lead:>8.1f} {m:>9} {len(vals):>4} {np.median(err):>11.3f} "
                       f"{np.percentile(err, 95):>9.3f} {np.median(dt):>13.4f} "
-                      f"{np.percentile(dt, 95):>13.4f} {failed:>7}")
+                      f"{np.percentile(dt, 95):>13.4f} {failed:>7}{consistency}")
     period = 1e3 / RATE
     times = time_tracker(random_releases(np.random.default_rng(args.seed), 20, {}), args.seed)
     print(f"\ntracker time per fix [ms] over {times['update wall'].size} fixes of 20 flights "
