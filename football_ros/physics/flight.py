@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from . import dynamics as dyn
+from .limits import check_flyable
 from .linear_theory import LinearModes, linear_modes
 from .presets import BallPreset
 from .aero import AeroModel, resolve
@@ -110,6 +111,7 @@ class Flight:
         ball, self.aero = resolve(ball, model, aero)
         self.ball, self.initial, self.model, self.moment, self.step = ball, initial, model, moment, step
         self.params = dyn.make_params(ball, moment, self.aero)
+        check_flyable(self.params, initial, step)  # one check for every entry point
         self.modes = linear_modes(ball, initial)
         y0 = np.zeros(dyn.N_STATE)
         y0[dyn.R:dyn.R + 3] = initial.position
