@@ -218,3 +218,190 @@ def test_bad_model_parameter_is_refused(tmp_path):
     proc = subprocess.run([sys.executable, "-m", "football_ros.cli", "simulator", "--ros-args", "-p",
                            "model:=magic"], capture_output=True, text=True, timeout=60)
     assert proc.returncode == 2 and "model" in proc.stderr and "Traceback" not in proc.stderr
+
+
+# --- trust: guard, bounded work, namespaces, rivals, clock ------------------------------------
+def _finite_msg(msg) -> bool:
+    from football_ros.nodes.messages import to_plain
+
+    def walk(v):
+        if isinstance(v, float):
+            return math.isfinite(v)
+        if isinstance(v, dict):
+            return all(walk(x) for x in v.values())
+        if isinstance(v, list):
+            return all(walk(x) for x in v)
+        return True
+    return walk(to_plain(msg))
+
+
+def _statuses(collector, name_part=""):
+    return [s for arr in collector.get(qos.DIAGNOSTICS) for s in arr.status if name_part in s.name]
+
+
+def test_absurd_orders_never_publish_non_finite_and_a_failing_flight_ends_in_error(start_node, collector):
+    from std_msgs.msg import String
+
+    from football_ros.nodes.messages import level_of
+    from football_ros.requests import FlightOrder
+
+    node = start_node("simulator", "--ros-args", "-p", "publish_rate:=200.0", "-p", "marker_rate:=50.0")
+    subscribe_all(collector)
+    pub = collector.publisher(String, qos.FLIGHT_ORDER, qos.ORDER)
+    collector.wait_for_subscribers(pub)
+    good = FlightOrder.from_release("absurd", Release()).to_json()
+    import json
+    base = json.loads(good)
+    absurd = []
+    for key, value in (("mass", 1e-300), ("inertia_spin", 1e300), ("c_m_alpha", 1e308),
+                       ("diameter", 5e-324), ("air_density", 10 ** 400), ("inertia_transverse", 1e-12)):
+        absurd.append(dict(base, ball_params={key: value}))
+    absurd.append(dict(base, angular_velocity=[0.0, 0.0, 1e300]))
+    absurd.append(dict(base, velocity=[1e308, 1e308, 0.0]))
+    absurd.append(dict(base, ball_params={"inertia_spin": 0.003, "inertia_transverse": 0.0015},
+                       angular_velocity=[300.0, 0.0, 0.0]))  # too fast for the step: refused
+    texts = [json.dumps(a) for a in absurd] + ['{"id": ' * 5000 + "1" + "}" * 5000, "[" * 100000]
+    for text in texts:
+        pub.publish(String(data=text))
+    # The zero air speed of a ball flying with the wind divides by zero in the kernel: the
+    # guard ends that flight with an ERROR event and the pacer goes on.
+    windy = Release(model="full", speed=10.0, elevation_deg=0.0, position=(0.0, 0.0, 2.0),
+                    aero={"wind": [10.0, 0.0, 0.0]})
+    order_flight(collector, windy, "zero-air-speed")
+    collector.wait_for(lambda: any(level_of(s) == "ERROR" and "zero-air-speed" in s.message
+                                   for s in _statuses(collector)), 10.0, "the ERROR event")
+    collector.wait_for(lambda: any(level_of(s) == "ERROR" and s.name.endswith("simulator")
+                                   for s in _statuses(collector)), 5.0, "the periodic ERROR status")
+    periodic = [s for s in _statuses(collector) if s.name.endswith("simulator")]
+    assert "flying: t" not in periodic[-1].message and "ended" in periodic[-1].message
+    order_flight(collector, Release(ball="rugby"), "after-the-error")
+    collector.wait_for(lambda: landed_event(collector), 10.0, "a landing after the error")
+    for topic in list(STATE_TYPES) + [qos.MARKERS, qos.DIAGNOSTICS]:
+        assert all(_finite_msg(m) for m in collector.get(topic)), topic
+    assert collector.get(qos.POSE) and node.proc.poll() is None
+    assert "flight 'zero-air-speed' ended: internal error while flying (ZeroDivisionError" in node.log()
+
+
+def test_services_answer_at_the_worst_accepted_combination(start_node, collector):
+    # Highest rate, markers and trail, with real_time_factor / integration_step at its bound.
+    node = start_node("simulator", "--ros-args", "-p", "publish_rate:=2000.0", "-p", "marker_rate:=200.0",
+                      "-p", "trail_length:=100000", "-p", "real_time_factor:=5.0",
+                      "-p", "integration_step:=0.000025")
+    collector.subscribe(PoseStamped, qos.POSE, qos.STATE, raw=True)
+    collector.subscribe(MarkerArray, qos.MARKERS, qos.MARKERS_QOS)
+    order_flight(collector, Release(speed=60.0, elevation_deg=80.0, position=(0.0, 0.0, 1000.0)), "heavy")
+    latencies = []
+    for k in range(6):
+        t0 = time.monotonic()
+        assert call(collector, SetBool, qos.PAUSE_SERVICE, SetBool.Request(data=k % 2 == 0)).success
+        latencies.append(time.monotonic() - t0)
+        time.sleep(0.2)
+    print("pause/resume latencies [s]:", [round(x, 4) for x in latencies])
+    assert max(latencies) < 1.0, latencies
+    # One step more per wall second than the bound is refused, naming the reason.
+    from rcl_interfaces.srv import SetParameters
+    from rclpy.parameter import Parameter
+    bad = call(collector, SetParameters, "/football_simulator/set_parameters", SetParameters.Request(
+        parameters=[Parameter("real_time_factor", value=5.01).to_parameter_msg()]))
+    assert not bad.results[0].successful and "RK4 steps per second" in bad.results[0].reason
+    from rclpy.serialization import deserialize_message
+    poses = [deserialize_message(m, PoseStamped) for m in collector.get(qos.POSE)]
+    stamps = np.array([stamp_ns(p) for p in poses])
+    assert len(stamps) > 100
+    assert np.all((stamps - stamps[0]) % 500_000 == 0)  # every tick keeps its 0.5 ms grid stamp
+    markers = collector.get(qos.MARKERS)
+    assert markers and max(len(m.markers[3].points) for m in markers) <= 1000
+    assert node.proc.poll() is None
+
+
+def test_events_while_paused_are_published_and_bounded(start_node, collector):
+    from std_msgs.msg import String
+
+    from football_ros.requests import FlightOrder
+
+    start_node("simulator", "--ros-args", "-p", "diagnostics_rate:=0.1")
+    collector.subscribe(DiagnosticArray, qos.DIAGNOSTICS, qos.DIAGNOSTICS_QOS)
+    order_flight(collector, Release(), "paused-0")
+    assert call(collector, SetBool, qos.PAUSE_SERVICE, SetBool.Request(data=True)).success
+    pub = collector.publisher(String, qos.FLIGHT_ORDER, qos.ORDER)
+    for k in range(300):
+        pub.publish(String(data=FlightOrder.from_release(f"paused-{k + 1}", Release()).to_json()))
+    collector.wait_for(lambda: any(kv.value == "paused-300" for s in _statuses(collector)
+                                   for kv in s.values), 10.0, "the last release event while paused")
+    assert max(len(arr.status) for arr in collector.get(qos.DIAGNOSTICS)) <= 32 + 2
+
+
+def test_namespaced_simulator_topics_and_unique_diagnostics(start_node, collector):
+    from std_msgs.msg import String
+
+    from football_ros.requests import FlightOrder
+
+    start_node("simulator", "--ros-args", "-r", "__ns:=/team1", "-p", "diagnostics_rate:=5.0")
+    collector.subscribe(PoseStamped, "/team1/football/pose", qos.STATE)
+    collector.subscribe(DiagnosticArray, qos.DIAGNOSTICS, qos.DIAGNOSTICS_QOS)
+    collector.wait_for(lambda: _statuses(collector), 10.0, "diagnostics")
+    status = _statuses(collector)[-1]
+    assert status.name == "football_ros: /team1/football_simulator"
+    assert status.hardware_id == "football_ros/team1/football_simulator"
+    pub = collector.publisher(String, "/team1/football/flight/order", qos.ORDER)
+    collector.wait_for_subscribers(pub)
+    text = FlightOrder.from_release("ns-1", Release()).to_json()
+    for _ in range(10):
+        pub.publish(String(data=text))
+        try:
+            collector.wait_for(lambda: len(collector.get("/team1/football/pose")) > 5, 2.0, "poses")
+            break
+        except AssertionError:
+            continue
+    assert collector.get("/team1/football/pose")[0].header.frame_id == "field"
+
+
+def test_two_simulators_on_one_domain_warn(start_node, collector):
+    from football_ros.nodes.messages import level_of
+
+    first = start_node("simulator", "--ros-args", "-p", "diagnostics_rate:=5.0")
+    start_node("simulator", "--ros-args", "-p", "diagnostics_rate:=5.0", "-r", "__node:=second_sim")
+    collector.subscribe(DiagnosticArray, qos.DIAGNOSTICS, qos.DIAGNOSTICS_QOS)
+
+    def warned():
+        return any(level_of(s) == "WARN" and "/second_sim (/football/pose)" in s.message
+                   and s.name == "football_ros: /football_simulator" for s in _statuses(collector))
+    collector.wait_for(warned, 10.0, "a WARN naming the other simulator")
+    assert "/second_sim (/football/pose)" in first.log()
+
+
+def test_publish_clock_stamps_equal_clock_and_odom_rests_after_landing(start_node, collector):
+    start_node("simulator", "--ros-args", "-p", "publish_rate:=100.0", "-p", "publish_clock:=true",
+               "-p", "real_time_factor:=2.0", "-p", "hold_rate:=10.0")
+    collector.subscribe(Odometry, qos.ODOM, qos.STATE)
+    collector.subscribe(Clock, qos.CLOCK, qos.CLOCK_QOS)
+    order_flight(collector, Release(), "clock-1")
+    collector.wait_for(lambda: landed_event(collector), 10.0, "the landing")
+    n_flight = len(collector.get(qos.ODOM))
+    time.sleep(0.6)
+    odoms = collector.get(qos.ODOM)
+    clocks = {c.clock.sec * 1_000_000_000 + c.clock.nanosec for c in collector.get(qos.CLOCK)}
+    stamps = [stamp_ns(o) for o in odoms]
+    matched = sum(s in clocks for s in stamps)
+    assert matched >= 0.95 * len(stamps), (matched, len(stamps))  # /clock is best effort
+    assert all(s % 20_000_000 == 0 for s in stamps)  # 2 x 10 ms of simulated time per tick
+    landing = odoms[n_flight - 1]
+    held = odoms[n_flight:]
+    assert len(held) >= 3
+    for msg in [landing] + held:
+        t = msg.twist.twist
+        assert (t.linear.x, t.linear.y, t.linear.z, t.angular.x, t.angular.y, t.angular.z) == (0.0,) * 6
+        assert msg.pose.pose.position.z == 0.0
+        assert msg.pose.pose.position.x == landing.pose.pose.position.x
+    assert odoms[n_flight // 2].twist.twist.angular.x == pytest.approx(600 * 2 * math.pi / 60)
+
+
+def test_trail_decimation_keeps_the_newest_and_stable_points():
+    from football_ros.nodes.messages import decimated
+
+    points = list(range(10_000))
+    kept = decimated(points, 0, 1000)
+    assert len(kept) <= 1000 and kept[-1] == 9_999 and kept[0] == 0
+    later = decimated(points[3:] + [10_000, 10_001, 10_002], 3, 1000)
+    assert set(kept[:-1]) - {0, 1, 2} <= set(later)  # the same points stay in the strip
+    assert decimated(points[:50], 0, 1000) == points[:50]

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import signal
 import sys
+import traceback
 from typing import Callable, Sequence
 
 import rclpy
@@ -143,8 +144,16 @@ def _start_and_spin(factory, argv, program: str, made: list, signals: _Signals) 
         return EXIT_USAGE
     executor = SingleThreadedExecutor()
     executor.add_node(made[0])
+    node = made[0]
     while rclpy.ok():  # short waits: our Python handler runs within SPIN_WAIT_S of a signal
-        executor.spin_once(timeout_sec=SPIN_WAIT_S)
+        try:
+            executor.spin_once(timeout_sec=SPIN_WAIT_S)
+        except (ExternalShutdownException, RCLError):
+            raise
+        except Exception:  # a callback's bug must not end the node: report it and go on
+            if not rclpy.ok():
+                break
+            node.get_logger().error(f"a callback failed (the node goes on):\n{traceback.format_exc()}")
     return 0
 
 

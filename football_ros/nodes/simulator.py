@@ -287,15 +287,18 @@ class SimulatorNode(Node):
         return response
 
     def _check_rivals(self) -> None:
-        """Warn when another node publishes our state topics (or /clock, with publish_clock)."""
+        """Warn when another node publishes our state topics (or /clock, with publish_clock).
+
+        Every publisher but one of our own name counts (two simulators may share a name)."""
         me = self.get_fully_qualified_name()
         topics = [self.resolve_topic_name(qos.POSE)] + ([qos.CLOCK] if self.publish_clock else [])
         others = set()
         for topic in topics:
-            for info in self.get_publishers_info_by_topic(topic):
-                name = _qualified(info.node_namespace, info.node_name)
-                if name != me:
-                    others.add(f"{name} ({topic})")
+            names = [_qualified(i.node_namespace, i.node_name)
+                     for i in self.get_publishers_info_by_topic(topic)]
+            if me in names:
+                names.remove(me)
+            others.update(f"{name} ({topic})" for name in names)
         rivals = tuple(sorted(others))
         with self._lock:
             before, self._rivals = self._rivals, rivals
