@@ -175,11 +175,12 @@ class StateMessages:
         self.aero_angles = Vector3Stamped()
         self.aero_angles_linear = Vector3Stamped()
 
-    def fill(self, sample: BallSample, stamp: Time, frame_id: str, child_frame_id: str) -> None:
+    def fill(self, sample: BallSample, stamp: Time, frame_id: str, child_frame_id: str,
+             at_rest: bool = False) -> None:
         """Set every field from ``sample`` (stamp shared by the five messages).
 
-        pose and odom pose in ``frame_id``; odom twist in the body frame, zero once landed (the
-        ball lies on the ground); spin axis in ``frame_id``; aero angles (alpha, beta, delta)
+        pose and odom pose in ``frame_id``; odom twist in the body frame, zero when ``at_rest``
+        (the landed state held after the landing: the ball lies on the ground); spin axis in ``frame_id``; aero angles (alpha, beta, delta)
         [rad] with the empty frame id, the linear theory's delta = acos(cos alpha cos beta).
         """
         px, py, pz = sample.position.tolist()
@@ -192,7 +193,7 @@ class StateMessages:
             o.x, o.y, o.z, o.w = qx, qy, qz, qw
         self.odom.child_frame_id = child_frame_id
         twist = self.odom.twist.twist
-        if sample.landed:
+        if at_rest:
             vx = vy = vz = wx = wy = wz = 0.0
         else:
             vx, vy, vz = to_body_frame(q, sample.velocity.tolist())

@@ -409,13 +409,14 @@ class SimulatorNode(Node):
         with self._lock:
             if self._run is not run:
                 return  # replaced by a new release meanwhile
+            at_rest = run.landed_reported  # a held landed state (the landing tick has the impact)
             if sample.landed and not run.landed_reported:
                 run.landed_reported, run.last_hold_ns, landed_now = True, wall_stamp_ns, True
                 text = f"flight '{run.order.request_id}' " + _landed_text(sample.position, sample.t)
                 self._events.append(("OK", "landed", text))
         if landed_now:
             self.get_logger().info(text)
-        self._publish_state(run, sample, stamp)
+        self._publish_state(run, sample, stamp, at_rest)
         self._maybe_publish_markers(run, sample, stamp, wall_stamp_ns, force=landed_now)
 
     def _runaway(self, run: _FlightRun, sample: BallSample) -> str | None:
@@ -453,9 +454,9 @@ class SimulatorNode(Node):
             self._events.append(("ERROR", "error", text))
         self.get_logger().error(text)
 
-    def _publish_state(self, run: _FlightRun, sample: BallSample, stamp) -> None:
+    def _publish_state(self, run: _FlightRun, sample: BallSample, stamp, at_rest: bool) -> None:
         msgs = self._state_msgs
-        msgs.fill(sample, stamp, self.frame_id, self.child_frame_id)
+        msgs.fill(sample, stamp, self.frame_id, self.child_frame_id, at_rest)
         self._pubs[qos.POSE].publish(msgs.pose)
         self._pubs[qos.ODOM].publish(msgs.odom)
         self._pubs[qos.SPIN_AXIS].publish(msgs.spin_axis)
