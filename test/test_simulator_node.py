@@ -432,3 +432,37 @@ def test_trail_decimation_keeps_the_newest_and_stable_points():
     later = decimated(points[3:] + [10_000, 10_001, 10_002], 3, 1000)
     assert set(kept[:-1]) - {0, 1, 2} <= set(later)  # the same points stay in the strip
     assert decimated(points[:50], 0, 1000) == points[:50]
+
+
+def test_use_sim_time_takes_stamps_from_an_external_clock(start_node, collector):
+    import threading
+
+    start_node("simulator", "--ros-args", "-p", "use_sim_time:=true", "-p", "publish_rate:=100.0")
+    collector.subscribe(PoseStamped, qos.POSE, qos.STATE)
+    clock_pub = collector.publisher(Clock, qos.CLOCK, qos.CLOCK_QOS)
+    stop = threading.Event()
+    external_ns = [5_000_000_000_000]  # 5000 s, advancing 1 ms per 10 ms of wall time
+
+    def run_clock():
+        while not stop.is_set():
+            external_ns[0] += 1_000_000
+            sec, nsec = divmod(external_ns[0], 1_000_000_000)
+            clock_pub.publish(Clock(clock=mb_time(sec, nsec)))
+            time.sleep(0.01)
+    thread = threading.Thread(target=run_clock, daemon=True)
+    thread.start()
+    try:
+        order_flight(collector, Release(), "sim-time-1")
+        collector.wait_for(lambda: len(collector.get(qos.POSE)) > 30, 10.0, "poses")
+    finally:
+        stop.set()
+        thread.join()
+    stamps = np.array([stamp_ns(p) for p in collector.get(qos.POSE)[5:]])
+    # Stamps are the external clock (about 5000 s), not the wall clock, and never go back.
+    assert np.all((stamps >= 5_000_000_000_000) & (stamps <= external_ns[0]))
+    assert np.all(np.diff(stamps) >= 0)
+
+
+def mb_time(sec, nanosec):
+    from builtin_interfaces.msg import Time
+    return Time(sec=sec, nanosec=nanosec)
