@@ -5,10 +5,11 @@
 For each publisher process, a subscriber in this (other) process records the arrival time of
 every football/pose message for ``--seconds`` in total, split into ``--rounds`` alternating
 segments (simulator, bare, simulator, bare, ...) so that both see the same drift of the load
-of a shared machine; jitter is pooled over the segments (no interval spans two segments). Reported: messages received and missed (gaps
-in the 1/rate stamp sequence), the inter-arrival jitter |dt - 1/rate| (p50, p99, max), the
-publisher's CPU use, and for the simulator its own overrun count from /diagnostics. The
-simulator is kept flying by a new flight order every 2.5 s (replace policy).
+of a shared machine; jitter is pooled over the segments (no interval spans two segments).
+Reported: messages received and missed (gaps in the 1/rate stamp sequence), the
+inter-arrival jitter |dt - 1/rate| (p50, p99, max), the publisher's CPU use, and for the
+simulator its own overrun count from /diagnostics. The simulator is kept flying by a new
+flight order every 2.5 s (replace policy).
 Target (issue 12.4): 0 missed ticks, jitter p99 and max no worse than the bare publisher.
 """
 
@@ -163,7 +164,8 @@ def main() -> None:
         time.sleep(1.0)
         bare = start([sys.executable, str(HERE / "bare_publisher.py"), str(args.rate)])
         try:
-            parts["bare rclpy"].append(probe.measure(bare.pid, segment, args.rate, keep_flying=False))
+            parts["bare rclpy"].append(probe.measure(bare.pid, segment, args.rate,
+                                                     keep_flying=False))
         finally:
             stop(bare)
         time.sleep(1.0)
@@ -174,7 +176,8 @@ def main() -> None:
     results = {name: pooled(p) for name, p in parts.items()}
 
     sim_r, bare_r = results["simulator"], results["bare rclpy"]
-    print(f"\nfootball_ros simulator vs bare rclpy publisher: {args.rate:g} Hz, {args.seconds:g} s each "
+    print(f"\nfootball_ros simulator vs bare rclpy publisher: {args.rate:g} Hz, "
+          f"{args.seconds:g} s each "
           f"in {args.rounds} alternating rounds, subscriber in another process, "
           f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.2f}\n")
     print(f"{'metric':<28}{'simulator':>12}{'bare rclpy':>12}{'ratio':>8}")

@@ -180,8 +180,9 @@ class StateMessages:
         """Set every field from ``sample`` (stamp shared by the five messages).
 
         pose and odom pose in ``frame_id``; odom twist in the body frame, zero when ``at_rest``
-        (the landed state held after the landing: the ball lies on the ground); spin axis in ``frame_id``; aero angles (alpha, beta, delta)
-        [rad] with the empty frame id, the linear theory's delta = acos(cos alpha cos beta).
+        (the landed state held after the landing: the ball lies on the ground); spin axis in
+        ``frame_id``; aero angles (alpha, beta, delta) [rad] with the empty frame id, the
+        linear theory's delta = acos(cos alpha cos beta).
         """
         px, py, pz = sample.position.tolist()
         qx, qy, qz, qw = q = sample.orientation.tolist()

@@ -4,9 +4,10 @@ Signals: the first SIGINT or SIGTERM at any moment (while the program imports, s
 football_ros/_early_signals.py; while the node is being built or warms up; while spinning) ends
 the node without a traceback and with exit code 0; from then on SIGINT and SIGTERM are ignored
 (``ros2 launch`` without a terminal sends a second SIGINT while the node cleans up), so the
-clean-up and the interpreter's shutdown finish; SIGKILL still ends a stuck process. The node's ``close()`` (if any) runs before the node is
-destroyed, so threads stop and files are flushed. A start-up error (a parameter out of range)
-is one line on stderr and exit code 2.
+clean-up and the interpreter's shutdown finish; SIGKILL still ends a stuck process. The node's
+``close()`` (if any) runs before the node is destroyed, so threads stop and files are flushed.
+A callback that raises is logged with its traceback and the node goes on. A start-up error
+(a parameter out of range) is one line on stderr and exit code 2.
 
 ``-h``/``--help`` before ``--ros-args`` prints the node's description and parameters (name,
 default, range, description, from the node class's ``PARAMETERS`` table when it has one) and
@@ -72,7 +73,8 @@ def print_help(factory: Callable[[], Node], program: str, out=sys.stdout) -> Non
     """Usage, the node module's description and its parameters."""
     module = sys.modules.get(getattr(factory, "__module__", ""), None)
     doc = (getattr(module, "__doc__", None) or getattr(factory, "__doc__", None) or "").strip()
-    print(f"usage: {program} [-h] [--ros-args -p NAME:=VALUE ... | --params-file FILE]\n", file=out)
+    print(f"usage: {program} [-h] [--ros-args -p NAME:=VALUE ... | --params-file FILE]\n",
+          file=out)
     if doc:
         print(doc + "\n", file=out)
     specs = getattr(factory, "PARAMETERS", None)
@@ -153,7 +155,8 @@ def _start_and_spin(factory, argv, program: str, made: list, signals: _Signals) 
         except Exception:  # a callback's bug must not end the node: report it and go on
             if not rclpy.ok():
                 break
-            node.get_logger().error(f"a callback failed (the node goes on):\n{traceback.format_exc()}")
+            node.get_logger().error(
+                f"a callback failed (the node goes on):\n{traceback.format_exc()}")
     return 0
 
 

@@ -101,7 +101,8 @@ def check_parameters(values: dict, flight_step: float | None = None) -> str | No
         if not values[name]:
             return f"{name} must not be empty"
     if values["model"] not in MODEL_CHOICES:
-        return f"model must be one of {', '.join(MODEL_CHOICES)}, got '{str(values['model'])[:40]}'"
+        return (f"model must be one of {', '.join(MODEL_CHOICES)}, "
+                f"got '{str(values['model'])[:40]}'")
     step = min(values["integration_step"], flight_step or math.inf)
     rate = values["real_time_factor"] / step
     if rate > MAX_STEPS_PER_SECOND:
@@ -343,7 +344,8 @@ class SimulatorNode(Node):
             except Exception:
                 if not self.context.ok():  # Ctrl-C / SIGTERM shut rclpy down under us: just stop
                     return
-                self._log_error_limited(f"pacing error (the pacer continues):\n{traceback.format_exc()}")
+                self._log_error_limited(
+                    f"pacing error (the pacer continues):\n{traceback.format_exc()}")
 
     def _guarded_tick(self, wall_stamp_ns: int, period_ns: int) -> None:
         """One tick; an exception ends the flight in the air (ERROR) and pacing goes on."""
@@ -400,7 +402,7 @@ class SimulatorNode(Node):
             self._clock_pub.publish(self._clock_msg)
         if run is None:
             return
-        sample = run.flight.sample(t)  # outside the lock: many RK4 steps at a high real-time factor
+        sample = run.flight.sample(t)  # outside the lock: many steps at a high real-time factor
         problem = self._runaway(run, sample)
         if problem:
             self._end_flight(run, problem)
@@ -412,7 +414,8 @@ class SimulatorNode(Node):
             at_rest = run.landed_reported  # a held landed state (the landing tick has the impact)
             if sample.landed and not run.landed_reported:
                 run.landed_reported, run.last_hold_ns, landed_now = True, wall_stamp_ns, True
-                text = f"flight '{run.order.request_id}' " + _landed_text(sample.position, sample.t)
+                text = (f"flight '{run.order.request_id}' "
+                        + _landed_text(sample.position, sample.t))
                 self._events.append(("OK", "landed", text))
         if landed_now:
             self.get_logger().info(text)
@@ -434,7 +437,8 @@ class SimulatorNode(Node):
                     f"{bounds[0] / RUNAWAY_FACTOR:.4g} m/s the release allows")
         rate = float(np.linalg.norm(sample.angular_velocity))
         if rate > bounds[1]:
-            return (f"runaway: angular rate {rate:.4g} rad/s at t = {sample.t:.4f} s, far past the "
+            return (f"runaway: angular rate {rate:.4g} rad/s at t = {sample.t:.4f} s, far past "
+                    "the "
                     f"{bounds[1] / RUNAWAY_FACTOR:.4g} rad/s the release allows")
         distance = float(np.linalg.norm(sample.position - run.flight.initial.position))
         if distance > MAX_DISTANCE_M:
@@ -555,7 +559,8 @@ def _runaway_bounds(flight: Flight) -> tuple[float, float]:
     |w| <= transverse bound + |p|)."""
     wind = flight.params[limits.dyn.P_WIND:limits.dyn.P_WIND + 3]
     speed = limits.max_air_speed(flight.initial, wind) + float(np.linalg.norm(wind))
-    rate = limits.fastest_rates(flight.params, flight.initial)["angular rate"] + abs(flight.initial.spin)
+    rate = (limits.fastest_rates(flight.params, flight.initial)["angular rate"]
+            + abs(flight.initial.spin))
     return RUNAWAY_FACTOR * speed, RUNAWAY_FACTOR * rate
 
 
