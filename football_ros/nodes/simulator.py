@@ -268,7 +268,7 @@ class SimulatorNode(Node):
             return response
         try:
             flight = order.flight(self.integration_step, self._model_override())
-        except ValueError as exc:  # e.g. the step or model changed since: too large a step
+        except (ValueError, ArithmeticError) as exc:  # e.g. a step too large since a change
             response.success = False
             response.message = f"flight '{order.request_id}' cannot restart: {exc}"
             return response
