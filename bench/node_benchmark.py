@@ -11,6 +11,16 @@ inter-arrival jitter |dt - 1/rate| (p50, p99, max), the publisher's CPU use, and
 simulator its own overrun count from /diagnostics. The simulator is kept flying by a new
 flight order every 2.5 s (replace policy).
 Target (issue 12.4): 0 missed ticks, jitter p99 and max no worse than the bare publisher.
+
+Where the simulator's time goes at 1 kHz (py-spy record --threads, 10 s of flights, 2 cores,
+load average ~2): every state message is built and published by the pacing thread alone
+(the executor thread only wakes for orders, services, parameters and a 1 Hz graph check);
+of the pacer's busy samples ~62 % are rclpy's Publisher.publish of the five messages (the same
+work the bare publisher does), ~4 % Flight.sample (of which the linear prediction ~2.6 %),
+~2 % the run-time guard and ~1.4 % refilling the pre-built messages. No garbage collection ran
+in 8 s of flight (gc callbacks): the messages are reused, so a tick allocates almost nothing.
+Tick work in-process: p50 ~115 us; what remains of the jitter is the wake-up latency the
+kernel gives a sleeping thread on a loaded machine, which the bare publisher's timer sees too.
 """
 
 from __future__ import annotations
