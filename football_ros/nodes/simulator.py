@@ -385,42 +385,51 @@ class SimulatorNode(Node):
                 self._sim_clock_ns += int(period_ns * self.real_time_factor)
             stamp_ns = self._stamp_ns(wall_stamp_ns)
             publish_clock = self.publish_clock
-            run = self._run
-            if run is None or self._paused or run.ended is not None:
-                run = None
-            elif run.landed_reported:
-                if self.hold_rate <= 0 or wall_stamp_ns - run.last_hold_ns < 1e9 / self.hold_rate:
-                    run = None
-                else:
-                    run.last_hold_ns = wall_stamp_ns
-            if run is not None:
-                t = run.time
-                run.ticks += 1
+            run_t = self._select_run(wall_stamp_ns)
         stamp = mb.time_msg(stamp_ns)
         if publish_clock:
             self._clock_msg.clock = stamp
             self._clock_pub.publish(self._clock_msg)
-        if run is None:
+        for _attempt in range(2):  # a release that replaces the flight meanwhile: its first tick
+            if run_t is None:
+                return
+            run, t = run_t
+            sample = run.flight.sample(t)  # outside the lock: many steps at a high real-time factor
+            problem = self._runaway(run, sample)
+            if problem:
+                self._end_flight(run, problem)
+                return
+            landed_now = False
+            with self._lock:
+                if self._run is not run:
+                    run_t = self._select_run(wall_stamp_ns)
+                    continue
+                at_rest = run.landed_reported  # a held landed state (the landing has the impact)
+                if sample.landed and not run.landed_reported:
+                    run.landed_reported, run.last_hold_ns, landed_now = True, wall_stamp_ns, True
+                    text = (f"flight '{run.order.request_id}' "
+                            + _landed_text(sample.position, sample.t))
+                    self._events.append(("OK", "landed", text))
+            break
+        else:
             return
-        sample = run.flight.sample(t)  # outside the lock: many steps at a high real-time factor
-        problem = self._runaway(run, sample)
-        if problem:
-            self._end_flight(run, problem)
-            return
-        landed_now = False
-        with self._lock:
-            if self._run is not run:
-                return  # replaced by a new release meanwhile
-            at_rest = run.landed_reported  # a held landed state (the landing tick has the impact)
-            if sample.landed and not run.landed_reported:
-                run.landed_reported, run.last_hold_ns, landed_now = True, wall_stamp_ns, True
-                text = (f"flight '{run.order.request_id}' "
-                        + _landed_text(sample.position, sample.t))
-                self._events.append(("OK", "landed", text))
         if landed_now:
             self.get_logger().info(text)
         self._publish_state(run, sample, stamp, at_rest)
         self._maybe_publish_markers(run, sample, stamp, wall_stamp_ns, force=landed_now)
+
+    def _select_run(self, wall_stamp_ns: int) -> tuple[_FlightRun, float] | None:
+        """The run to publish this tick and its time [s] (caller holds the lock), or None."""
+        run = self._run
+        if run is None or self._paused or run.ended is not None:
+            return None
+        if run.landed_reported:
+            if self.hold_rate <= 0 or wall_stamp_ns - run.last_hold_ns < 1e9 / self.hold_rate:
+                return None
+            run.last_hold_ns = wall_stamp_ns
+        t = run.time
+        run.ticks += 1
+        return run, t
 
     def _runaway(self, run: _FlightRun, sample: BallSample) -> str | None:
         """Why ``sample`` must not be published (the flight then ends), or None."""
