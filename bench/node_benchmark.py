@@ -1,13 +1,26 @@
 """Simulator node at a high publish rate vs a bare rclpy publisher, measured in the same run.
 
-    .venv/bin/python bench/node_benchmark.py [--rate 1000] [--seconds 60]
+    .venv/bin/python bench/node_benchmark.py [--rate 1000] [--seconds 60] [--rounds 4]
 
 For each publisher process, a subscriber in this (other) process records the arrival time of
-every football/pose message for ``--seconds``. Reported: messages received and missed (gaps
-in the 1/rate stamp sequence), the inter-arrival jitter |dt - 1/rate| (p50, p99, max), the
-publisher's CPU use, and for the simulator its own overrun count from /diagnostics. The
-simulator is kept flying by a new flight order every 2.5 s (replace policy).
-Targets (issue 3): 0 missed ticks, p99 jitter <= 0.3 ms.
+every football/pose message for ``--seconds`` in total, split into ``--rounds`` alternating
+segments (simulator, bare, simulator, bare, ...) so that both see the same drift of the load
+of a shared machine; jitter is pooled over the segments (no interval spans two segments).
+Reported: messages received and missed (gaps in the 1/rate stamp sequence), the
+inter-arrival jitter |dt - 1/rate| (p50, p99, max), the publisher's CPU use, and for the
+simulator its own overrun count from /diagnostics. The simulator is kept flying by a new
+flight order every 2.5 s (replace policy).
+Target (issue 12.4): 0 missed ticks, jitter p99 and max no worse than the bare publisher.
+
+Where the simulator's time goes at 1 kHz (py-spy record --threads, 10 s of flights, 2 cores,
+load average ~2): every state message is built and published by the pacing thread alone
+(the executor thread only wakes for orders, services, parameters and a 1 Hz graph check);
+of the pacer's busy samples ~62 % are rclpy's Publisher.publish of the five messages (the same
+work the bare publisher does), ~4 % Flight.sample (of which the linear prediction ~2.6 %),
+~2 % the run-time guard and ~1.4 % refilling the pre-built messages. No garbage collection ran
+in 8 s of flight (gc callbacks): the messages are reused, so a tick allocates almost nothing.
+Tick work in-process: p50 ~115 us; what remains of the jitter is the wake-up latency the
+kernel gives a sleeping thread on a loaded machine, which the bare publisher's timer sees too.
 """
 
 from __future__ import annotations
@@ -94,17 +107,33 @@ class Probe:
                 next_order += 2.5
             time.sleep(0.05)
         self.recording = False
-        cpu = (cpu_seconds(pid) - cpu0) / seconds
+        cpu = cpu_seconds(pid) - cpu0
         arrivals = np.array(self.arrivals, dtype=np.int64)
         stamps = np.array(self.stamps, dtype=np.int64)
         period = 1e9 / rate
         jitter = np.abs(np.diff(arrivals) - period) / 1e6
         gaps = np.diff(stamps)
         missed = int(np.sum(np.maximum(np.round(gaps / period) - 1, 0))) if keep_flying else None
+        if missed:
+            where = np.nonzero(np.round(gaps / period) > 1)[0]
+            print(f"stamp gaps: {[(int(i), int(gaps[i])) for i in where[:10]]} of {len(stamps)}")
         return {"received": len(arrivals), "expected": int(seconds * rate), "missed": missed,
-                "p50": float(np.percentile(jitter, 50)), "p99": float(np.percentile(jitter, 99)),
-                "max": float(jitter.max()), "cpu": 100 * cpu,
+                "jitter": jitter, "cpu_s": cpu, "seconds": seconds,
                 "overruns": self.overruns - overruns0 if keep_flying else None}
+
+
+def pooled(parts: list[dict]) -> dict:
+    """One result from the rounds of one publisher."""
+    jitter = np.concatenate([p["jitter"] for p in parts])
+    total = sum(p["seconds"] for p in parts)
+
+    def add(key):
+        values = [p[key] for p in parts]
+        return None if any(v is None for v in values) else sum(values)
+    return {"received": add("received"), "expected": add("expected"), "missed": add("missed"),
+            "overruns": add("overruns"), "p50": float(np.percentile(jitter, 50)),
+            "p99": float(np.percentile(jitter, 99)), "max": float(jitter.max()),
+            "cpu": 100 * sum(p["cpu_s"] for p in parts) / total}
 
 
 def start(cmd: list[str]) -> subprocess.Popen:
@@ -129,30 +158,38 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--rate", type=float, default=1000.0)
     parser.add_argument("--seconds", type=float, default=60.0)
+    parser.add_argument("--rounds", type=int, default=4)
     args = parser.parse_args()
     rclpy.init()
     probe = Probe()
-    results = {}
-    sim = start([sys.executable, "-m", "football_ros.cli", "simulator", "--ros-args", "-p",
-                 f"publish_rate:={args.rate}", "-p", "hold_rate:=0.0"])
-    try:
-        results["simulator"] = probe.measure(sim.pid, args.seconds, args.rate, keep_flying=True)
-    finally:
-        stop(sim)
-    time.sleep(1.0)
-    bare = start([sys.executable, str(HERE / "bare_publisher.py"), str(args.rate)])
-    try:
-        results["bare rclpy"] = probe.measure(bare.pid, args.seconds, args.rate, keep_flying=False)
-    finally:
-        stop(bare)
+    parts: dict[str, list[dict]] = {"simulator": [], "bare rclpy": []}
+    segment = args.seconds / args.rounds
+    for _ in range(args.rounds):
+        sim = start([sys.executable, "-m", "football_ros.cli", "simulator", "--ros-args", "-p",
+                     f"publish_rate:={args.rate}", "-p", "hold_rate:=0.0"])
+        try:
+            parts["simulator"].append(probe.measure(sim.pid, segment, args.rate, keep_flying=True))
+        finally:
+            stop(sim)
+        time.sleep(1.0)
+        bare = start([sys.executable, str(HERE / "bare_publisher.py"), str(args.rate)])
+        try:
+            parts["bare rclpy"].append(probe.measure(bare.pid, segment, args.rate,
+                                                     keep_flying=False))
+        finally:
+            stop(bare)
+        time.sleep(1.0)
     probe.executor.shutdown(timeout_sec=2.0)
     probe.thread.join(timeout=2.0)
     probe.node.destroy_node()
     rclpy.try_shutdown()
+    results = {name: pooled(p) for name, p in parts.items()}
 
     sim_r, bare_r = results["simulator"], results["bare rclpy"]
-    print(f"\nfootball_ros simulator vs bare rclpy publisher: {args.rate:g} Hz, {args.seconds:g} s each, "
-          f"subscriber in another process, {os.cpu_count()} cores\n")
+    print(f"\nfootball_ros simulator vs bare rclpy publisher: {args.rate:g} Hz, "
+          f"{args.seconds:g} s each "
+          f"in {args.rounds} alternating rounds, subscriber in another process, "
+          f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.2f}\n")
     print(f"{'metric':<28}{'simulator':>12}{'bare rclpy':>12}{'ratio':>8}")
     rows = [("messages received", "received", "{:.0f}"), ("messages expected", "expected", "{:.0f}"),
             ("missed ticks (stamp gaps)", "missed", "{}"), ("overruns (node's own count)", "overruns", "{}"),
@@ -163,7 +200,7 @@ def main() -> None:
         ratio = f"{a / b:.2f}" if isinstance(a, float) and isinstance(b, float) and b else "-"
         print(f"{label:<28}{fmt.format(a) if a is not None else '-':>12}"
               f"{fmt.format(b) if b is not None else '-':>12}{ratio:>8}")
-    print("\ntargets: 0 missed ticks, jitter p99 <= 0.3 ms")
+    print("\ntarget: 0 missed ticks; jitter p99 and max ratios <= 1 (no worse than bare rclpy)")
 
 
 if __name__ == "__main__":

@@ -11,6 +11,12 @@ e.g. colcon's) a per-user folder, see :func:`numba_cache_dir`.
 import os
 import sys
 
+from . import _early_signals
+
+# A node program: a signal while it imports ends it with exit 0 and no traceback.
+if _early_signals.is_node_program(sys.argv, getattr(sys, "orig_argv", ())):
+    _early_signals.install()
+
 __version__ = "0.1.0"
 
 

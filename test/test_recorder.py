@@ -22,7 +22,8 @@ from football_ros.physics import Flight, Release
 from rosutil import landed_event, order_flight
 
 STATE = {qos.POSE: PoseStamped, qos.ODOM: Odometry, qos.SPIN_AXIS: Vector3Stamped,
-         qos.AERO_ANGLES: Vector3Stamped, qos.AERO_ANGLES_LINEAR: Vector3Stamped}
+         qos.AERO_ANGLES: Vector3Stamped, qos.AERO_ANGLES_LINEAR: Vector3Stamped,
+         qos.AERO_ANGLES_QUASI_STEADY: Vector3Stamped}
 
 
 def read_bag(path):

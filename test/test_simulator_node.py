@@ -21,7 +21,8 @@ from football_ros.physics.frames import quaternion_to_matrix
 from rosutil import call, landed_event, order_flight
 
 STATE_TYPES = {qos.POSE: PoseStamped, qos.ODOM: Odometry, qos.SPIN_AXIS: Vector3Stamped,
-               qos.AERO_ANGLES: Vector3Stamped, qos.AERO_ANGLES_LINEAR: Vector3Stamped}
+               qos.AERO_ANGLES: Vector3Stamped, qos.AERO_ANGLES_LINEAR: Vector3Stamped,
+               qos.AERO_ANGLES_QUASI_STEADY: Vector3Stamped}
 
 
 def stamp_ns(msg):
@@ -54,15 +55,25 @@ def test_flight_on_all_topics_matches_headless_simulation(start_node, collector,
     steps = np.diff(stamps[0])
     assert np.all(np.abs(steps - 1e9 / rate) <= 1), steps
     # Frames.
-    for topic in STATE_TYPES:
+    for topic in (qos.POSE, qos.ODOM, qos.SPIN_AXIS):
         assert all(m.header.frame_id == "field" for m in msgs[topic])
+    for topic in (qos.AERO_ANGLES, qos.AERO_ANGLES_LINEAR, qos.AERO_ANGLES_QUASI_STEADY):  # no frame
+        assert all(m.header.frame_id == "" for m in msgs[topic])
     assert all(m.child_frame_id == "football" for m in msgs[qos.ODOM])
     # alpha/beta/delta and the linear prediction equal the headless run, sample by sample.
     aero = np.array([[m.vector.x, m.vector.y, m.vector.z] for m in msgs[qos.AERO_ANGLES]])
     assert np.max(np.abs(aero[:-1] - expected.aero_angles[:-1])) < 1e-9
     assert np.max(np.abs(aero[-1] - expected.aero_angles[-1])) < 1e-6  # landing row
-    linear = np.array([[m.vector.x, m.vector.y] for m in msgs[qos.AERO_ANGLES_LINEAR]])
-    assert np.max(np.abs(linear - expected.aero_angles_linear)) < 1e-6
+    linear = np.array([[m.vector.x, m.vector.y, m.vector.z] for m in msgs[qos.AERO_ANGLES_LINEAR]])
+    assert np.max(np.abs(linear[:, :2] - expected.aero_angles_linear)) < 1e-6
+    # The linear delta is the angle between the predicted axis and the velocity: for the
+    # integrated flight the same formula reproduces its delta, so it is checked on both.
+    lin_delta = np.arccos(np.cos(expected.aero_angles_linear[:, 0]) * np.cos(expected.aero_angles_linear[:, 1]))
+    assert np.all(np.isfinite(linear)) and np.max(np.abs(linear[:, 2] - lin_delta)) < 1e-6
+    quasi = np.array([[m.vector.x, m.vector.y, m.vector.z] for m in msgs[qos.AERO_ANGLES_QUASI_STEADY]])
+    assert np.max(np.abs(quasi[:, :2] - expected.aero_angles_quasi_steady)) < 1e-6
+    nonlin_delta = np.arccos(np.cos(aero[:, 0]) * np.cos(aero[:, 1]))
+    assert np.max(np.abs(nonlin_delta - aero[:, 2])) < 1e-6
     pos = np.array([[m.pose.position.x, m.pose.position.y, m.pose.position.z] for m in msgs[qos.POSE]])
     assert np.max(np.abs(pos - expected.positions)) < 1e-6 and pos[-1, 2] == 0.0
     axis = np.array([[m.vector.x, m.vector.y, m.vector.z] for m in msgs[qos.SPIN_AXIS]])
@@ -210,3 +221,284 @@ def test_bad_model_parameter_is_refused(tmp_path):
     proc = subprocess.run([sys.executable, "-m", "football_ros.cli", "simulator", "--ros-args", "-p",
                            "model:=magic"], capture_output=True, text=True, timeout=60)
     assert proc.returncode == 2 and "model" in proc.stderr and "Traceback" not in proc.stderr
+
+
+# --- trust: guard, bounded work, namespaces, rivals, clock ------------------------------------
+def _finite_msg(msg) -> bool:
+    from football_ros.nodes.messages import to_plain
+
+    def walk(v):
+        if isinstance(v, float):
+            return math.isfinite(v)
+        if isinstance(v, dict):
+            return all(walk(x) for x in v.values())
+        if isinstance(v, list):
+            return all(walk(x) for x in v)
+        return True
+    return walk(to_plain(msg))
+
+
+def _statuses(collector, name_part=""):
+    return [s for arr in collector.get(qos.DIAGNOSTICS) for s in arr.status if name_part in s.name]
+
+
+def test_absurd_orders_never_publish_non_finite_and_a_failing_flight_ends_in_error(start_node, collector):
+    from std_msgs.msg import String
+
+    from football_ros.nodes.messages import level_of
+    from football_ros.requests import FlightOrder
+
+    node = start_node("simulator", "--ros-args", "-p", "publish_rate:=200.0", "-p", "marker_rate:=50.0")
+    subscribe_all(collector)
+    pub = collector.publisher(String, qos.FLIGHT_ORDER, qos.ORDER)
+    collector.wait_for_subscribers(pub)
+    good = FlightOrder.from_release("absurd", Release()).to_json()
+    import json
+    base = json.loads(good)
+    absurd = []
+    for key, value in (("mass", 1e-300), ("inertia_spin", 1e300), ("c_m_alpha", 1e308),
+                       ("diameter", 5e-324), ("air_density", 10 ** 400), ("inertia_transverse", 1e-12)):
+        absurd.append(dict(base, ball_params={key: value}))
+    absurd.append(dict(base, angular_velocity=[0.0, 0.0, 1e300]))
+    absurd.append(dict(base, velocity=[1e308, 1e308, 0.0]))
+    absurd.append(dict(base, ball_params={"inertia_spin": 0.003, "inertia_transverse": 0.0015},
+                       angular_velocity=[300.0, 0.0, 0.0]))  # too fast for the step: refused
+    texts = [json.dumps(a) for a in absurd] + ['{"id": ' * 5000 + "1" + "}" * 5000, "[" * 100000]
+    # Orders at the edges of every accepted range (ball parameters and release), whether the
+    # simulator accepts them or not, each replacing the previous flight after a few ticks.
+    from football_ros.physics.presets import BALL_LIMITS
+    from football_ros.physics.release import LIMITS
+    rng = np.random.default_rng(7)
+    edge = lambda lo, hi: float(rng.choice([lo, hi, lo + 1e-3 * (hi - lo), hi - 1e-3 * (hi - lo)]))
+    for k in range(40):
+        kwargs = {key: edge(-2500.0, 2500.0) for key in ("alpha_rate_deg_s", "beta_rate_deg_s")}
+        kwargs.update(spin_rpm=edge(*LIMITS["spin_rpm"]))
+        kwargs.update(speed=edge(1.0, 59.9), elevation_deg=edge(1.0, 80.0), alpha0_deg=edge(-40, 40),
+                      beta0_deg=edge(-40, 40), spin_rpm=0.999 * kwargs["spin_rpm"],
+                      position=(0.0, 0.0, edge(*LIMITS["position_z"])))
+        key = ("c_m_alpha", "air_density")[k % 2]
+        # (Corners such as alpha0 = beta0 = 60 deg, both rates at 3600 deg/s or 60 m/s do not
+        # round-trip inside the full-state ranges of an order: issue 9.4, the order path.)
+        try:
+            release = Release(ball_params={key: edge(*BALL_LIMITS[key])},
+                              model=("paper", "full")[(k // 2) % 2], **kwargs)
+            texts.append(FlightOrder.from_release(f"edge-{k}", release).to_json())
+        except ValueError:
+            continue
+    for text in texts:
+        pub.publish(String(data=text))
+        time.sleep(0.02)
+    # The zero air speed of a ball flying with the wind divides by zero in the kernel: the
+    # guard ends that flight with an ERROR event and the pacer goes on.
+    windy = Release(model="full", speed=10.0, elevation_deg=0.0, position=(0.0, 0.0, 2.0),
+                    aero={"wind": [10.0, 0.0, 0.0]})
+    order_flight(collector, windy, "zero-air-speed")
+    collector.wait_for(lambda: any(level_of(s) == "ERROR" and "zero-air-speed" in s.message
+                                   for s in _statuses(collector)), 10.0, "the ERROR event")
+    collector.wait_for(lambda: any(level_of(s) == "ERROR" and s.name.endswith("simulator")
+                                   for s in _statuses(collector)), 5.0, "the periodic ERROR status")
+    periodic = [s for s in _statuses(collector) if s.name.endswith("simulator")]
+    assert "flying: t" not in periodic[-1].message and "ended" in periodic[-1].message
+    order_flight(collector, Release(ball="rugby"), "after-the-error")
+    collector.wait_for(lambda: landed_event(collector), 10.0, "a landing after the error")
+    for topic in list(STATE_TYPES) + [qos.MARKERS, qos.DIAGNOSTICS]:
+        assert all(_finite_msg(m) for m in collector.get(topic)), topic
+    assert collector.get(qos.POSE) and node.proc.poll() is None
+    flown = {kv.value for s in _statuses(collector, "event") for kv in s.values
+             if kv.key == "flight_id" and kv.value.startswith("edge-")}
+    print(f"{len(flown)} edge orders flown of {len(texts) - 11} built")
+    assert len(flown) >= 5
+    assert "flight 'zero-air-speed' ended: internal error while flying (ZeroDivisionError" in node.log()
+
+
+def test_services_answer_at_the_worst_accepted_combination(start_node, collector):
+    # Highest rate, markers and trail, with real_time_factor / integration_step at its bound.
+    node = start_node("simulator", "--ros-args", "-p", "publish_rate:=2000.0", "-p", "marker_rate:=200.0",
+                      "-p", "trail_length:=100000", "-p", "real_time_factor:=5.0",
+                      "-p", "integration_step:=0.000025")
+    collector.subscribe(PoseStamped, qos.POSE, qos.STATE, raw=True)
+    collector.subscribe(MarkerArray, qos.MARKERS, qos.MARKERS_QOS)
+    order_flight(collector, Release(speed=60.0, elevation_deg=80.0, position=(0.0, 0.0, 1000.0)), "heavy")
+    latencies = []
+    for k in range(6):
+        t0 = time.monotonic()
+        assert call(collector, SetBool, qos.PAUSE_SERVICE, SetBool.Request(data=k % 2 == 0)).success
+        latencies.append(time.monotonic() - t0)
+        time.sleep(0.2)
+    print("pause/resume latencies [s]:", [round(x, 4) for x in latencies])
+    assert max(latencies) < 1.0, latencies
+    # One step more per wall second than the bound is refused, naming the reason.
+    from rcl_interfaces.srv import SetParameters
+    from rclpy.parameter import Parameter
+    bad = call(collector, SetParameters, "/football_simulator/set_parameters", SetParameters.Request(
+        parameters=[Parameter("real_time_factor", value=5.01).to_parameter_msg()]))
+    assert not bad.results[0].successful and "RK4 steps per second" in bad.results[0].reason
+    from rclpy.serialization import deserialize_message
+    poses = [deserialize_message(m, PoseStamped) for m in collector.get(qos.POSE)]
+    stamps = np.array([stamp_ns(p) for p in poses])
+    assert len(stamps) > 100
+    assert np.all((stamps - stamps[0]) % 500_000 == 0)  # every tick keeps its 0.5 ms grid stamp
+    markers = collector.get(qos.MARKERS)
+    assert markers and max(len(m.markers[3].points) for m in markers) <= 1000
+    assert node.proc.poll() is None
+
+
+def test_events_while_paused_are_published_and_bounded(start_node, collector):
+    from std_msgs.msg import String
+
+    from football_ros.requests import FlightOrder
+
+    start_node("simulator", "--ros-args", "-p", "diagnostics_rate:=0.1")
+    collector.subscribe(DiagnosticArray, qos.DIAGNOSTICS, qos.DIAGNOSTICS_QOS)
+    order_flight(collector, Release(), "paused-0")
+    assert call(collector, SetBool, qos.PAUSE_SERVICE, SetBool.Request(data=True)).success
+    pub = collector.publisher(String, qos.FLIGHT_ORDER, qos.ORDER)
+    for k in range(300):
+        pub.publish(String(data=FlightOrder.from_release(f"paused-{k + 1}", Release()).to_json()))
+    collector.wait_for(lambda: any(kv.value == "paused-300" for s in _statuses(collector)
+                                   for kv in s.values), 10.0, "the last release event while paused")
+    assert max(len(arr.status) for arr in collector.get(qos.DIAGNOSTICS)) <= 32 + 2
+
+
+def test_namespaced_simulator_topics_and_unique_diagnostics(start_node, collector):
+    from std_msgs.msg import String
+
+    from football_ros.requests import FlightOrder
+
+    start_node("simulator", "--ros-args", "-r", "__ns:=/team1", "-p", "diagnostics_rate:=5.0")
+    collector.subscribe(PoseStamped, "/team1/football/pose", qos.STATE)
+    collector.subscribe(DiagnosticArray, qos.DIAGNOSTICS, qos.DIAGNOSTICS_QOS)
+    collector.wait_for(lambda: _statuses(collector), 10.0, "diagnostics")
+    status = _statuses(collector)[-1]
+    assert status.name == "football_ros: /team1/football_simulator"
+    assert status.hardware_id == "football_ros/team1/football_simulator"
+    pub = collector.publisher(String, "/team1/football/flight/order", qos.ORDER)
+    collector.wait_for_subscribers(pub)
+    text = FlightOrder.from_release("ns-1", Release()).to_json()
+    for _ in range(10):
+        pub.publish(String(data=text))
+        try:
+            collector.wait_for(lambda: len(collector.get("/team1/football/pose")) > 5, 2.0, "poses")
+            break
+        except AssertionError:
+            continue
+    assert collector.get("/team1/football/pose")[0].header.frame_id == "field"
+
+
+def test_two_simulators_on_one_domain_warn(start_node, collector):
+    from football_ros.nodes.messages import level_of
+
+    first = start_node("simulator", "--ros-args", "-p", "diagnostics_rate:=5.0")
+    start_node("simulator", "--ros-args", "-p", "diagnostics_rate:=5.0", "-r", "__node:=second_sim")
+    collector.subscribe(DiagnosticArray, qos.DIAGNOSTICS, qos.DIAGNOSTICS_QOS)
+
+    def warned():
+        return any(level_of(s) == "WARN" and "/second_sim (/football/pose)" in s.message
+                   and s.name == "football_ros: /football_simulator" for s in _statuses(collector))
+    collector.wait_for(warned, 10.0, "a WARN naming the other simulator")
+    assert "/second_sim (/football/pose)" in first.log()
+
+
+def test_publish_clock_stamps_equal_clock_and_odom_rests_after_landing(start_node, collector):
+    start_node("simulator", "--ros-args", "-p", "publish_rate:=100.0", "-p", "publish_clock:=true",
+               "-p", "real_time_factor:=2.0", "-p", "hold_rate:=10.0")
+    collector.subscribe(Odometry, qos.ODOM, qos.STATE)
+    collector.subscribe(Clock, qos.CLOCK, qos.CLOCK_QOS)
+    order_flight(collector, Release(), "clock-1")
+    collector.wait_for(lambda: landed_event(collector), 10.0, "the landing")
+    n_flight = len(collector.get(qos.ODOM))
+    time.sleep(0.6)
+    odoms = collector.get(qos.ODOM)
+    clocks = {c.clock.sec * 1_000_000_000 + c.clock.nanosec for c in collector.get(qos.CLOCK)}
+    stamps = [stamp_ns(o) for o in odoms]
+    matched = sum(s in clocks for s in stamps)
+    assert matched >= 0.95 * len(stamps), (matched, len(stamps))  # /clock is best effort
+    assert all(s % 20_000_000 == 0 for s in stamps)  # 2 x 10 ms of simulated time per tick
+    landing = odoms[n_flight - 1]
+    held = odoms[n_flight:]
+    assert len(held) >= 3
+    assert landing.twist.twist.linear.x > 20.0  # the landing tick: the impact velocity
+    for msg in held:
+        t = msg.twist.twist
+        assert (t.linear.x, t.linear.y, t.linear.z, t.angular.x, t.angular.y, t.angular.z) == (0.0,) * 6
+        assert msg.pose.pose.position.z == 0.0
+        assert msg.pose.pose.position.x == landing.pose.pose.position.x
+    assert odoms[n_flight // 2].twist.twist.angular.x == pytest.approx(600 * 2 * math.pi / 60)
+
+
+def test_trail_decimation_keeps_the_newest_and_stable_points():
+    from football_ros.nodes.messages import decimated
+
+    points = list(range(10_000))
+    kept = decimated(points, 0, 1000)
+    assert len(kept) <= 1000 and kept[-1] == 9_999 and kept[0] == 0
+    later = decimated(points[3:] + [10_000, 10_001, 10_002], 3, 1000)
+    assert set(kept[:-1]) - {0, 1, 2} <= set(later)  # the same points stay in the strip
+    assert decimated(points[:50], 0, 1000) == points[:50]
+
+
+def test_use_sim_time_takes_stamps_from_an_external_clock(start_node, collector):
+    import threading
+
+    start_node("simulator", "--ros-args", "-p", "use_sim_time:=true", "-p", "publish_rate:=100.0")
+    collector.subscribe(PoseStamped, qos.POSE, qos.STATE)
+    clock_pub = collector.publisher(Clock, qos.CLOCK, qos.CLOCK_QOS)
+    stop = threading.Event()
+    external_ns = [5_000_000_000_000]  # 5000 s, advancing 1 ms per 10 ms of wall time
+
+    def run_clock():
+        while not stop.is_set():
+            external_ns[0] += 1_000_000
+            sec, nsec = divmod(external_ns[0], 1_000_000_000)
+            clock_pub.publish(Clock(clock=mb_time(sec, nsec)))
+            time.sleep(0.01)
+    thread = threading.Thread(target=run_clock, daemon=True)
+    thread.start()
+    try:
+        order_flight(collector, Release(), "sim-time-1")
+        collector.wait_for(lambda: len(collector.get(qos.POSE)) > 30, 10.0, "poses")
+    finally:
+        stop.set()
+        thread.join()
+    stamps = np.array([stamp_ns(p) for p in collector.get(qos.POSE)[5:]])
+    # Stamps are the external clock (about 5000 s), not the wall clock, and never go back.
+    assert np.all((stamps >= 5_000_000_000_000) & (stamps <= external_ns[0]))
+    assert np.all(np.diff(stamps) >= 0)
+
+
+def mb_time(sec, nanosec):
+    from builtin_interfaces.msg import Time
+    return Time(sec=sec, nanosec=nanosec)
+
+
+def test_guard_reasons_and_parameter_combinations():
+    import dataclasses
+
+    from football_ros.nodes import simulator as sim
+    from football_ros.requests import FlightOrder
+
+    release = Release()
+    order = FlightOrder.from_release("guard", release)
+    flight = order.flight(0.001)
+    run = sim._FlightRun(order, flight)
+    good = flight.sample(1.0)
+    assert sim.SimulatorNode._runaway(None, run, good) is None
+    nan = dataclasses.replace(good, axis=np.array([np.nan, 0.0, 0.0]))
+    assert "non-finite" in sim.SimulatorNode._runaway(None, run, nan)
+    # 27.4 m/s from 0 m: the release allows 27.4 m/s; 10 x that is a runaway.
+    fast = dataclasses.replace(good, velocity=np.array([275.0, 0.0, 0.0]))
+    assert "runaway: speed 275" in sim.SimulatorNode._runaway(None, run, fast)
+    spinning = dataclasses.replace(good, angular_velocity=np.array([1e5, 0.0, 0.0]))
+    assert "angular rate" in sim.SimulatorNode._runaway(None, run, spinning)
+    far = dataclasses.replace(good, position=np.array([2e5, 0.0, 1.0]))
+    assert "from the release point" in sim.SimulatorNode._runaway(None, run, far)
+    late = dataclasses.replace(good, t=sim.MAX_FLIGHT_S + 1.0)
+    assert "no landing" in sim.SimulatorNode._runaway(None, run, late)
+    values = {spec.name: spec.default for spec in sim.PARAMETERS}
+    assert sim.check_parameters(values) is None
+    assert "RK4 steps per second" in sim.check_parameters(dict(values, real_time_factor=100.0,
+                                                                integration_step=1e-5))
+    assert sim.check_parameters(dict(values, real_time_factor=100.0, integration_step=5e-4)) is None
+    # A flight in the air with a smaller step than the next one counts too.
+    assert sim.check_parameters(dict(values, real_time_factor=10.0), flight_step=1e-5)
+    assert "frame_id" in sim.check_parameters(dict(values, frame_id=""))

@@ -1,12 +1,15 @@
 """Message building: the one place where physics samples become ROS messages.
 
 Frames: header.frame_id is the world frame (``field`` by default); Odometry.child_frame_id is
-the body frame (``football``). All vectors are SI (m, m/s, rad, rad/s).
+the body frame (``football``). The aero angles are not a vector: their header.frame_id is empty
+(``ANGLES_FRAME``), which tf2 refuses to transform. All values are SI (m, m/s, rad, rad/s).
 """
 
 from __future__ import annotations
 
 from typing import Iterable, Mapping, Sequence
+
+import math
 
 import numpy as np
 from builtin_interfaces.msg import Time
@@ -23,6 +26,12 @@ try:  # the real tf2_msgs on a Jazzy install; pip_ros/tf2_msgs built by setup.sh
     from tf2_msgs.msg import TFMessage
 except ImportError:  # pragma: no cover - no TF without tf2_msgs
     TFMessage = None
+
+ANGLES_FRAME = ""
+"""header.frame_id of football/aero_angles(_linear): angles are no vector of any frame, and
+tf2 refuses an empty frame id ("frame_ids cannot be empty") instead of rotating them."""
+MAX_TRAIL_POINTS = 1000
+"""Most points one trail marker carries; a longer trail is decimated (msg_docs/markers.md)."""
 
 LEVELS = {"OK": DiagnosticStatus.OK, "WARN": DiagnosticStatus.WARN, "ERROR": DiagnosticStatus.ERROR,
           "STALE": DiagnosticStatus.STALE}
@@ -122,10 +131,10 @@ def _color(r: float, g: float, b: float, a: float = 1.0) -> ColorRGBA:
     return ColorRGBA(r=r, g=g, b=b, a=a)
 
 
-def markers(sample: BallSample, trail: Iterable[Sequence[float]], stamp: Time, frame_id: str,
+def markers(sample: BallSample, trail: Iterable[Point], stamp: Time, frame_id: str,
             ball_length: float, ball_diameter: float, namespace: str = "football") -> MarkerArray:
     """RViz markers: ball (ellipsoid), spin-axis arrow (red), velocity arrow (green, 0.1 s of
-    flight long), trail (line strip of past positions)."""
+    flight long), trail (line strip of the given past positions, geometry_msgs/Point)."""
     hdr = header(stamp, frame_id)
     ball = Marker(header=hdr, ns=namespace, id=0, type=Marker.SPHERE, action=Marker.ADD)
     ball.pose.position = _point(sample.position)
@@ -141,12 +150,86 @@ def markers(sample: BallSample, trail: Iterable[Sequence[float]], stamp: Time, f
     velocity.scale = _vector([0.02, 0.04, 0.06])
     velocity.color = _color(0.1, 0.8, 0.1)
     path = Marker(header=hdr, ns=namespace, id=3, type=Marker.LINE_STRIP, action=Marker.ADD)
-    path.points = [_point(p) for p in trail]
+    path.points = list(trail)
     path.scale = _vector([0.03, 0.0, 0.0])
     path.color = _color(0.2, 0.4, 1.0, 0.8)
     for marker in (axis, velocity, path):  # points are in the header frame: identity pose
         marker.pose.orientation.w = 1.0
     return MarkerArray(markers=[ball, axis, velocity, path])
+
+
+def point(v: Sequence[float]) -> Point:
+    """geometry_msgs/Point from 3 numbers [m]."""
+    return _point(v)
+
+
+def decimated(points: Sequence[Point], first_index: int, limit: int = MAX_TRAIL_POINTS) -> list:
+    """At most ``limit`` of ``points`` (oldest first), the newest always included.
+
+    ``first_index`` is the running index of ``points[0]``; points are kept by their running
+    index (every k-th), so a growing trail keeps the same points from one message to the next.
+    """
+    n = len(points)
+    if n <= limit:
+        return list(points)
+    stride = -(-n // (limit - 1))  # ceil: at most limit - 1 regular points + the newest
+    start = (-first_index) % stride
+    kept = [points[i] for i in range(start, n - 1, stride)]
+    kept.append(points[n - 1])
+    return kept
+
+
+class StateMessages:
+    """The state messages of a tick, built once and refilled in place (fewer allocations per
+    tick in the pacing thread; rclpy copies a message when it is published)."""
+
+    def __init__(self) -> None:
+        self.pose = PoseStamped()
+        self.odom = Odometry()
+        self.spin_axis = Vector3Stamped()
+        self.aero_angles = Vector3Stamped()
+        self.aero_angles_linear = Vector3Stamped()
+        self.aero_angles_quasi_steady = Vector3Stamped()
+
+    def fill(self, sample: BallSample, stamp: Time, frame_id: str, child_frame_id: str,
+             at_rest: bool = False) -> None:
+        """Set every field from ``sample`` (stamp shared by the five messages).
+
+        pose and odom pose in ``frame_id``; odom twist in the body frame, zero when ``at_rest``
+        (the landed state held after the landing: the ball lies on the ground); spin axis in
+        ``frame_id``; aero angles (alpha, beta, delta) [rad] with the empty frame id, the
+        linear theory's (frozen and quasi-steady) delta = acos(cos alpha cos beta).
+        """
+        px, py, pz = sample.position.tolist()
+        qx, qy, qz, qw = q = sample.orientation.tolist()
+        for msg, pose in ((self.pose, self.pose.pose), (self.odom, self.odom.pose.pose)):
+            msg.header.stamp = stamp
+            msg.header.frame_id = frame_id
+            pose.position.x, pose.position.y, pose.position.z = px, py, pz
+            o = pose.orientation
+            o.x, o.y, o.z, o.w = qx, qy, qz, qw
+        self.odom.child_frame_id = child_frame_id
+        twist = self.odom.twist.twist
+        if at_rest:
+            vx = vy = vz = wx = wy = wz = 0.0
+        else:
+            vx, vy, vz = to_body_frame(q, sample.velocity.tolist())
+            wx, wy, wz = to_body_frame(q, sample.angular_velocity.tolist())
+        twist.linear.x, twist.linear.y, twist.linear.z = vx, vy, vz
+        twist.angular.x, twist.angular.y, twist.angular.z = wx, wy, wz
+        _fill_vector(self.spin_axis, stamp, frame_id, sample.axis.tolist())
+        _fill_vector(self.aero_angles, stamp, ANGLES_FRAME, sample.aero_angles.tolist())
+        for msg, angles in ((self.aero_angles_linear, sample.aero_angles_linear),
+                            (self.aero_angles_quasi_steady, sample.aero_angles_quasi_steady)):
+            alpha, beta = angles.tolist()
+            delta = math.acos(max(-1.0, min(1.0, math.cos(alpha) * math.cos(beta))))
+            _fill_vector(msg, stamp, ANGLES_FRAME, (alpha, beta, delta))
+
+
+def _fill_vector(msg: Vector3Stamped, stamp: Time, frame_id: str, v: Sequence[float]) -> None:
+    msg.header.stamp = stamp
+    msg.header.frame_id = frame_id
+    msg.vector.x, msg.vector.y, msg.vector.z = v
 
 
 def vector_of(msg_vector) -> np.ndarray:

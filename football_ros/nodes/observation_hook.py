@@ -1,7 +1,7 @@
 """The simulator's simulated camera: parameters ``observation_*`` and ``football/observation``.
 
 A thin adapter around :class:`football_ros.estimation.Camera` (the sensor model lives there).
-The simulator calls :meth:`ObservationHook.tick` once per tick, with its lock held, before it
+The simulator's pacing thread calls :meth:`ObservationHook.tick` once per tick, before it
 samples the flight. Captures are at k / observation_rate of flight time after the release;
 each is published observation_latency [s] of flight time later (at the first tick at or after
 that), as geometry_msgs/msg/PointStamped in the world frame with header.stamp = the capture
@@ -55,16 +55,16 @@ class ObservationHook:
                               outlier_size=float(n.observation_outlier_size),
                               seed=int(n.observation_seed) + self._flights)
 
-    def tick(self, run, stamp) -> None:
+    def tick(self, run, stamp, now: float) -> None:
         """Capture and publish what is due at this tick (``run``: the simulator's flight run,
-        ``stamp``: the tick's builtin_interfaces/Time). Call before the tick samples the
-        flight."""
+        ``stamp``: the tick's builtin_interfaces/Time, ``now``: the flight time [s] the tick
+        samples). Call before the tick samples the flight."""
         node = self._node
         stamp_ns = stamp.sec * 1_000_000_000 + stamp.nanosec
         if node.observation_rate <= 0.0 or run is None:
             self._run = None
             return
-        flight, now = run.flight, run.time
+        flight = run.flight
         new_flight = run is not self._run
         if new_flight:
             self._run = run

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
@@ -30,3 +32,20 @@ def declare(node: Node, name: str, default, description: str,
             descriptor.floating_point_range = [FloatingPointRange(from_value=float(lo), to_value=float(hi),
                                                                   step=0.0)]
     return node.declare_parameter(name, default, descriptor).value
+
+
+@dataclass(frozen=True)
+class ParamSpec:
+    """One parameter of a node: the single source for its declaration and its ``--help`` line."""
+
+    name: str
+    default: object
+    description: str
+    limits: tuple[float, float] | None = None
+
+    def declare(self, node: Node):
+        return declare(node, self.name, self.default, self.description, self.limits)
+
+    def help_line(self) -> str:
+        limits = f" [{self.limits[0]:g} .. {self.limits[1]:g}]" if self.limits else ""
+        return f"  {self.name} (default {self.default!r}{limits}): {self.description}"

@@ -73,7 +73,8 @@ EXIT_WRITE_ERROR = 1
 TOPICS = {
     **{topic: (cls, qos.STATE) for topic, cls in (
         (qos.POSE, PoseStamped), (qos.ODOM, Odometry), (qos.SPIN_AXIS, Vector3Stamped),
-        (qos.AERO_ANGLES, Vector3Stamped), (qos.AERO_ANGLES_LINEAR, Vector3Stamped))},
+        (qos.AERO_ANGLES, Vector3Stamped), (qos.AERO_ANGLES_LINEAR, Vector3Stamped),
+        (qos.AERO_ANGLES_QUASI_STEADY, Vector3Stamped))},
     qos.MARKERS: (MarkerArray, qos.MARKERS_QOS),
     qos.DIAGNOSTICS: (DiagnosticArray, qos.DIAGNOSTICS_QOS),
     qos.CLOCK: (Clock, qos.CLOCK_QOS),

@@ -1,47 +1,172 @@
 """Start-up and clean shutdown shared by every node (the Jazzy demo_nodes_py pattern).
 
-Ctrl-C (SIGINT) and SIGTERM end the spin without a traceback; the node's ``close()`` (if any)
-runs before the node is destroyed, so threads stop and files are flushed.
+Signals: the first SIGINT or SIGTERM at any moment (while the program imports, see
+football_ros/_early_signals.py; while the node is being built or warms up; while spinning) ends
+the node without a traceback and with exit code 0; from then on SIGINT and SIGTERM are ignored
+(``ros2 launch`` without a terminal sends a second SIGINT while the node cleans up), so the
+clean-up and the interpreter's shutdown finish; SIGKILL still ends a stuck process. The node's
+``close()`` (if any) runs before the node is destroyed, so threads stop and files are flushed.
+A callback that raises is logged with its traceback and the node goes on. A start-up error
+(a parameter out of range) is one line on stderr and exit code 2.
+
+``-h``/``--help`` before ``--ros-args`` prints the node's description and parameters (name,
+default, range, description, from the node class's ``PARAMETERS`` table when it has one) and
+exits 0 without starting anything.
 """
 
 from __future__ import annotations
 
+import signal
 import sys
+import traceback
 from typing import Callable, Sequence
 
 import rclpy
 from rclpy._rclpy_pybind11 import RCLError
 from rclpy.exceptions import InvalidParameterTypeException, ParameterException
-from rclpy.executors import ExternalShutdownException
+import rclpy.signals
+from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
+
+from .._early_signals import ignore_further_signals
+
+EXIT_USAGE = 2
+SPIN_WAIT_S = 0.1
+"""Longest wait of the executor: the main thread runs Python signal handlers between waits."""
+
+
+class _Shutdown(BaseException):
+    """Raised by the signal handler in the main thread to end start-up or spinning."""
+
+
+class _Signals:
+    """SIGINT/SIGTERM handling: the first signal raises :class:`_Shutdown` (unless the node is
+    already cleaning up); later signals are only counted."""
+
+    def __init__(self) -> None:
+        self.received = 0
+        self.cleaning_up = False
+        self._previous = {}
+
+    def install(self) -> None:
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            self._previous[sig] = signal.signal(sig, self._handle)
+
+    def restore(self) -> None:
+        for sig, handler in self._previous.items():
+            signal.signal(sig, handler)
+
+    def _handle(self, signum, _frame) -> None:
+        self.received += 1
+        ignore_further_signals()  # a second signal must not interrupt what follows
+        if not self.cleaning_up:
+            self.cleaning_up = True
+            raise _Shutdown(signum)
+
+    def clean_up_begins(self) -> None:
+        """From here on signals are ignored (also during the interpreter's own shutdown)."""
+        self.cleaning_up = True
+        ignore_further_signals()
+
+
+def print_help(factory: Callable[[], Node], program: str, out=sys.stdout) -> None:
+    """Usage, the node module's description and its parameters."""
+    module = sys.modules.get(getattr(factory, "__module__", ""), None)
+    doc = (getattr(module, "__doc__", None) or getattr(factory, "__doc__", None) or "").strip()
+    print(f"usage: {program} [-h] [--ros-args -p NAME:=VALUE ... | --params-file FILE]\n",
+          file=out)
+    if doc:
+        print(doc + "\n", file=out)
+    specs = getattr(factory, "PARAMETERS", None)
+    if specs:
+        print("parameters (name, default, range: description):", file=out)
+        for spec in specs:
+            print(spec.help_line(), file=out)
+    else:
+        print("parameters: see config/football.yaml", file=out)
+    print("\ntopics, frames, units and QoS: msg_docs/ (installed in share/football_ros)", file=out)
+
+
+def wants_help(args: Sequence[str]) -> bool:
+    """True when ``-h``/``--help`` comes before any ``--ros-args``."""
+    own = list(args)
+    if "--ros-args" in own:
+        own = own[:own.index("--ros-args")]
+    return bool({"-h", "--help"} & set(own))
 
 
 def run_node(factory: Callable[[], Node], argv: Sequence[str] | None, program: str) -> int:
-    """Init rclpy with ``argv`` (ROS arguments included), spin the node, shut down cleanly."""
-    args = [program, *(sys.argv[1:] if argv is None else argv)]
-    rclpy.init(args=args)
-    node = None
+    """Init rclpy with ``argv`` (ROS arguments included), spin the node, shut down cleanly.
+
+    Returns the exit code: 0 after a signal or a normal end, 2 for a start-up error.
+    """
+    signals = _Signals()
+    signals.install()  # before anything slow: a signal from here on is a clean exit
+    made: list[Node] = []
     code = 0
-    try:
+    try:  # _Shutdown is raised at most once (the handler sets cleaning_up), anywhere in here
         try:
-            node = factory()
-        except (ParameterException, InvalidParameterTypeException, ValueError) as exc:
-            # A start-up error (a parameter override out of range, ...): one clear line.
-            print(f"{program}: error: {exc}", file=sys.stderr)
-            return 2
-        rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
+            code = _start_and_spin(factory, argv, program, made, signals)
+        except (KeyboardInterrupt, ExternalShutdownException):
+            pass
+        except RCLError:
+            # A signal can shut the context down between two executor iterations; rclpy then
+            # fails to build the next wait set instead of raising ExternalShutdownException.
+            if rclpy.ok() and not signals.received:
+                raise
+    except _Shutdown:
         pass
-    except RCLError:
-        # A signal can shut the context down between two executor iterations; rclpy then
-        # fails to build the next wait set instead of raising ExternalShutdownException.
-        if rclpy.ok():
-            raise
-    finally:
-        if node is not None:
-            close = getattr(node, "close", None)
-            if close is not None:
-                close()
-            node.destroy_node()
-        rclpy.try_shutdown()
+    try:
+        signals.clean_up_begins()
+        _clean_up(made[0] if made else None)
+    except _Shutdown:  # the one signal landed just before the flag was set
+        _clean_up(made[0] if made else None)
     return code
+
+
+def _start_and_spin(factory, argv, program: str, made: list, signals: _Signals) -> int:
+    args = [program, *(sys.argv[1:] if argv is None else argv)]
+    if wants_help(args[1:]):
+        try:
+            print_help(factory, program)
+            sys.stdout.flush()
+        except BrokenPipeError:  # `simulator --help | head`: the reader left, that is fine
+            import os
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
+    try:
+        # rclpy's own signal handlers are left out: they shut the context down under the node
+        # and restore the default action, so that a second signal killed the process.
+        rclpy.init(args=args, signal_handler_options=rclpy.signals.SignalHandlerOptions.NO)
+        made.append(factory())
+    except (ParameterException, InvalidParameterTypeException, ValueError) as exc:
+        # A start-up error (a parameter override out of range, ...): one clear line.
+        signals.clean_up_begins()
+        print(f"{program}: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    executor = SingleThreadedExecutor()
+    executor.add_node(made[0])
+    node = made[0]
+    while rclpy.ok():  # short waits: our Python handler runs within SPIN_WAIT_S of a signal
+        try:
+            executor.spin_once(timeout_sec=SPIN_WAIT_S)
+        except (ExternalShutdownException, RCLError):
+            raise
+        except Exception:  # a callback's bug must not end the node: report it and go on
+            if not rclpy.ok():
+                break
+            node.get_logger().error(
+                f"a callback failed (the node goes on):\n{traceback.format_exc()}")
+    return 0
+
+
+def _clean_up(node: Node | None) -> None:
+    if node is not None:
+        close = getattr(node, "close", None)
+        if close is not None:
+            close()
+        try:
+            node.destroy_node()
+        except RCLError:
+            pass  # the context is already gone
+    rclpy.try_shutdown()

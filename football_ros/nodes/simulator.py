@@ -5,6 +5,19 @@ advances the flight by real_time_factor / publish_rate of simulated time (the in
 its own fixed step), so there is no drift; a tick that comes late is still published, with its
 scheduled stamp, and counted as an overrun on /diagnostics. All messages of one tick carry the
 same stamp. After the landing the landed state is republished at ``hold_rate`` (0 = never).
+
+Threads: the pacing thread is the only one that integrates and publishes state, markers, /clock
+and /diagnostics; the executor thread serves orders, services, parameters and a 1 Hz check for
+other publishers of the state topics. The node's lock is held only to read or swap the flight
+bookkeeping, never around the integration, so services answer while a tick integrates.
+
+Bounded work: real_time_factor / integration_step (RK4 steps per wall second) is at most
+``MAX_STEPS_PER_SECOND``, a trail marker carries at most ``messages.MAX_TRAIL_POINTS`` points
+and at most ``MAX_EVENTS`` events wait for /diagnostics.
+
+Guard: a sample with a non-finite value, a speed or distance far past what the release allows,
+an exception while integrating, or no landing within ``MAX_FLIGHT_S`` ends the flight with an
+ERROR event; nothing non-finite is published.
 Topics, frames, units and QoS: msg_docs/.
 """
 
@@ -31,21 +44,87 @@ from std_srvs.srv import SetBool, Trigger
 from visualization_msgs.msg import MarkerArray
 
 from ..physics import Release
+from ..physics import limits
 from ..physics.release import RPM
 from ..physics.flight import BallSample, Flight
 from ..physics.frames import BODY_FRAME, FIELD_FRAME
+from ..physics.aero import max_valid_delta, out_of_validity
 from ..requests import FlightOrder, capped, load_strict
 from . import messages as mb
 from . import qos
 from .observation_hook import ObservationHook
-from .params import declare
+from .params import ParamSpec, declare
 from .runner import run_node
 
 NODE_NAME = "football_simulator"
-DIAGNOSTIC_NAME = "football_ros: simulator"
 MODEL_CHOICES = ("release", "paper", "full")
 MAX_CATCH_UP_S = 1.0
 """A stall longer than this is not replayed: its ticks are skipped (and counted)."""
+MAX_STEPS_PER_SECOND = 2.0e5
+"""Largest real_time_factor / integration_step [RK4 steps per wall second] (about 0.2 s of CPU
+per wall second at 0.85 us a step); larger combinations are refused (parameter callback)."""
+MAX_EVENTS = 32
+"""Events (released, landed, ERROR, ...) waiting for /diagnostics; older ones are dropped."""
+MAX_FLIGHT_S = 600.0
+"""A flight still in the air after this many simulated seconds is ended (ERROR)."""
+MAX_DISTANCE_M = 1.0e5
+"""A ball farther than this from its release point [m] is a runaway (ERROR)."""
+RUNAWAY_FACTOR = 10.0
+"""A speed or angular rate this many times the bound the release allows is a runaway."""
+RIVAL_CHECK_PERIOD_S = 1.0
+
+PARAMETERS = (
+    ParamSpec("publish_rate", 100.0, "State messages per second of wall time [Hz]", (1.0, 2000.0)),
+    ParamSpec("integration_step", 0.001,
+              "Fixed RK4 step of the integrator [s] (next flight); real_time_factor / "
+              f"integration_step <= {MAX_STEPS_PER_SECOND:g}", (1e-5, 0.01)),
+    ParamSpec("real_time_factor", 1.0, "Simulated seconds per wall second; real_time_factor / "
+              f"integration_step <= {MAX_STEPS_PER_SECOND:g}", (0.01, 100.0)),
+    ParamSpec("publish_clock", False,
+              "Publish the global /clock (simulated time) and stamp every message with it"),
+    ParamSpec("frame_id", FIELD_FRAME, "World frame (REP-103: x downfield, z up)"),
+    ParamSpec("child_frame_id", BODY_FRAME,
+              "Body frame of the ball (x = spin axis toward the leading nose)"),
+    ParamSpec("marker_rate", 30.0, "RViz markers per second [Hz], 0 = off", (0.0, 200.0)),
+    ParamSpec("trail_length", 500, "Positions kept for the trail marker (one per marker); a "
+              f"marker carries at most {mb.MAX_TRAIL_POINTS} of them, evenly spaced", (0, 100000)),
+    ParamSpec("hold_rate", 1.0, "Rate at which the landed state is republished [Hz], 0 = never",
+              (0.0, 100.0)),
+    ParamSpec("diagnostics_rate", 1.0, "Periodic /diagnostics [Hz]", (0.1, 100.0)),
+    ParamSpec("model", "release",
+              "Equations of motion: 'release' (as each release asks), 'paper' or 'full'"),
+)
+
+
+def check_parameters(values: dict, flight_step: float | None = None) -> str | None:
+    """The reason a combination of parameter values is refused, or None (ranges are enforced by
+    the descriptors). ``flight_step``: the step [s] of the flight in the air, if any."""
+    for name in ("frame_id", "child_frame_id"):
+        if not values[name]:
+            return f"{name} must not be empty"
+    if values["model"] not in MODEL_CHOICES:
+        return (f"model must be one of {', '.join(MODEL_CHOICES)}, "
+                f"got '{str(values['model'])[:40]}'")
+    step = min(values["integration_step"], flight_step or math.inf)
+    rate = values["real_time_factor"] / step
+    if rate > MAX_STEPS_PER_SECOND:
+        return (f"real_time_factor {values['real_time_factor']:g} with a {step:g} s step needs "
+                f"{rate:.3g} RK4 steps per second, more than the {MAX_STEPS_PER_SECOND:g} a "
+                "real-time tick allows: lower real_time_factor or raise integration_step")
+    return None
+
+
+class _Events(collections.deque):
+    """Bounded event queue (level, event, message); counts what it had to drop."""
+
+    def __init__(self) -> None:
+        super().__init__(maxlen=MAX_EVENTS)
+        self.dropped = 0
+
+    def append(self, item) -> None:
+        if len(self) == self.maxlen:
+            self.dropped += 1
+        super().append(item)
 
 
 @dataclass
@@ -61,6 +140,12 @@ class _FlightRun:
     last_hold_ns: int = 0
     last_marker_ns: int | None = None
     trail: collections.deque = field(default_factory=lambda: collections.deque(maxlen=500))
+    trail_count: int = 0            # positions ever appended to the trail
+    ended: str | None = None        # why the guard ended the flight (ERROR), None while fine
+    linear_diverged: bool = False   # the linear prediction overflowed (unstable ball)
+    bounds: tuple[float, float] | None = None  # runaway speed [m/s] and rate [rad/s]
+    valid_delta: float | None = None  # largest total angle inside the data ranges [rad]
+    validity_warned: bool = False     # the flight left a data range (warned once)
 
     @property
     def time(self) -> float:
@@ -71,40 +156,26 @@ class SimulatorNode(Node):
     """Publishes pose, odometry, spin axis, alpha/beta (and their linear prediction), markers
     and diagnostics of the ball in flight, paced in real time."""
 
+    PARAMETERS = PARAMETERS
+
     def __init__(self) -> None:
         super().__init__(NODE_NAME)
-        self.publish_rate = declare(self, "publish_rate", 100.0,
-                                    "State messages per second of wall time [Hz]", (1.0, 2000.0))
-        self.integration_step = declare(self, "integration_step", 0.001,
-                                        "Fixed RK4 step of the integrator [s] (next flight)", (1e-5, 0.01))
-        self.real_time_factor = declare(self, "real_time_factor", 1.0,
-                                        "Simulated seconds per wall second", (0.01, 100.0))
-        self.publish_clock = declare(self, "publish_clock", False,
-                                     "Publish /clock (simulated time) and stamp messages with it")
-        self.frame_id = declare(self, "frame_id", FIELD_FRAME, "World frame (REP-103: x downfield, z up)")
-        self.child_frame_id = declare(self, "child_frame_id", BODY_FRAME,
-                                      "Body frame of the ball (x = spin axis toward the leading nose)")
-        self.marker_rate = declare(self, "marker_rate", 30.0, "RViz markers per second [Hz], 0 = off",
-                                   (0.0, 200.0))
-        self.trail_length = declare(self, "trail_length", 500, "Points kept in the trail marker",
-                                    (0, 100000))
-        self.hold_rate = declare(self, "hold_rate", 1.0,
-                                 "Rate at which the landed state is republished [Hz], 0 = never",
-                                 (0.0, 100.0))
-        self.diagnostics_rate = declare(self, "diagnostics_rate", 1.0, "Periodic /diagnostics [Hz]",
-                                        (0.1, 100.0))
-        self.model = declare(self, "model", "release",
-                             "Equations of motion: 'release' (as each release asks), 'paper' or 'full'")
-        # --- TF hook (jazzy): the ball as the frame child_frame_id in frame_id on /tf ---
+        for spec in PARAMETERS:
+            setattr(self, spec.name, spec.declare(self))
+        reason = check_parameters({spec.name: getattr(self, spec.name) for spec in PARAMETERS})
+        if reason:
+            raise ValueError(reason)
+        self._use_sim_time = bool(self.get_parameter("use_sim_time").value)
+        # --- TF hook: the ball as the frame child_frame_id in frame_id on /tf ---
         self.publish_tf = declare(self, "publish_tf", mb.TFMessage is not None,
                                   "Publish the ball on /tf (frame_id -> child_frame_id)")
         self._tf_pub = (None if mb.TFMessage is None
                         else self.create_publisher(mb.TFMessage, qos.TF, qos.TF_QOS))
         self._tf_last = (None, -1)  # (publish_clock, stamp ns) of the last transform sent
-        if self.model not in MODEL_CHOICES:
-            raise ValueError(f"parameter model must be one of {', '.join(MODEL_CHOICES)}, got '{self.model}'")
         self._observation = ObservationHook(self)  # simulated camera: observation_* (tracker)
         self.add_on_set_parameters_callback(self._on_parameters)
+        self.diagnostic_name = f"football_ros: {self.get_fully_qualified_name()}"
+        self.hardware_id = f"football_ros{self.get_fully_qualified_name()}"
 
         self._pubs = {
             qos.POSE: self.create_publisher(PoseStamped, qos.POSE, qos.STATE),
@@ -112,6 +183,8 @@ class SimulatorNode(Node):
             qos.SPIN_AXIS: self.create_publisher(Vector3Stamped, qos.SPIN_AXIS, qos.STATE),
             qos.AERO_ANGLES: self.create_publisher(Vector3Stamped, qos.AERO_ANGLES, qos.STATE),
             qos.AERO_ANGLES_LINEAR: self.create_publisher(Vector3Stamped, qos.AERO_ANGLES_LINEAR, qos.STATE),
+            qos.AERO_ANGLES_QUASI_STEADY: self.create_publisher(Vector3Stamped, qos.AERO_ANGLES_QUASI_STEADY,
+                                                                qos.STATE),
         }
         self._markers_pub = self.create_publisher(MarkerArray, qos.MARKERS, qos.MARKERS_QOS)
         self._diag_pub = self.create_publisher(DiagnosticArray, qos.DIAGNOSTICS, qos.DIAGNOSTICS_QOS)
@@ -120,15 +193,20 @@ class SimulatorNode(Node):
         self.create_subscription(String, qos.FLIGHT_ORDER, self._on_order, qos.ORDER)
         self.create_service(Trigger, qos.RESET_SERVICE, self._on_reset)
         self.create_service(SetBool, qos.PAUSE_SERVICE, self._on_pause)
+        self._state_msgs = mb.StateMessages()
+        self._clock_msg = Clock()
 
         self._lock = threading.Lock()
         self._run: _FlightRun | None = None
         self._last_order: FlightOrder | None = None
         self._paused = False
         self._sim_clock_ns = 0
-        self._events: list[tuple[str, str, str]] = []   # (level, event, message) to report
+        self._events: _Events = _Events()   # (level, event, message) to report
         self.stats = {"ticks": 0, "overruns": 0, "skipped": 0, "max_late_ms": 0.0}
         self._overruns_reported = 0
+        self._rivals: tuple[str, ...] = ()
+        self._last_error_log = 0.0
+        self.create_timer(RIVAL_CHECK_PERIOD_S, self._check_rivals)
         _warm_up()
         gc.freeze()  # start-up objects leave the collector's generations: shorter GC pauses
         sys.setswitchinterval(1e-4)  # the pacer gets the GIL within 0.1 ms (default: 5 ms)
@@ -141,16 +219,20 @@ class SimulatorNode(Node):
 
     # --- parameters, services, orders (executor thread) --------------------------------------
     def _on_parameters(self, params) -> SetParametersResult:
-        """Check every change first (ranges are enforced by the descriptors), then apply all."""
-        for p in params:
-            if p.name in ("frame_id", "child_frame_id") and not p.value:
-                return SetParametersResult(successful=False, reason=f"{p.name} must not be empty")
-            if p.name == "model" and p.value not in MODEL_CHOICES:
-                return SetParametersResult(successful=False,
-                                           reason=f"model must be one of {', '.join(MODEL_CHOICES)}")
+        """Check the whole new combination first (ranges: the descriptors), then apply it."""
+        values = {spec.name: getattr(self, spec.name) for spec in PARAMETERS}
+        values.update({p.name: p.value for p in params if p.name in values})
         with self._lock:
-            for p in params:
-                if p.name != "use_sim_time":
+            run = self._run
+        flying = run is not None and run.ended is None and not run.landed_reported
+        reason = check_parameters(values, run.flight.step if flying else None)
+        if reason:
+            return SetParametersResult(successful=False, reason=reason)
+        with self._lock:
+            for p in params:  # the hooks' parameters (publish_tf, observation_*) included
+                if p.name == "use_sim_time":
+                    self._use_sim_time = bool(p.value)
+                else:
                     setattr(self, p.name, p.value)
             if self._run is not None:
                 self._rebase(self._run)
@@ -160,7 +242,8 @@ class SimulatorNode(Node):
         """Keep the flown time and continue with the current rate and real-time factor."""
         run.time_offset, run.ticks = run.time, 0
         run.tick_dt = self.real_time_factor / self.publish_rate
-        run.trail = collections.deque(run.trail, maxlen=max(self.trail_length, 1))
+        if run.trail.maxlen != max(self.trail_length, 1):
+            run.trail = collections.deque(run.trail, maxlen=max(self.trail_length, 1))
 
     def _on_order(self, msg: String) -> None:
         """Fly a valid order and acknowledge it (OK), or refuse it with the reason (ERROR).
@@ -168,23 +251,23 @@ class SimulatorNode(Node):
         Every order gets exactly one acknowledgement on football/flight/ack, named by the
         order's ``order`` id (else its ``id``): the release node answers its client from it.
         """
-        name = 'unknown'
+        name = "unknown"
         try:
             name = _order_name(msg.data)
             order = FlightOrder.from_json(msg.data)
             flight = order.flight(self.integration_step, self._model_override())
-        except ValueError as exc:
-            reason = capped(str(exc))
+        except (ValueError, ArithmeticError, RecursionError) as exc:
+            reason = capped(str(exc) or type(exc).__name__)
             self.get_logger().error(f"refused flight order '{name}': {reason}")
-            self._acknowledge(name, 'ERROR', reason, {})
+            self._acknowledge(name, "ERROR", reason, {})
             return
         except Exception as exc:  # never let one order take the simulator down
             self.get_logger().error(f"flight order '{name}': internal error\n{traceback.format_exc()}")
-            self._acknowledge(name, 'ERROR', f'internal error ({type(exc).__name__})', {})
+            self._acknowledge(name, "ERROR", f"internal error ({type(exc).__name__})", {})
             return
         self._start(order, flight)
-        self._acknowledge(name, 'OK', f"flying '{order.request_id}'",
-                          {'request_id': order.request_id, 'model': flight.model})
+        self._acknowledge(name, "OK", f"flying '{order.request_id}'",
+                          {"request_id": order.request_id, "model": flight.model})
 
     def _acknowledge(self, name: str, level: str, message: str, values: dict) -> None:
         self._ack_pub.publish(mb.diagnostic_status(name, level, message, values,
@@ -218,8 +301,9 @@ class SimulatorNode(Node):
             return response
         try:
             flight = order.flight(self.integration_step, self._model_override())
-        except ValueError as exc:
-            response.success, response.message = False, f'cannot restart: {capped(str(exc))}'
+        except (ValueError, ArithmeticError) as exc:  # e.g. a step too large since a change
+            response.success = False
+            response.message = f"flight '{order.request_id}' cannot restart: {capped(str(exc))}"
             return response
         self._start(order, flight)
         response.success, response.message = True, f"flight '{order.request_id}' restarted from its release"
@@ -236,17 +320,39 @@ class SimulatorNode(Node):
         self.get_logger().info(f"simulation {response.message}")
         return response
 
+    def _check_rivals(self) -> None:
+        """Warn when another node publishes our state topics (or /clock, with publish_clock).
+
+        Every publisher but one of our own name counts (two simulators may share a name)."""
+        me = self.get_fully_qualified_name()
+        topics = [self.resolve_topic_name(qos.POSE)] + ([qos.CLOCK] if self.publish_clock else [])
+        others = set()
+        for topic in topics:
+            names = [_qualified(i.node_namespace, i.node_name)
+                     for i in self.get_publishers_info_by_topic(topic)]
+            if me in names:
+                names.remove(me)
+            others.update(f"{name} ({topic})" for name in names)
+        rivals = tuple(sorted(others))
+        with self._lock:
+            before, self._rivals = self._rivals, rivals
+        if rivals != before and rivals:
+            self.get_logger().warning("another node publishes the same topics, the streams will "
+                                      f"interleave: {', '.join(rivals)}")
+        elif rivals != before:
+            self.get_logger().info("no other node publishes the state topics any more")
+
     # --- pacing thread -----------------------------------------------------------------------
     def _pace(self) -> None:
         mono0 = time.monotonic_ns()
-        ros0 = self.get_clock().now().nanoseconds
+        wall0 = time.time_ns()
         next_due = mono0
         next_diag = mono0
         while not self._stop.is_set():
             period_ns = int(round(1e9 / self.publish_rate))
             now = time.monotonic_ns()
             if now < next_due:
-                time.sleep((next_due - now) * 1e-9)
+                time.sleep(min(next_due - now, 50_000_000) * 1e-9)
                 continue
             late = now - next_due
             behind = late // period_ns
@@ -258,61 +364,187 @@ class SimulatorNode(Node):
                 next_due += (int(behind) - replay) * period_ns
             try:
                 while next_due <= now:
-                    self._tick(ros0 + (next_due - mono0), period_ns)
+                    self._guarded_tick(wall0 + (next_due - mono0), period_ns)
                     next_due += period_ns
+                with self._lock:
+                    events = list(self._events)
+                    self._events.clear()
+                if events:
+                    self._publish_diagnostics(events)
                 if now >= next_diag:
                     self._publish_diagnostics(None)
                     next_diag = now + int(1e9 / self.diagnostics_rate)
             except Exception:
                 if not self.context.ok():  # Ctrl-C / SIGTERM shut rclpy down under us: just stop
                     return
+                self._log_error_limited(
+                    f"pacing error (the pacer continues):\n{traceback.format_exc()}")
+
+    def _guarded_tick(self, wall_stamp_ns: int, period_ns: int) -> None:
+        """One tick; an exception ends the flight in the air (ERROR) and pacing goes on."""
+        try:
+            self._tick(wall_stamp_ns, period_ns)
+        except Exception as exc:
+            if not self.context.ok():
                 raise
+            with self._lock:
+                run = self._run
+            text = f"{type(exc).__name__}: {exc}"[:300]
+            if run is not None and run.ended is None:
+                self._end_flight(run, f"internal error while flying ({text})")
+                self.get_logger().error(traceback.format_exc())
+            else:
+                self._log_error_limited(f"tick failed: {traceback.format_exc()}")
+
+    def _log_error_limited(self, text: str) -> None:
+        now = time.monotonic()
+        if now - self._last_error_log >= 10.0:
+            self._last_error_log = now
+            self.get_logger().error(text)
+
+    def _stamp_ns(self, wall_stamp_ns: int) -> int:
+        """Stamp of a tick: simulated time (publish_clock), the external /clock (use_sim_time),
+        else the wall-clock time the tick was due."""
+        if self.publish_clock:
+            return self._sim_clock_ns
+        if self._use_sim_time:
+            return self.get_clock().now().nanoseconds
+        return wall_stamp_ns
 
     def _tick(self, wall_stamp_ns: int, period_ns: int) -> None:
         with self._lock:
             self.stats["ticks"] += 1
             if not self._paused:
                 self._sim_clock_ns += int(period_ns * self.real_time_factor)
-            stamp = mb.time_msg(self._sim_clock_ns if self.publish_clock else wall_stamp_ns)
-            if self.publish_clock:
-                self._clock_pub.publish(Clock(clock=stamp))
-            run = self._run
-            if run is None or self._paused:
+            stamp_ns = self._stamp_ns(wall_stamp_ns)
+            publish_clock = self.publish_clock
+            run_t = self._select_run(wall_stamp_ns)
+        stamp = mb.time_msg(stamp_ns)
+        if publish_clock:
+            self._clock_msg.clock = stamp
+            self._clock_pub.publish(self._clock_msg)
+        for _attempt in range(2):  # a release that replaces the flight meanwhile: its first tick
+            if run_t is None:
                 return
-            if run.landed_reported:
-                if self.hold_rate <= 0 or wall_stamp_ns - run.last_hold_ns < 1e9 / self.hold_rate:
-                    return
-                run.last_hold_ns = wall_stamp_ns
-            self._observation.tick(run, stamp)  # simulated camera (observation_hook.py)
-            sample = run.flight.sample(run.time)
-            run.ticks += 1
-            landed_now = sample.landed and not run.landed_reported
-            if landed_now:
-                run.landed_reported, run.last_hold_ns = True, wall_stamp_ns
-                self._events.append(("OK", "landed", f"flight '{run.order.request_id}' "
-                                     + _landed_text(sample.position, sample.t)))
-            self._publish_state(sample, stamp)
-            self._maybe_publish_markers(run, sample, stamp, wall_stamp_ns, force=landed_now)
-            events, self._events = self._events, []
-        for _level, event, text in events:
-            if event == "landed":
-                self.get_logger().info(text)
-        if events:
-            self._publish_diagnostics(events)
+            run, t = run_t
+            self._observation.tick(run, stamp, t)  # simulated camera (observation_hook.py)
+            sample = run.flight.sample(t)  # outside the lock: many steps at a high real-time factor
+            problem = self._runaway(run, sample)
+            if problem:
+                self._end_flight(run, problem)
+                return
+            landed_now = False
+            with self._lock:
+                if self._run is not run:
+                    run_t = self._select_run(wall_stamp_ns)
+                    continue
+                at_rest = run.landed_reported  # a held landed state (the landing has the impact)
+                if sample.landed and not run.landed_reported:
+                    run.landed_reported, run.last_hold_ns, landed_now = True, wall_stamp_ns, True
+                    text = (f"flight '{run.order.request_id}' "
+                            + _landed_text(sample.position, sample.t))
+                    self._events.append(("OK", "landed", text))
+            break
+        else:
+            return
+        if landed_now:
+            self.get_logger().info(text)
+        self._check_validity(run, sample)
+        self._publish_state(run, sample, stamp, at_rest)
+        self._maybe_publish_markers(run, sample, stamp, wall_stamp_ns, force=landed_now)
 
-    def _publish_state(self, sample: BallSample, stamp) -> None:
-        frame = self.frame_id
-        self._pubs[qos.POSE].publish(mb.pose_stamped(sample, stamp, frame))
-        self._pubs[qos.ODOM].publish(mb.odometry(sample, stamp, frame, self.child_frame_id))
-        self._pubs[qos.SPIN_AXIS].publish(mb.vector3_stamped(sample.axis, stamp, frame))
-        self._pubs[qos.AERO_ANGLES].publish(mb.vector3_stamped(sample.aero_angles, stamp, frame))
-        linear = [*sample.aero_angles_linear, math.nan]
-        self._pubs[qos.AERO_ANGLES_LINEAR].publish(mb.vector3_stamped(linear, stamp, frame))
+    def _select_run(self, wall_stamp_ns: int) -> tuple[_FlightRun, float] | None:
+        """The run to publish this tick and its time [s] (caller holds the lock), or None."""
+        run = self._run
+        if run is None or self._paused or run.ended is not None:
+            return None
+        if run.landed_reported:
+            if self.hold_rate <= 0 or wall_stamp_ns - run.last_hold_ns < 1e9 / self.hold_rate:
+                return None
+            run.last_hold_ns = wall_stamp_ns
+        t = run.time
+        run.ticks += 1
+        return run, t
+
+    def _runaway(self, run: _FlightRun, sample: BallSample) -> str | None:
+        """Why ``sample`` must not be published (the flight then ends), or None."""
+        values = np.concatenate((sample.position, sample.velocity, sample.orientation, sample.axis,
+                                 sample.angular_velocity, sample.aero_angles))
+        if not np.isfinite(values).all():
+            return f"the state became non-finite at t = {sample.t:.4f} s"
+        if run.bounds is None:
+            run.bounds = _runaway_bounds(run.flight)
+        bounds = run.bounds
+        speed = float(np.linalg.norm(sample.velocity))
+        if speed > bounds[0]:
+            return (f"runaway: speed {speed:.4g} m/s at t = {sample.t:.4f} s, far past the "
+                    f"{bounds[0] / RUNAWAY_FACTOR:.4g} m/s the release allows")
+        rate = float(np.linalg.norm(sample.angular_velocity))
+        if rate > bounds[1]:
+            return (f"runaway: angular rate {rate:.4g} rad/s at t = {sample.t:.4f} s, far past "
+                    "the "
+                    f"{bounds[1] / RUNAWAY_FACTOR:.4g} rad/s the release allows")
+        distance = float(np.linalg.norm(sample.position - run.flight.initial.position))
+        if distance > MAX_DISTANCE_M:
+            return f"runaway: {distance:.4g} m from the release point at t = {sample.t:.4f} s"
+        if not sample.landed and sample.t > MAX_FLIGHT_S:
+            return f"no landing within {MAX_FLIGHT_S:g} s of simulated flight"
+        return None
+
+    def _check_validity(self, run: _FlightRun, sample: BallSample) -> None:
+        """Warn once per flight (WARN event + log) when the total angle leaves the data range of
+        a model form in force (:func:`football_ros.physics.aero.out_of_validity`)."""
+        if run.validity_warned:
+            return
+        flight = run.flight
+        if run.valid_delta is None:
+            run.valid_delta = max_valid_delta(flight.model, flight.moment, flight.aero)
+        delta = float(sample.aero_angles[2])
+        if delta <= run.valid_delta:
+            return
+        run.validity_warned = True
+        text = (f"flight '{run.order.request_id}' left the data range at t = {sample.t:.3f} s: "
+                + "; ".join(out_of_validity(delta, flight.model, flight.moment, flight.aero)))
+        with self._lock:
+            self._events.append(("WARN", "validity", text))
+        self.get_logger().warning(text)
+
+    def _end_flight(self, run: _FlightRun, reason: str) -> None:
+        """End ``run`` with an ERROR event (log line + /diagnostics); nothing more is published
+        for it until the next release or reset."""
+        with self._lock:
+            if run.ended is not None:
+                return
+            run.ended = reason
+            text = f"flight '{run.order.request_id}' ended: {reason}"
+            self._events.append(("ERROR", "error", text))
+        self.get_logger().error(text)
+
+    def _publish_state(self, run: _FlightRun, sample: BallSample, stamp, at_rest: bool) -> None:
+        msgs = self._state_msgs
+        msgs.fill(sample, stamp, self.frame_id, self.child_frame_id, at_rest)
+        self._pubs[qos.POSE].publish(msgs.pose)
+        self._pubs[qos.ODOM].publish(msgs.odom)
+        self._pubs[qos.SPIN_AXIS].publish(msgs.spin_axis)
+        self._pubs[qos.AERO_ANGLES].publish(msgs.aero_angles)
+        linear = msgs.aero_angles_linear.vector
+        if math.isfinite(linear.x + linear.y + linear.z):
+            self._pubs[qos.AERO_ANGLES_LINEAR].publish(msgs.aero_angles_linear)
+        elif not run.linear_diverged:  # the closed form overflowed (an unstable ball, late)
+            run.linear_diverged = True
+            with self._lock:
+                self._events.append(("WARN", "linear_diverged",
+                                     f"flight '{run.order.request_id}': the linear prediction "
+                                     f"overflowed at t = {sample.t:.3f} s; aero_angles_linear "
+                                     "is not published for the rest of this flight"))
+        quasi = msgs.aero_angles_quasi_steady.vector
+        if math.isfinite(quasi.x + quasi.y + quasi.z):
+            self._pubs[qos.AERO_ANGLES_QUASI_STEADY].publish(msgs.aero_angles_quasi_steady)
         self._publish_tf(sample, stamp)
 
     def _publish_tf(self, sample: BallSample, stamp) -> None:
-        """TF hook (jazzy): one transform per published state; tf2 rejects a repeated or older
-        stamp for a frame, so a stamp that does not advance on the same clock is skipped."""
+        """TF hook: one transform per published state; tf2 rejects a repeated or older stamp
+        for a frame, so a stamp that does not advance on the same clock is skipped."""
         ns = stamp.sec * 1_000_000_000 + stamp.nanosec
         clock, last_ns = self._tf_last
         if self._tf_pub is None or not self.publish_tf or (clock == self.publish_clock
@@ -329,14 +561,19 @@ class SimulatorNode(Node):
         if not force and last is not None and wall_ns - last < 1e9 / self.marker_rate:
             return
         run.last_marker_ns = wall_ns
-        run.trail.append(sample.position)
+        with self._lock:
+            trail = run.trail
+            trail.append(mb.point(sample.position))
+            run.trail_count += 1
+            points = mb.decimated(trail, run.trail_count - len(trail))
         ball = run.flight.ball
-        self._markers_pub.publish(mb.markers(sample, run.trail, stamp, self.frame_id, ball.length,
+        self._markers_pub.publish(mb.markers(sample, points, stamp, self.frame_id, ball.length,
                                              ball.diameter))
 
     def _publish_diagnostics(self, events) -> None:
         with self._lock:
-            run, paused, stats = self._run, self._paused, dict(self.stats)
+            run, paused, stats, rivals = self._run, self._paused, dict(self.stats), self._rivals
+            dropped, self._events.dropped = self._events.dropped, 0
             stamp = mb.time_msg(self._sim_clock_ns if self.publish_clock
                                 else self.get_clock().now().nanoseconds)
         values = {"publish_rate": self.publish_rate, "real_time_factor": self.real_time_factor,
@@ -347,28 +584,40 @@ class SimulatorNode(Node):
             flight = run.flight
             values.update({"flight_id": run.order.request_id, "ball": run.order.ball_name,
                            "flight_time": run.time, "stable": flight.modes.stable})
-            if flight.landing_time is not None:
+            if run.ended is not None:
+                level, message = "ERROR", f"flight '{run.order.request_id}' ended: {run.ended}"
+            elif flight.landing_time is not None:
                 landing = flight.state_at(flight.landing_time)
                 values.update({"time_of_flight": flight.landing_time, "landing_x": float(landing[0]),
                                "landing_y": float(landing[1])})
                 message = _landed_text(landing, flight.landing_time)
             else:
                 message = f"flying: t = {run.time:.3f} s"
-            if not flight.modes.stable:
+            if not flight.modes.stable and level == "OK":
                 level, message = "WARN", message + " (gyroscopically unstable)"
         if paused:
             message = "paused; " + message
         statuses = []
         for ev_level, event, text in events or []:
-            statuses.append(mb.diagnostic_status(DIAGNOSTIC_NAME + " event", ev_level, text,
-                                                 dict(values, event=event)))
+            statuses.append(mb.diagnostic_status(self.diagnostic_name + " event", ev_level, text,
+                                                 dict(values, event=event), self.hardware_id))
+        if dropped:
+            statuses.append(mb.diagnostic_status(
+                self.diagnostic_name + " event", "WARN", f"{dropped} older event(s) dropped "
+                f"(at most {MAX_EVENTS} wait for /diagnostics)", dict(values, event="dropped"),
+                self.hardware_id))
         new_overruns = stats["overruns"] - self._overruns_reported
         if events is None:  # periodic status: overruns since the previous one make it WARN
             self._overruns_reported = stats["overruns"]
         if new_overruns:
             level = "WARN" if level == "OK" else level
             message += f"; {new_overruns} late tick(s) caught up since the last status"
-        statuses.append(mb.diagnostic_status(DIAGNOSTIC_NAME, level, message, values))
+        if rivals:
+            level = "WARN" if level == "OK" else level
+            message += f"; another node publishes the same topics: {', '.join(rivals)}"
+            values["other_publishers"] = ", ".join(rivals)
+        statuses.append(mb.diagnostic_status(self.diagnostic_name, level, message, values,
+                                             self.hardware_id))
         self._diag_pub.publish(DiagnosticArray(header=mb.header(stamp, ""), status=statuses))
 
     def close(self) -> None:
@@ -382,13 +631,28 @@ def _order_name(text: str) -> str:
     try:
         data = load_strict(text) if isinstance(text, str) and len(text) <= 1 << 20 else None
     except ValueError as exc:
-        data = getattr(exc, 'partial', None)
+        data = getattr(exc, "partial", None)
     if isinstance(data, dict):
-        for key in ('order', 'id'):
+        for key in ("order", "id"):
             value = data.get(key)
             if isinstance(value, (str, int)) and not isinstance(value, bool) and str(value).isprintable():
-                return str(value)[:128] or 'unknown'
-    return 'unknown'
+                return str(value)[:128] or "unknown"
+    return "unknown"
+
+
+def _qualified(namespace: str, name: str) -> str:
+    return f"{namespace.rstrip('/')}/{name}"
+
+
+def _runaway_bounds(flight: Flight) -> tuple[float, float]:
+    """Speed [m/s] and angular rate [rad/s] past which a flight is a runaway: RUNAWAY_FACTOR
+    times the bounds of :mod:`football_ros.physics.limits` (ground speed <= air speed + wind;
+    |w| <= transverse bound + |p|)."""
+    wind = flight.params[limits.dyn.P_WIND:limits.dyn.P_WIND + 3]
+    speed = limits.max_air_speed(flight.initial, wind) + float(np.linalg.norm(wind))
+    rate = (limits.fastest_rates(flight.params, flight.initial)["angular rate"]
+            + abs(flight.initial.spin))
+    return RUNAWAY_FACTOR * speed, RUNAWAY_FACTOR * rate
 
 
 def _landed_text(position, time_of_flight: float) -> str:
@@ -401,8 +665,9 @@ def _warm_up() -> None:
     compile_ahead()  # every kernel of the nodes and commands (compiled once, then loaded)
     flight = Flight.from_release(Release())
     flight.sample(0.0105)
-    flight.sample(10.0)
-    mb.odometry(flight.sample(10.0), mb.time_msg(0), FIELD_FRAME, BODY_FRAME)
+    sample = flight.sample(10.0)
+    mb.StateMessages().fill(sample, mb.time_msg(0), FIELD_FRAME, BODY_FRAME)
+    mb.odometry(sample, mb.time_msg(0), FIELD_FRAME, BODY_FRAME)
 
 
 def main(argv=None) -> int:

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from . import dynamics as dyn
+from .limits import check_flyable
 from .linear_theory import LinearModes, QuasiSteadyTracker, linear_modes, quasi_steady_components
 from .presets import BallPreset
 from .aero import AeroModel, resolve
@@ -153,6 +154,7 @@ class Flight:
         self.ball, self.initial, self.model, self.moment, self.step = ball, initial, model, moment, step
         self.params = dyn.make_params(ball, moment, self.aero)
         self.wind = self.params[dyn.P_WIND:dyn.P_WIND + 3].copy()
+        check_flyable(self.params, initial, step)  # one check for every entry point
         self.modes = linear_modes(ball, initial, wind=self.wind)
         y0 = np.zeros(dyn.N_STATE)
         y0[dyn.R:dyn.R + 3] = initial.position

@@ -51,19 +51,106 @@ class BallPreset:
                 / (2.0 * self.inertia_transverse))
 
     def with_overrides(self, overrides: Mapping[str, float]) -> "BallPreset":
-        """A copy with some numeric fields replaced; unknown or non-positive values raise ValueError."""
+        """A copy with some numeric fields replaced, validated by :func:`check_ball`.
+
+        Unknown keys, non-numbers, non-finite or non-positive values and values outside
+        :data:`BALL_LIMITS` (or a combination :func:`check_ball` refuses) raise ValueError
+        naming the parameter and its accepted range.
+        """
         numeric = {f.name for f in dataclasses.fields(self)} - {"name", "speed", "elevation_deg",
                                                                  "spin_rpm"}
         changes = {}
         for key, value in overrides.items():
             if key not in numeric:
-                raise ValueError(f"unknown ball parameter '{key}' (known: {', '.join(sorted(numeric))})")
-            if (isinstance(value, bool) or not isinstance(value, (int, float))
-                    or not math.isfinite(value) or value <= 0.0):
+                raise ValueError(f"unknown ball parameter '{str(key)[:40]}' "
+                                 f"(known: {', '.join(sorted(numeric))})")
+            number = _as_float(value)
+            if number is None or not math.isfinite(number) or number <= 0.0:
                 raise ValueError(f"ball parameter '{key}' must be a positive finite number, "
                                  f"got {str(value)[:40]!r}")
-            changes[key] = float(value)
-        return dataclasses.replace(self, **changes)
+            changes[key] = number
+        ball = dataclasses.replace(self, **changes)
+        check_ball(ball, changed=changes)
+        return ball
+
+
+def _as_float(value: object) -> float | None:
+    """``value`` as a float if it is a real number (not a bool); integers too large -> inf."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return None
+    try:
+        return float(value)
+    except OverflowError:
+        return math.inf
+
+
+BALL_LIMITS: dict[str, tuple[float, float]] = {
+    "mass": (0.05, 2.0),                   # kg
+    "diameter": (0.05, 0.4),               # m
+    "length": (0.05, 0.6),                 # m
+    "inertia_spin": (1e-6, 0.1),           # kg m^2
+    "inertia_transverse": (1e-6, 0.1),     # kg m^2
+    "c_m_alpha": (0.01, 2.0),              # 1/rad
+    "air_density": (0.3, 2.0),             # kg/m^3 (AeroModel accepts the same range)
+}
+"""Accepted ball parameters (SI). Every real ball is well inside, with margin for lab balls:
+
+========================  ============  ============================================
+parameter                 range         real balls
+========================  ============  ============================================
+mass [kg]                 0.05 - 2.0    NFL 0.40-0.43, youth 0.28-0.35, rugby 0.41-0.46,
+                                        foam toys from about 0.1
+diameter [m]              0.05 - 0.4    NFL 0.17, youth 0.15, rugby 0.18-0.19
+length [m]                0.05 - 0.6    NFL 0.28, rugby 0.28-0.30
+inertia_spin [kg m^2]     1e-6 - 0.1    NFL 0.0019, rugby 0.0026
+inertia_transverse        1e-6 - 0.1    NFL 0.0032, rugby 0.0033
+c_m_alpha [1/rad]         0.01 - 2.0    NFL 0.33 (0.165 sin 2 delta fit), rugby 0.147
+air_density [kg/m^3]      0.3 - 2.0     0.74 at 5000 m to 1.5 at -40 C; sea level 1.225
+========================  ============  ============================================
+
+Combinations (:func:`check_ball`), true of every rigid body that fits in the ball:
+
+- I_s <= 2 I_t: triangle inequality of the principal moments of an axisymmetric body
+  (I_s = sum m (y^2 + z^2) <= sum m (x^2 + z^2) + sum m (x^2 + y^2) = 2 I_t);
+- I_s / I_t >= 0.05 (:data:`MIN_INERTIA_RATIO`): a needle-like body below that, outside the
+  model's use (the fastest nutation rate grows as I_t / I_s);
+- I_s <= m (D/2)^2 and I_t <= m (max(L, D)/2)^2: no mass point of a body inside a spheroid of
+  length L and diameter D is farther than D/2 from its long axis, or than max(L, D)/2 from a
+  transverse axis through the centre.
+"""
+
+MIN_INERTIA_RATIO = 0.05
+
+
+def check_ball(ball: "BallPreset", changed: Mapping[str, float] | None = None) -> None:
+    """Raise ValueError when ``ball`` is outside :data:`BALL_LIMITS` or its combinations.
+
+    ``changed`` (the overridden keys) only orders the checks so that the message names the
+    parameter the caller set.
+    """
+    order = list(changed or ()) + [k for k in BALL_LIMITS if k not in (changed or ())]
+    for key in order:
+        lo, hi = BALL_LIMITS[key]
+        value = getattr(ball, key)
+        if not lo <= value <= hi:
+            raise ValueError(f"ball parameter '{key}' = {value:g} is outside the accepted range "
+                             f"[{lo:g}, {hi:g}]")
+    i_s, i_t, m = ball.inertia_spin, ball.inertia_transverse, ball.mass
+    if i_s > 2.0 * i_t:
+        raise ValueError(f"ball parameters 'inertia_spin' = {i_s:g} and 'inertia_transverse' = "
+                         f"{i_t:g}: a rigid body has inertia_spin <= 2 inertia_transverse")
+    if i_s < MIN_INERTIA_RATIO * i_t:
+        raise ValueError(f"ball parameters 'inertia_spin' / 'inertia_transverse' = {i_s / i_t:g}"
+                         f" is below the accepted {MIN_INERTIA_RATIO:g}")
+    spin_max = m * (ball.diameter / 2.0) ** 2
+    if i_s > spin_max:
+        raise ValueError(f"ball parameter 'inertia_spin' = {i_s:g} exceeds mass (diameter/2)^2 "
+                         f"= {spin_max:g} kg m^2, the most a {m:g} kg ball of that diameter has")
+    transverse_max = m * (max(ball.length, ball.diameter) / 2.0) ** 2
+    if i_t > transverse_max:
+        raise ValueError(f"ball parameter 'inertia_transverse' = {i_t:g} exceeds mass "
+                         f"(max(length, diameter)/2)^2 = {transverse_max:g} kg m^2, the most a "
+                         f"{m:g} kg ball of that size has")
 
 
 PRESETS: dict[str, BallPreset] = {
