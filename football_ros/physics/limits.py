@@ -40,6 +40,10 @@ MAX_STEP_RATE = 1.0
 """Largest accepted step x rate (dimensionless) for every rate of :func:`fastest_rates`."""
 
 
+MIN_AIR_SPEED = 0.1
+"""Smallest speed relative to the air at release [m/s]."""
+
+
 def max_air_speed(initial: InitialState, wind: Sequence[float] = (0.0, 0.0, 0.0),
                   gravity: float = GRAVITY) -> float:
     """Upper bound [m/s] of the air-relative speed over the flight (energy, no drag)."""
@@ -71,7 +75,15 @@ def fastest_rates(params: np.ndarray, initial: InitialState) -> dict[str, float]
 
 
 def check_flyable(params: np.ndarray, initial: InitialState, step: float) -> None:
-    """Raise :class:`ReleaseError` naming the rate when ``step`` [s] is too large for it."""
+    """Raise :class:`ReleaseError` naming the rate when ``step`` [s] is too large for it.
+
+    Also refuses a release that moves with the wind (no air speed: the aerodynamic angles,
+    the linear theory and the loads' direction are undefined).
+    """
+    air = initial.velocity - params[dyn.P_WIND:dyn.P_WIND + 3]
+    if not float(np.linalg.norm(air)) > MIN_AIR_SPEED:
+        raise ReleaseError(f"the release moves with the wind (air speed {np.linalg.norm(air):.3g} "
+                           f"m/s < {MIN_AIR_SPEED:g} m/s): its angle of attack is undefined")
     for name, rate in fastest_rates(params, initial).items():
         if not math.isfinite(rate):
             raise ReleaseError(f"the flight's {name} is not finite")
