@@ -197,8 +197,10 @@ def accepted_releases(draw):
     ball = draw(hs.sampled_from(["american", "rugby"]))
     preset = get_preset(ball)
     try:
-        return _release(ball, draw, elevation, z, model, aero, preset, scale)
-    except ReleaseError:  # outside a combined limit (total axis offset, transverse rate, ...)
+        release = _release(ball, draw, elevation, z, model, aero, preset, scale)
+        Flight.from_release(release)  # flyable at the default step (limits.check_flyable)
+        return release
+    except ReleaseError:  # outside a combined limit (total axis offset, step x rate, ...)
         assume(False)
 
 

@@ -139,6 +139,11 @@ BAD_REQUESTS = [
     ("{id: b16, spin_rpm: " + "9" * 400 + "}", "b16", "digits"),
     ("{id: b17, ball: '" + "x" * 50000 + "'}", "b17", "unknown ball preset"),
     ("{id: b18, alpha0_deg: 50, beta0_deg: 50}", "b18", "axis offset"),
+    ("{id: b19, ball_params: {inertia_spin: 1e-300}}", "b19", "inertia_spin"),
+    ("{id: b20, speed: 20, elevation_deg: 0, position: [0, 0, 2], model: full, aero: {wind: [20, 0, 0]}}",
+     "b20", "moves with the wind"),
+    ("{id: b21, spin_rpm: 3000, model: full, aero: {c_m_q: -100}, ball_params: {diameter: 0.4, mass: 2}}",
+     "b21", "step"),
     ("a: &a [1]\nb: *a", None, "aliases"),
     ("x" * 100000, None, "bytes"),
 ]

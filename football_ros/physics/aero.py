@@ -200,7 +200,7 @@ def dynamic_stability(ball: BallPreset, speed: float, spin: float, model: AeroMo
     damping): :func:`football_ros.physics.linear_theory.mode_rates` (docs/physics.md
     section 5), checked against rates measured in integrated flights.
     """
-    from . import dynamics as dyn
+    from . import model_params as dyn
     from .linear_theory import mode_rates
     mass, diameter, density, c_m_alpha = ball.mass, ball.diameter, ball.air_density, ball.c_m_alpha
     inertia_spin, inertia_transverse = ball.inertia_spin, ball.inertia_transverse

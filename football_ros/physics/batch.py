@@ -20,6 +20,7 @@ from numba import njit, prange
 
 from . import dynamics as dyn
 from .aero import AeroModel, resolve
+from .limits import MIN_AIR_SPEED
 from .presets import BallPreset
 
 
@@ -367,10 +368,19 @@ def simulate_batch(ball: BallPreset, states: dict[str, np.ndarray], model: str =
                    max_time: float = 20.0, ground: float = 0.0, sample_period: float | None = None,
                    sample_count: int = 0) -> BatchResult:
     """Fly N balls (same ball and model, releases from ``states``) until each lands on z = ground
-    or ``max_time`` [s] passes. ``step`` [s]: None = the default rule (module docstring)."""
+    or ``max_time`` [s] passes. ``step`` [s]: None = the default rule (module docstring).
+
+    Raises ValueError if a release moves with the wind (no air speed: its angles and the
+    loads' direction are undefined), as :func:`football_ros.physics.limits.check_flyable` does.
+    """
     ball, aero = resolve(ball, model, aero)
     y0 = lean_states(ball, states)
     params = dyn.make_params(ball, moment, aero)
+    air = np.linalg.norm(y0[:, 3:6] - params[dyn.P_WIND:dyn.P_WIND + 3], axis=1)
+    if not np.all(air > MIN_AIR_SPEED):
+        bad = int(np.argmin(air))
+        raise ValueError(f"release {bad} moves with the wind (air speed {air[bad]:.3g} m/s < "
+                         f"{MIN_AIR_SPEED:g} m/s): its angle of attack is undefined")
     n = y0.shape[0]
     n_blocks = (n + BLOCK - 1) // BLOCK
     rates = fastest_rates(y0, params, ground)

@@ -168,7 +168,7 @@ def local_exponents(params: np.ndarray, air_velocity: np.ndarray, h1):
     D_c, x_p): the exponents (-B +- i D_c) / 2 with D_c = sqrt(-(B^2 + 4C)) (= sqrt(h1^2 -
     4 M_alpha) for the paper: sigma = i w_f, i w_s), and the equilibrium x_p = -F / C.
     """
-    from . import dynamics as dyn
+    from . import model_params as dyn
     air = np.asarray(air_velocity, dtype=float)
     speed = np.linalg.norm(air, axis=-1)
     phi = frames.flight_path_angle(air)
@@ -203,7 +203,7 @@ def mode_rates(params: np.ndarray, speed: float, h1: float, speed_rate: float | 
     dk U C_lp p). The WKB terms are what McCoy's per-calibre rates lambda U / D miss when p
     is not proportional to U (docs/physics.md section 5).
     """
-    from . import dynamics as dyn
+    from . import model_params as dyn
     a, fk, dk = params[dyn.P_SPIN_RATIO], params[dyn.P_FORCE_K], params[dyn.P_DAMP_K]
     c_la, c_mq, c_np, c_mp = (params[dyn.P_CLA], params[dyn.P_CMQ], params[dyn.P_CNPA],
                               params[dyn.P_CMPA])
@@ -231,7 +231,7 @@ def mode_rates(params: np.ndarray, speed: float, h1: float, speed_rate: float | 
 
 def _scalar_constants(params: np.ndarray) -> tuple:
     """The kernel parameters :func:`_local_exponents_scalar` reads, as Python floats."""
-    from . import dynamics as dyn
+    from . import model_params as dyn
     keys = (dyn.P_SPIN_RATIO, dyn.P_FORCE_K, dyn.P_DAMP_K, dyn.P_CLA, dyn.P_CMQ, dyn.P_DIAMETER,
             dyn.P_CNPA, dyn.P_MOMENT_K, dyn.P_CMPA, dyn.P_GRAVITY, dyn.P_CD0, dyn.P_CLP)
     return tuple(float(params[k]) for k in keys)
