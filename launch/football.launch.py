@@ -1,4 +1,5 @@
-"""Simulator and release node; optionally the recorder and RViz; optionally in a namespace.
+"""
+Simulator and release node; optionally the recorder and RViz; optionally in a namespace.
 
     ros2 launch football_ros football.launch.py
     ros2 launch football_ros football.launch.py record:=true rviz:=true
@@ -20,12 +21,13 @@ import math
 import os
 
 from ament_index_python.packages import get_package_share_directory
-from launch import LaunchDescription
 from launch.actions import DeclareLaunchArgument, GroupAction, OpaqueFunction
 from launch.conditions import IfCondition
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node, PushRosNamespace
 from launch_ros.parameter_descriptions import ParameterValue
+
+from launch import LaunchDescription
 
 PACKAGE = 'football_ros'
 DEFAULT_CAMERA_RATE = 60.0
@@ -72,47 +74,102 @@ def simulator_overrides(context):
 def _simulator(context, *args, **kwargs):
     overrides = simulator_overrides(context)
     parameters = [LaunchConfiguration('params_file')] + ([overrides] if overrides else [])
-    return [Node(package=PACKAGE, executable='simulator', name='football_simulator',
-                 output='screen', parameters=parameters)]
+    return [
+        Node(
+            package=PACKAGE,
+            executable='simulator',
+            name='football_simulator',
+            output='screen',
+            parameters=parameters,
+        )
+    ]
 
 
 def generate_launch_description():
     share = get_package_share_directory(PACKAGE)
     params_file = LaunchConfiguration('params_file')
-    sim_time = {'use_sim_time': ParameterValue(LaunchConfiguration('use_sim_time'), value_type=bool)}
-    return LaunchDescription([
-        DeclareLaunchArgument('params_file',
-                              default_value=os.path.join(share, 'config', 'football.yaml'),
-                              description="YAML with the nodes' parameters (/**/NODE_NAME keys)"),
-        DeclareLaunchArgument('namespace', default_value='',
-                              description='namespace of every node and relative topic'),
-        DeclareLaunchArgument('publish_rate', default_value='',
-                              description='simulator publish rate [Hz]; empty = params file'),
-        DeclareLaunchArgument('use_sim_time', default_value='false',
-                              description='simulator publishes /clock; the other nodes follow it'),
-        DeclareLaunchArgument('record', default_value='false', description='also run the recorder'),
-        DeclareLaunchArgument('tracker', default_value='false',
-                              description="also run the tracker (and the simulator's camera)"),
-        DeclareLaunchArgument('camera_rate', default_value='',
-                              description='simulated camera frames per second [Hz]; empty = '
-                                          'params file, or 60 with tracker:=true'),
-        DeclareLaunchArgument('rviz', default_value='false', description='also start rviz2'),
-        DeclareLaunchArgument('rviz_config',
-                              default_value=os.path.join(share, 'rviz', 'football.rviz'),
-                              description='RViz configuration'),
-        GroupAction([
-            PushRosNamespace(LaunchConfiguration('namespace')),
-            OpaqueFunction(function=_simulator),
-            Node(package=PACKAGE, executable='release', name='football_release',
-                 output='screen', parameters=[params_file, sim_time]),
-            Node(package=PACKAGE, executable='tracker', name='football_tracker',
-                 output='screen', parameters=[params_file, sim_time],
-                 condition=IfCondition(LaunchConfiguration('tracker'))),
-            Node(package=PACKAGE, executable='recorder', name='football_recorder',
-                 output='screen', parameters=[params_file, sim_time],
-                 condition=IfCondition(LaunchConfiguration('record'))),
-            Node(package='rviz2', executable='rviz2', name='rviz2', output='screen',
-                 arguments=['-d', LaunchConfiguration('rviz_config')], parameters=[sim_time],
-                 condition=IfCondition(LaunchConfiguration('rviz'))),
-        ]),
-    ])
+    sim_time = {
+        'use_sim_time': ParameterValue(LaunchConfiguration('use_sim_time'), value_type=bool)
+    }
+    return LaunchDescription(
+        [
+            DeclareLaunchArgument(
+                'params_file',
+                default_value=os.path.join(share, 'config', 'football.yaml'),
+                description="YAML with the nodes' parameters (/**/NODE_NAME keys)",
+            ),
+            DeclareLaunchArgument(
+                'namespace',
+                default_value='',
+                description='namespace of every node and relative topic',
+            ),
+            DeclareLaunchArgument(
+                'publish_rate',
+                default_value='',
+                description='simulator publish rate [Hz]; empty = params file',
+            ),
+            DeclareLaunchArgument(
+                'use_sim_time',
+                default_value='false',
+                description='simulator publishes /clock; the other nodes follow it',
+            ),
+            DeclareLaunchArgument(
+                'record', default_value='false', description='also run the recorder'
+            ),
+            DeclareLaunchArgument(
+                'tracker',
+                default_value='false',
+                description="also run the tracker (and the simulator's camera)",
+            ),
+            DeclareLaunchArgument(
+                'camera_rate',
+                default_value='',
+                description='simulated camera frames per second [Hz]; empty = '
+                'params file, or 60 with tracker:=true',
+            ),
+            DeclareLaunchArgument('rviz', default_value='false', description='also start rviz2'),
+            DeclareLaunchArgument(
+                'rviz_config',
+                default_value=os.path.join(share, 'rviz', 'football.rviz'),
+                description='RViz configuration',
+            ),
+            GroupAction(
+                [
+                    PushRosNamespace(LaunchConfiguration('namespace')),
+                    OpaqueFunction(function=_simulator),
+                    Node(
+                        package=PACKAGE,
+                        executable='release',
+                        name='football_release',
+                        output='screen',
+                        parameters=[params_file, sim_time],
+                    ),
+                    Node(
+                        package=PACKAGE,
+                        executable='tracker',
+                        name='football_tracker',
+                        output='screen',
+                        parameters=[params_file, sim_time],
+                        condition=IfCondition(LaunchConfiguration('tracker')),
+                    ),
+                    Node(
+                        package=PACKAGE,
+                        executable='recorder',
+                        name='football_recorder',
+                        output='screen',
+                        parameters=[params_file, sim_time],
+                        condition=IfCondition(LaunchConfiguration('record')),
+                    ),
+                    Node(
+                        package='rviz2',
+                        executable='rviz2',
+                        name='rviz2',
+                        output='screen',
+                        arguments=['-d', LaunchConfiguration('rviz_config')],
+                        parameters=[sim_time],
+                        condition=IfCondition(LaunchConfiguration('rviz')),
+                    ),
+                ]
+            ),
+        ]
+    )

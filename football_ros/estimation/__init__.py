@@ -3,5 +3,12 @@
 from .sensor import Camera, CameraSettings, Observation
 from .tracker import FlightTracker, LandingPrediction, TrackerSettings, UpdateResult
 
-__all__ = ["Camera", "CameraSettings", "Observation", "FlightTracker", "LandingPrediction",
-           "TrackerSettings", "UpdateResult"]
+__all__ = [
+    'Camera',
+    'CameraSettings',
+    'Observation',
+    'FlightTracker',
+    'LandingPrediction',
+    'TrackerSettings',
+    'UpdateResult',
+]

@@ -1,4 +1,5 @@
-"""Message building: the one place where physics samples become ROS messages.
+"""
+Message building: the one place where physics samples become ROS messages.
 
 Frames: header.frame_id is the world frame (``field`` by default); Odometry.child_frame_id is
 the body frame (``football``). All vectors are SI (m, m/s, rad, rad/s).
@@ -8,11 +9,11 @@ from __future__ import annotations
 
 from typing import Iterable, Mapping, Sequence
 
-import numpy as np
 from builtin_interfaces.msg import Time
 from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
 from geometry_msgs.msg import Point, PoseStamped, Quaternion, Vector3, Vector3Stamped
 from nav_msgs.msg import Odometry
+import numpy as np
 from std_msgs.msg import ColorRGBA, Header
 from visualization_msgs.msg import Marker, MarkerArray
 
@@ -24,8 +25,12 @@ try:  # the real tf2_msgs on a Jazzy install; pip_ros/tf2_msgs built by setup.sh
 except ImportError:  # pragma: no cover - no TF without tf2_msgs
     TFMessage = None
 
-LEVELS = {"OK": DiagnosticStatus.OK, "WARN": DiagnosticStatus.WARN, "ERROR": DiagnosticStatus.ERROR,
-          "STALE": DiagnosticStatus.STALE}
+LEVELS = {
+    'OK': DiagnosticStatus.OK,
+    'WARN': DiagnosticStatus.WARN,
+    'ERROR': DiagnosticStatus.ERROR,
+    'STALE': DiagnosticStatus.STALE,
+}
 
 
 def time_msg(nanoseconds: int) -> Time:
@@ -59,8 +64,10 @@ def pose_stamped(sample: BallSample, stamp: Time, frame_id: str) -> PoseStamped:
 
 
 def odometry(sample: BallSample, stamp: Time, frame_id: str, child_frame_id: str) -> Odometry:
-    """Pose in ``frame_id``; twist (linear and angular velocity) in the body frame
-    ``child_frame_id``, as nav_msgs/Odometry specifies. Covariances are zero (exact model)."""
+    """
+    Pose in ``frame_id``; twist (linear and angular velocity) in the body frame
+    ``child_frame_id``, as nav_msgs/Odometry specifies. Covariances are zero (exact model).
+    """
     msg = Odometry(header=header(stamp, frame_id), child_frame_id=child_frame_id)
     msg.pose.pose.position = _point(sample.position)
     msg.pose.pose.orientation = _quaternion(sample.orientation)
@@ -70,17 +77,25 @@ def odometry(sample: BallSample, stamp: Time, frame_id: str, child_frame_id: str
 
 
 def to_body_frame(q: Sequence[float], v: Sequence[float]) -> tuple[float, float, float]:
-    """Components in the body frame of a world vector ``v`` (R(q)^T v), with plain floats: this
-    runs for every Odometry message, where numpy's per-call overhead would dominate."""
+    """
+    Components in the body frame of a world vector ``v`` (R(q)^T v), with plain floats: this
+    runs for every Odometry message, where numpy's per-call overhead would dominate.
+    """
     x, y, z, w = (-float(q[0]), -float(q[1]), -float(q[2]), float(q[3]))  # conjugate
     vx, vy, vz = float(v[0]), float(v[1]), float(v[2])
     tx, ty, tz = 2.0 * (y * vz - z * vy), 2.0 * (z * vx - x * vz), 2.0 * (x * vy - y * vx)
-    return (vx + w * tx + y * tz - z * ty, vy + w * ty + z * tx - x * tz, vz + w * tz + x * ty - y * tx)
+    return (
+        vx + w * tx + y * tz - z * ty,
+        vy + w * ty + z * tx - x * tz,
+        vz + w * tz + x * ty - y * tx,
+    )
 
 
 def tf_message(sample: BallSample, stamp: Time, frame_id: str, child_frame_id: str):
-    """tf2_msgs/TFMessage with one transform: the body frame ``child_frame_id`` in the world
-    frame ``frame_id`` (translation = ball centre [m], rotation = orientation, as the pose)."""
+    """
+    tf2_msgs/TFMessage with one transform: the body frame ``child_frame_id`` in the world
+    frame ``frame_id`` (translation = ball centre [m], rotation = orientation, as the pose).
+    """
     transform = TransformStamped(header=header(stamp, frame_id), child_frame_id=child_frame_id)
     transform.transform.translation = _vector(sample.position)
     transform.transform.rotation = _quaternion(sample.orientation)
@@ -96,7 +111,7 @@ def key_values(values: Mapping[str, object]) -> list[KeyValue]:
     out = []
     for key, value in values.items():
         if isinstance(value, bool):
-            text = "true" if value else "false"
+            text = 'true' if value else 'false'
         elif isinstance(value, float):
             text = repr(value)
         else:
@@ -105,10 +120,20 @@ def key_values(values: Mapping[str, object]) -> list[KeyValue]:
     return out
 
 
-def diagnostic_status(name: str, level: str, message: str, values: Mapping[str, object],
-                      hardware_id: str = "football_ros") -> DiagnosticStatus:
-    return DiagnosticStatus(level=LEVELS[level], name=name, message=message, hardware_id=hardware_id,
-                            values=key_values(values))
+def diagnostic_status(
+    name: str,
+    level: str,
+    message: str,
+    values: Mapping[str, object],
+    hardware_id: str = 'football_ros',
+) -> DiagnosticStatus:
+    return DiagnosticStatus(
+        level=LEVELS[level],
+        name=name,
+        message=message,
+        hardware_id=hardware_id,
+        values=key_values(values),
+    )
 
 
 def level_of(status: DiagnosticStatus) -> str:
@@ -122,10 +147,19 @@ def _color(r: float, g: float, b: float, a: float = 1.0) -> ColorRGBA:
     return ColorRGBA(r=r, g=g, b=b, a=a)
 
 
-def markers(sample: BallSample, trail: Iterable[Sequence[float]], stamp: Time, frame_id: str,
-            ball_length: float, ball_diameter: float, namespace: str = "football") -> MarkerArray:
-    """RViz markers: ball (ellipsoid), spin-axis arrow (red), velocity arrow (green, 0.1 s of
-    flight long), trail (line strip of past positions)."""
+def markers(
+    sample: BallSample,
+    trail: Iterable[Sequence[float]],
+    stamp: Time,
+    frame_id: str,
+    ball_length: float,
+    ball_diameter: float,
+    namespace: str = 'football',
+) -> MarkerArray:
+    """
+    RViz markers: ball (ellipsoid), spin-axis arrow (red), velocity arrow (green, 0.1 s of
+    flight long), trail (line strip of past positions).
+    """
     hdr = header(stamp, frame_id)
     ball = Marker(header=hdr, ns=namespace, id=0, type=Marker.SPHERE, action=Marker.ADD)
     ball.pose.position = _point(sample.position)
@@ -150,17 +184,17 @@ def markers(sample: BallSample, trail: Iterable[Sequence[float]], stamp: Time, f
 
 
 def vector_of(msg_vector) -> np.ndarray:
-    """numpy (3,) from a geometry_msgs Vector3/Point."""
+    """Numpy (3,) from a geometry_msgs Vector3/Point."""
     return np.array([msg_vector.x, msg_vector.y, msg_vector.z])
 
 
 def to_plain(msg):
     """A message as plain data (dicts, lists, numbers, strings) for printing as YAML/JSON."""
-    if hasattr(msg, "get_fields_and_field_types"):
+    if hasattr(msg, 'get_fields_and_field_types'):
         return {name: to_plain(getattr(msg, name)) for name in msg.get_fields_and_field_types()}
     if isinstance(msg, (bytes, bytearray)):
         return list(msg) if len(msg) != 1 else msg[0]
-    if hasattr(msg, "tolist"):  # numpy arrays and scalars, array.array
+    if hasattr(msg, 'tolist'):  # numpy arrays and scalars, array.array
         return msg.tolist()
     if isinstance(msg, (list, tuple)):
         return [to_plain(v) for v in msg]

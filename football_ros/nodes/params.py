@@ -7,26 +7,39 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 
 
-def declare(node: Node, name: str, default, description: str,
-            limits: tuple[float, float] | None = None, read_only: bool = False):
-    """Declare ``name`` with a descriptor; numeric ``limits`` become an enforced range.
+def declare(
+    node: Node,
+    name: str,
+    default,
+    description: str,
+    limits: tuple[float, float] | None = None,
+    read_only: bool = False,
+):
+    """
+    Declare ``name`` with a descriptor; numeric ``limits`` become an enforced range.
 
     Returns the value in force (the default or a --ros-args override, which rclpy checks
     against the range before the node starts). An integer override of a float parameter
     (``publish_rate:=1000``) is taken as that float.
     """
     override = node._parameter_overrides.get(name)
-    if (isinstance(default, float) and override is not None
-            and override.type_ == Parameter.Type.INTEGER):
-        node._parameter_overrides[name] = Parameter(name, Parameter.Type.DOUBLE, float(override.value))
+    if (
+        isinstance(default, float)
+        and override is not None
+        and override.type_ == Parameter.Type.INTEGER
+    ):
+        node._parameter_overrides[name] = Parameter(
+            name, Parameter.Type.DOUBLE, float(override.value)
+        )
     descriptor = ParameterDescriptor(description=description, read_only=read_only)
     if limits is not None:
         lo, hi = limits
         if isinstance(default, bool):
-            raise TypeError("a bool parameter takes no range")
+            raise TypeError('a bool parameter takes no range')
         if isinstance(default, int):
             descriptor.integer_range = [IntegerRange(from_value=int(lo), to_value=int(hi), step=1)]
         else:
-            descriptor.floating_point_range = [FloatingPointRange(from_value=float(lo), to_value=float(hi),
-                                                                  step=0.0)]
+            descriptor.floating_point_range = [
+                FloatingPointRange(from_value=float(lo), to_value=float(hi), step=0.0)
+            ]
     return node.declare_parameter(name, default, descriptor).value

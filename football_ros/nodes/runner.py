@@ -1,4 +1,5 @@
-"""Start-up and clean shutdown shared by every node (the Jazzy demo_nodes_py pattern).
+"""
+Start-up and clean shutdown shared by every node (the Jazzy demo_nodes_py pattern).
 
 Ctrl-C (SIGINT) and SIGTERM end the spin without a traceback; the node's ``close()`` (if any)
 runs before the node is destroyed, so threads stop and files are flushed.
@@ -27,7 +28,7 @@ def run_node(factory: Callable[[], Node], argv: Sequence[str] | None, program: s
             node = factory()
         except (ParameterException, InvalidParameterTypeException, ValueError) as exc:
             # A start-up error (a parameter override out of range, ...): one clear line.
-            print(f"{program}: error: {exc}", file=sys.stderr)
+            print(f'{program}: error: {exc}', file=sys.stderr)
             return 2
         rclpy.spin(node)
     except (KeyboardInterrupt, ExternalShutdownException):
@@ -39,7 +40,7 @@ def run_node(factory: Callable[[], Node], argv: Sequence[str] | None, program: s
             raise
     finally:
         if node is not None:
-            close = getattr(node, "close", None)
+            close = getattr(node, 'close', None)
             if close is not None:
                 close()
             node.destroy_node()

@@ -1,4 +1,5 @@
-"""Real-time simulator node: flies the ball ordered by the release node and publishes its state.
+"""
+Real-time simulator node: flies the ball ordered by the release node and publishes its state.
 
 Pacing: a dedicated thread wakes at absolute monotonic deadlines k / publish_rate. Each tick
 advances the flight by real_time_factor / publish_rate of simulated time (the integrator keeps
@@ -11,18 +12,18 @@ Topics, frames, units and QoS: msg_docs/.
 from __future__ import annotations
 
 import collections
+from dataclasses import dataclass, field
 import gc
 import math
 import sys
 import threading
 import time
 import traceback
-from dataclasses import dataclass, field
 
-import numpy as np
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from geometry_msgs.msg import PoseStamped, Vector3Stamped
 from nav_msgs.msg import Odometry
+import numpy as np
 from rcl_interfaces.msg import SetParametersResult
 from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
@@ -30,20 +31,20 @@ from std_msgs.msg import String
 from std_srvs.srv import SetBool, Trigger
 from visualization_msgs.msg import MarkerArray
 
-from ..physics import Release
-from ..physics.release import RPM
-from ..physics.flight import BallSample, Flight
-from ..physics.frames import BODY_FRAME, FIELD_FRAME
-from ..requests import FlightOrder, capped, load_strict
 from . import messages as mb
 from . import qos
 from .observation_hook import ObservationHook
 from .params import declare
 from .runner import run_node
+from ..physics import Release
+from ..physics.flight import BallSample, Flight
+from ..physics.frames import BODY_FRAME, FIELD_FRAME
+from ..physics.release import RPM
+from ..requests import capped, FlightOrder, load_strict
 
-NODE_NAME = "football_simulator"
-DIAGNOSTIC_NAME = "football_ros: simulator"
-MODEL_CHOICES = ("release", "paper", "full")
+NODE_NAME = 'football_simulator'
+DIAGNOSTIC_NAME = 'football_ros: simulator'
+MODEL_CHOICES = ('release', 'paper', 'full')
 MAX_CATCH_UP_S = 1.0
 """A stall longer than this is not replayed: its ticks are skipped (and counted)."""
 
@@ -55,8 +56,8 @@ class _FlightRun:
     order: FlightOrder
     flight: Flight
     ticks: int = 0
-    tick_dt: float = 0.0            # simulated seconds per tick for this run
-    time_offset: float = 0.0        # simulated seconds flown before the last rate change
+    tick_dt: float = 0.0  # simulated seconds per tick for this run
+    time_offset: float = 0.0  # simulated seconds flown before the last rate change
     landed_reported: bool = False
     last_hold_ns: int = 0
     last_marker_ns: int | None = None
@@ -68,41 +69,84 @@ class _FlightRun:
 
 
 class SimulatorNode(Node):
-    """Publishes pose, odometry, spin axis, alpha/beta (and their linear prediction), markers
-    and diagnostics of the ball in flight, paced in real time."""
+    """
+    Publishes pose, odometry, spin axis, alpha/beta (and their linear prediction), markers
+    and diagnostics of the ball in flight, paced in real time.
+    """
 
     def __init__(self) -> None:
         super().__init__(NODE_NAME)
-        self.publish_rate = declare(self, "publish_rate", 100.0,
-                                    "State messages per second of wall time [Hz]", (1.0, 2000.0))
-        self.integration_step = declare(self, "integration_step", 0.001,
-                                        "Fixed RK4 step of the integrator [s] (next flight)", (1e-5, 0.01))
-        self.real_time_factor = declare(self, "real_time_factor", 1.0,
-                                        "Simulated seconds per wall second", (0.01, 100.0))
-        self.publish_clock = declare(self, "publish_clock", False,
-                                     "Publish /clock (simulated time) and stamp messages with it")
-        self.frame_id = declare(self, "frame_id", FIELD_FRAME, "World frame (REP-103: x downfield, z up)")
-        self.child_frame_id = declare(self, "child_frame_id", BODY_FRAME,
-                                      "Body frame of the ball (x = spin axis toward the leading nose)")
-        self.marker_rate = declare(self, "marker_rate", 30.0, "RViz markers per second [Hz], 0 = off",
-                                   (0.0, 200.0))
-        self.trail_length = declare(self, "trail_length", 500, "Points kept in the trail marker",
-                                    (0, 100000))
-        self.hold_rate = declare(self, "hold_rate", 1.0,
-                                 "Rate at which the landed state is republished [Hz], 0 = never",
-                                 (0.0, 100.0))
-        self.diagnostics_rate = declare(self, "diagnostics_rate", 1.0, "Periodic /diagnostics [Hz]",
-                                        (0.1, 100.0))
-        self.model = declare(self, "model", "release",
-                             "Equations of motion: 'release' (as each release asks), 'paper' or 'full'")
+        self.publish_rate = declare(
+            self,
+            'publish_rate',
+            100.0,
+            'State messages per second of wall time [Hz]',
+            (1.0, 2000.0),
+        )
+        self.integration_step = declare(
+            self,
+            'integration_step',
+            0.001,
+            'Fixed RK4 step of the integrator [s] (next flight)',
+            (1e-5, 0.01),
+        )
+        self.real_time_factor = declare(
+            self, 'real_time_factor', 1.0, 'Simulated seconds per wall second', (0.01, 100.0)
+        )
+        self.publish_clock = declare(
+            self,
+            'publish_clock',
+            False,
+            'Publish /clock (simulated time) and stamp messages with it',
+        )
+        self.frame_id = declare(
+            self, 'frame_id', FIELD_FRAME, 'World frame (REP-103: x downfield, z up)'
+        )
+        self.child_frame_id = declare(
+            self,
+            'child_frame_id',
+            BODY_FRAME,
+            'Body frame of the ball (x = spin axis toward the leading nose)',
+        )
+        self.marker_rate = declare(
+            self, 'marker_rate', 30.0, 'RViz markers per second [Hz], 0 = off', (0.0, 200.0)
+        )
+        self.trail_length = declare(
+            self, 'trail_length', 500, 'Points kept in the trail marker', (0, 100000)
+        )
+        self.hold_rate = declare(
+            self,
+            'hold_rate',
+            1.0,
+            'Rate at which the landed state is republished [Hz], 0 = never',
+            (0.0, 100.0),
+        )
+        self.diagnostics_rate = declare(
+            self, 'diagnostics_rate', 1.0, 'Periodic /diagnostics [Hz]', (0.1, 100.0)
+        )
+        self.model = declare(
+            self,
+            'model',
+            'release',
+            "Equations of motion: 'release' (as each release asks), 'paper' or 'full'",
+        )
         # --- TF hook (jazzy): the ball as the frame child_frame_id in frame_id on /tf ---
-        self.publish_tf = declare(self, "publish_tf", mb.TFMessage is not None,
-                                  "Publish the ball on /tf (frame_id -> child_frame_id)")
-        self._tf_pub = (None if mb.TFMessage is None
-                        else self.create_publisher(mb.TFMessage, qos.TF, qos.TF_QOS))
+        self.publish_tf = declare(
+            self,
+            'publish_tf',
+            mb.TFMessage is not None,
+            'Publish the ball on /tf (frame_id -> child_frame_id)',
+        )
+        self._tf_pub = (
+            None
+            if mb.TFMessage is None
+            else self.create_publisher(mb.TFMessage, qos.TF, qos.TF_QOS)
+        )
         self._tf_last = (None, -1)  # (publish_clock, stamp ns) of the last transform sent
         if self.model not in MODEL_CHOICES:
-            raise ValueError(f"parameter model must be one of {', '.join(MODEL_CHOICES)}, got '{self.model}'")
+            raise ValueError(
+                f"parameter model must be one of {', '.join(MODEL_CHOICES)}, got '{self.model}'"
+            )
         self._observation = ObservationHook(self)  # simulated camera: observation_* (tracker)
         self.add_on_set_parameters_callback(self._on_parameters)
 
@@ -111,10 +155,14 @@ class SimulatorNode(Node):
             qos.ODOM: self.create_publisher(Odometry, qos.ODOM, qos.STATE),
             qos.SPIN_AXIS: self.create_publisher(Vector3Stamped, qos.SPIN_AXIS, qos.STATE),
             qos.AERO_ANGLES: self.create_publisher(Vector3Stamped, qos.AERO_ANGLES, qos.STATE),
-            qos.AERO_ANGLES_LINEAR: self.create_publisher(Vector3Stamped, qos.AERO_ANGLES_LINEAR, qos.STATE),
+            qos.AERO_ANGLES_LINEAR: self.create_publisher(
+                Vector3Stamped, qos.AERO_ANGLES_LINEAR, qos.STATE
+            ),
         }
         self._markers_pub = self.create_publisher(MarkerArray, qos.MARKERS, qos.MARKERS_QOS)
-        self._diag_pub = self.create_publisher(DiagnosticArray, qos.DIAGNOSTICS, qos.DIAGNOSTICS_QOS)
+        self._diag_pub = self.create_publisher(
+            DiagnosticArray, qos.DIAGNOSTICS, qos.DIAGNOSTICS_QOS
+        )
         self._clock_pub = self.create_publisher(Clock, qos.CLOCK, qos.CLOCK_QOS)
         self._ack_pub = self.create_publisher(DiagnosticStatus, qos.FLIGHT_ACK, qos.ORDER)
         self.create_subscription(String, qos.FLIGHT_ORDER, self._on_order, qos.ORDER)
@@ -126,31 +174,33 @@ class SimulatorNode(Node):
         self._last_order: FlightOrder | None = None
         self._paused = False
         self._sim_clock_ns = 0
-        self._events: list[tuple[str, str, str]] = []   # (level, event, message) to report
-        self.stats = {"ticks": 0, "overruns": 0, "skipped": 0, "max_late_ms": 0.0}
+        self._events: list[tuple[str, str, str]] = []  # (level, event, message) to report
+        self.stats = {'ticks': 0, 'overruns': 0, 'skipped': 0, 'max_late_ms': 0.0}
         self._overruns_reported = 0
         _warm_up()
         gc.freeze()  # start-up objects leave the collector's generations: shorter GC pauses
         sys.setswitchinterval(1e-4)  # the pacer gets the GIL within 0.1 ms (default: 5 ms)
         self._stop = threading.Event()
-        self._thread = threading.Thread(target=self._pace, name="football-pacer", daemon=True)
+        self._thread = threading.Thread(target=self._pace, name='football-pacer', daemon=True)
         self._thread.start()
         self.get_logger().info(
-            f"ready: {self.publish_rate:g} Hz, step {self.integration_step:g} s, real-time factor "
-            f"{self.real_time_factor:g}; waiting for flights on '{self.resolve_topic_name(qos.FLIGHT_ORDER)}'")
+            f'ready: {self.publish_rate:g} Hz, step {self.integration_step:g} s, real-time factor '
+            f"{self.real_time_factor:g}; waiting for flights on '{self.resolve_topic_name(qos.FLIGHT_ORDER)}'"
+        )
 
     # --- parameters, services, orders (executor thread) --------------------------------------
     def _on_parameters(self, params) -> SetParametersResult:
         """Check every change first (ranges are enforced by the descriptors), then apply all."""
         for p in params:
-            if p.name in ("frame_id", "child_frame_id") and not p.value:
-                return SetParametersResult(successful=False, reason=f"{p.name} must not be empty")
-            if p.name == "model" and p.value not in MODEL_CHOICES:
-                return SetParametersResult(successful=False,
-                                           reason=f"model must be one of {', '.join(MODEL_CHOICES)}")
+            if p.name in ('frame_id', 'child_frame_id') and not p.value:
+                return SetParametersResult(successful=False, reason=f'{p.name} must not be empty')
+            if p.name == 'model' and p.value not in MODEL_CHOICES:
+                return SetParametersResult(
+                    successful=False, reason=f'model must be one of {", ".join(MODEL_CHOICES)}'
+                )
         with self._lock:
             for p in params:
-                if p.name != "use_sim_time":
+                if p.name != 'use_sim_time':
                     setattr(self, p.name, p.value)
             if self._run is not None:
                 self._rebase(self._run)
@@ -163,7 +213,8 @@ class SimulatorNode(Node):
         run.trail = collections.deque(run.trail, maxlen=max(self.trail_length, 1))
 
     def _on_order(self, msg: String) -> None:
-        """Fly a valid order and acknowledge it (OK), or refuse it with the reason (ERROR).
+        """
+        Fly a valid order and acknowledge it (OK), or refuse it with the reason (ERROR).
 
         Every order gets exactly one acknowledgement on football/flight/ack, named by the
         order's ``order`` id (else its ``id``): the release node answers its client from it.
@@ -179,32 +230,43 @@ class SimulatorNode(Node):
             self._acknowledge(name, 'ERROR', reason, {})
             return
         except Exception as exc:  # never let one order take the simulator down
-            self.get_logger().error(f"flight order '{name}': internal error\n{traceback.format_exc()}")
+            self.get_logger().error(
+                f"flight order '{name}': internal error\n{traceback.format_exc()}"
+            )
             self._acknowledge(name, 'ERROR', f'internal error ({type(exc).__name__})', {})
             return
         self._start(order, flight)
-        self._acknowledge(name, 'OK', f"flying '{order.request_id}'",
-                          {'request_id': order.request_id, 'model': flight.model})
+        self._acknowledge(
+            name,
+            'OK',
+            f"flying '{order.request_id}'",
+            {'request_id': order.request_id, 'model': flight.model},
+        )
 
     def _acknowledge(self, name: str, level: str, message: str, values: dict) -> None:
-        self._ack_pub.publish(mb.diagnostic_status(name, level, message, values,
-                                                   hardware_id=self.get_fully_qualified_name()))
+        self._ack_pub.publish(
+            mb.diagnostic_status(
+                name, level, message, values, hardware_id=self.get_fully_qualified_name()
+            )
+        )
 
     def _start(self, order: FlightOrder, flight: Flight) -> None:
         modes = flight.modes
         v = order.initial.velocity
-        text = (f"flight '{order.request_id}': {order.ball_name} released at {np.linalg.norm(v):.2f} m/s, "
-                f"{math.degrees(modes.flight_path_angle):.1f} deg, {order.initial.spin / RPM:.0f} rpm"
-                f" ({'stable' if modes.stable else 'gyroscopically UNSTABLE'}, equilibrium sideslip "
-                f"{math.degrees(modes.equilibrium_sideslip):.2f} deg)")
+        text = (
+            f"flight '{order.request_id}': {order.ball_name} released at {np.linalg.norm(v):.2f} m/s, "
+            f'{math.degrees(modes.flight_path_angle):.1f} deg, {order.initial.spin / RPM:.0f} rpm'
+            f' ({"stable" if modes.stable else "gyroscopically UNSTABLE"}, equilibrium sideslip '
+            f'{math.degrees(modes.equilibrium_sideslip):.2f} deg)'
+        )
         with self._lock:
             replaced = self._run is not None and self._run.flight.landing_time is None
             run = _FlightRun(order, flight)
             self._rebase(run)
             self._run, self._last_order = run, order
-            self._events.append(("OK" if modes.stable else "WARN", "released", text))
+            self._events.append(('OK' if modes.stable else 'WARN', 'released', text))
         if replaced:
-            self.get_logger().info("the flight in the air is replaced by a new release")
+            self.get_logger().info('the flight in the air is replaced by a new release')
         if modes.stable:
             self.get_logger().info(text)
         else:
@@ -214,7 +276,10 @@ class SimulatorNode(Node):
         with self._lock:
             order = self._last_order
         if order is None:
-            response.success, response.message = False, "no flight to reset: nothing was released yet"
+            response.success, response.message = (
+                False,
+                'no flight to reset: nothing was released yet',
+            )
             return response
         try:
             flight = order.flight(self.integration_step, self._model_override())
@@ -222,18 +287,21 @@ class SimulatorNode(Node):
             response.success, response.message = False, f'cannot restart: {capped(str(exc))}'
             return response
         self._start(order, flight)
-        response.success, response.message = True, f"flight '{order.request_id}' restarted from its release"
+        response.success, response.message = (
+            True,
+            f"flight '{order.request_id}' restarted from its release",
+        )
         return response
 
     def _model_override(self) -> str | None:
-        return None if self.model == "release" else self.model
+        return None if self.model == 'release' else self.model
 
     def _on_pause(self, request, response):
         with self._lock:
             self._paused = bool(request.data)
         response.success = True
-        response.message = "paused" if request.data else "running"
-        self.get_logger().info(f"simulation {response.message}")
+        response.message = 'paused' if request.data else 'running'
+        self.get_logger().info(f'simulation {response.message}')
         return response
 
     # --- pacing thread -----------------------------------------------------------------------
@@ -250,11 +318,11 @@ class SimulatorNode(Node):
                 continue
             late = now - next_due
             behind = late // period_ns
-            self.stats["max_late_ms"] = max(self.stats["max_late_ms"], late * 1e-6)
+            self.stats['max_late_ms'] = max(self.stats['max_late_ms'], late * 1e-6)
             if behind:
-                self.stats["overruns"] += int(behind)
+                self.stats['overruns'] += int(behind)
                 replay = min(int(behind), int(MAX_CATCH_UP_S * self.publish_rate))
-                self.stats["skipped"] += int(behind) - replay
+                self.stats['skipped'] += int(behind) - replay
                 next_due += (int(behind) - replay) * period_ns
             try:
                 while next_due <= now:
@@ -270,7 +338,7 @@ class SimulatorNode(Node):
 
     def _tick(self, wall_stamp_ns: int, period_ns: int) -> None:
         with self._lock:
-            self.stats["ticks"] += 1
+            self.stats['ticks'] += 1
             if not self._paused:
                 self._sim_clock_ns += int(period_ns * self.real_time_factor)
             stamp = mb.time_msg(self._sim_clock_ns if self.publish_clock else wall_stamp_ns)
@@ -289,13 +357,19 @@ class SimulatorNode(Node):
             landed_now = sample.landed and not run.landed_reported
             if landed_now:
                 run.landed_reported, run.last_hold_ns = True, wall_stamp_ns
-                self._events.append(("OK", "landed", f"flight '{run.order.request_id}' "
-                                     + _landed_text(sample.position, sample.t)))
+                self._events.append(
+                    (
+                        'OK',
+                        'landed',
+                        f"flight '{run.order.request_id}' "
+                        + _landed_text(sample.position, sample.t),
+                    )
+                )
             self._publish_state(sample, stamp)
             self._maybe_publish_markers(run, sample, stamp, wall_stamp_ns, force=landed_now)
             events, self._events = self._events, []
         for _level, event, text in events:
-            if event == "landed":
+            if event == 'landed':
                 self.get_logger().info(text)
         if events:
             self._publish_diagnostics(events)
@@ -311,18 +385,24 @@ class SimulatorNode(Node):
         self._publish_tf(sample, stamp)
 
     def _publish_tf(self, sample: BallSample, stamp) -> None:
-        """TF hook (jazzy): one transform per published state; tf2 rejects a repeated or older
-        stamp for a frame, so a stamp that does not advance on the same clock is skipped."""
+        """
+        TF hook (jazzy): one transform per published state; tf2 rejects a repeated or older
+        stamp for a frame, so a stamp that does not advance on the same clock is skipped.
+        """
         ns = stamp.sec * 1_000_000_000 + stamp.nanosec
         clock, last_ns = self._tf_last
-        if self._tf_pub is None or not self.publish_tf or (clock == self.publish_clock
-                                                            and ns <= last_ns):
+        if (
+            self._tf_pub is None
+            or not self.publish_tf
+            or (clock == self.publish_clock and ns <= last_ns)
+        ):
             return
         self._tf_last = (self.publish_clock, ns)
         self._tf_pub.publish(mb.tf_message(sample, stamp, self.frame_id, self.child_frame_id))
 
-    def _maybe_publish_markers(self, run: _FlightRun, sample: BallSample, stamp, wall_ns: int,
-                               force: bool) -> None:
+    def _maybe_publish_markers(
+        self, run: _FlightRun, sample: BallSample, stamp, wall_ns: int, force: bool
+    ) -> None:
         if self.marker_rate <= 0:
             return
         last = run.last_marker_ns
@@ -331,45 +411,66 @@ class SimulatorNode(Node):
         run.last_marker_ns = wall_ns
         run.trail.append(sample.position)
         ball = run.flight.ball
-        self._markers_pub.publish(mb.markers(sample, run.trail, stamp, self.frame_id, ball.length,
-                                             ball.diameter))
+        self._markers_pub.publish(
+            mb.markers(sample, run.trail, stamp, self.frame_id, ball.length, ball.diameter)
+        )
 
     def _publish_diagnostics(self, events) -> None:
         with self._lock:
             run, paused, stats = self._run, self._paused, dict(self.stats)
-            stamp = mb.time_msg(self._sim_clock_ns if self.publish_clock
-                                else self.get_clock().now().nanoseconds)
-        values = {"publish_rate": self.publish_rate, "real_time_factor": self.real_time_factor,
-                  "ticks": stats["ticks"], "overruns": stats["overruns"], "skipped_ticks": stats["skipped"],
-                  "max_late_ms": round(stats["max_late_ms"], 3)}
-        level, message = "OK", "idle: waiting for a release"
+            stamp = mb.time_msg(
+                self._sim_clock_ns if self.publish_clock else self.get_clock().now().nanoseconds
+            )
+        values = {
+            'publish_rate': self.publish_rate,
+            'real_time_factor': self.real_time_factor,
+            'ticks': stats['ticks'],
+            'overruns': stats['overruns'],
+            'skipped_ticks': stats['skipped'],
+            'max_late_ms': round(stats['max_late_ms'], 3),
+        }
+        level, message = 'OK', 'idle: waiting for a release'
         if run is not None:
             flight = run.flight
-            values.update({"flight_id": run.order.request_id, "ball": run.order.ball_name,
-                           "flight_time": run.time, "stable": flight.modes.stable})
+            values.update(
+                {
+                    'flight_id': run.order.request_id,
+                    'ball': run.order.ball_name,
+                    'flight_time': run.time,
+                    'stable': flight.modes.stable,
+                }
+            )
             if flight.landing_time is not None:
                 landing = flight.state_at(flight.landing_time)
-                values.update({"time_of_flight": flight.landing_time, "landing_x": float(landing[0]),
-                               "landing_y": float(landing[1])})
+                values.update(
+                    {
+                        'time_of_flight': flight.landing_time,
+                        'landing_x': float(landing[0]),
+                        'landing_y': float(landing[1]),
+                    }
+                )
                 message = _landed_text(landing, flight.landing_time)
             else:
-                message = f"flying: t = {run.time:.3f} s"
+                message = f'flying: t = {run.time:.3f} s'
             if not flight.modes.stable:
-                level, message = "WARN", message + " (gyroscopically unstable)"
+                level, message = 'WARN', message + ' (gyroscopically unstable)'
         if paused:
-            message = "paused; " + message
+            message = 'paused; ' + message
         statuses = []
         for ev_level, event, text in events or []:
-            statuses.append(mb.diagnostic_status(DIAGNOSTIC_NAME + " event", ev_level, text,
-                                                 dict(values, event=event)))
-        new_overruns = stats["overruns"] - self._overruns_reported
+            statuses.append(
+                mb.diagnostic_status(
+                    DIAGNOSTIC_NAME + ' event', ev_level, text, dict(values, event=event)
+                )
+            )
+        new_overruns = stats['overruns'] - self._overruns_reported
         if events is None:  # periodic status: overruns since the previous one make it WARN
-            self._overruns_reported = stats["overruns"]
+            self._overruns_reported = stats['overruns']
         if new_overruns:
-            level = "WARN" if level == "OK" else level
-            message += f"; {new_overruns} late tick(s) caught up since the last status"
+            level = 'WARN' if level == 'OK' else level
+            message += f'; {new_overruns} late tick(s) caught up since the last status'
         statuses.append(mb.diagnostic_status(DIAGNOSTIC_NAME, level, message, values))
-        self._diag_pub.publish(DiagnosticArray(header=mb.header(stamp, ""), status=statuses))
+        self._diag_pub.publish(DiagnosticArray(header=mb.header(stamp, ''), status=statuses))
 
     def close(self) -> None:
         """Stop the pacing thread (called before the node is destroyed)."""
@@ -386,18 +487,25 @@ def _order_name(text: str) -> str:
     if isinstance(data, dict):
         for key in ('order', 'id'):
             value = data.get(key)
-            if isinstance(value, (str, int)) and not isinstance(value, bool) and str(value).isprintable():
+            if (
+                isinstance(value, (str, int))
+                and not isinstance(value, bool)
+                and str(value).isprintable()
+            ):
                 return str(value)[:128] or 'unknown'
     return 'unknown'
 
 
 def _landed_text(position, time_of_flight: float) -> str:
-    return f"landed at x = {position[0]:.3f} m, y = {position[1]:.3f} m after {time_of_flight:.4f} s"
+    return (
+        f'landed at x = {position[0]:.3f} m, y = {position[1]:.3f} m after {time_of_flight:.4f} s'
+    )
 
 
 def _warm_up() -> None:
     """Load the compiled kernels now, so that the first flight's ticks are not late."""
     from ..physics.precompile import compile_ahead
+
     compile_ahead()  # every kernel of the nodes and commands (compiled once, then loaded)
     flight = Flight.from_release(Release())
     flight.sample(0.0105)
@@ -406,8 +514,8 @@ def _warm_up() -> None:
 
 
 def main(argv=None) -> int:
-    return run_node(SimulatorNode, argv, "simulator")
+    return run_node(SimulatorNode, argv, 'simulator')
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     raise SystemExit(main())

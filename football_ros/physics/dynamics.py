@@ -1,4 +1,5 @@
-"""Equations of motion and their integrator: the hot path, compiled with numba.
+"""
+Equations of motion and their integrator: the hot path, compiled with numba.
 
 Torque-only model of the paper (docs/physics.md, "The paper's model"), in ``field``:
 
@@ -25,8 +26,8 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
+import numpy as np
 
 from .aero import AeroModel
 from .frames import GRAVITY
@@ -37,14 +38,34 @@ R, V, Q, H, H1, PHI = 0, 3, 6, 10, 13, 14
 N_STATE = 15
 
 # Parameter layout (make_params fills it; 0 coefficients switch terms off).
-(P_MOMENT_K, P_SPIN_RATIO, P_GRAVITY, P_SIN2DELTA, P_FORCE_K, P_CD0, P_CD2, P_CLA, P_CNPA,
- P_DAMP_K, P_CMQ, P_CLP, P_CMPA, P_DIAMETER, P_WIND) = range(15)
+(
+    P_MOMENT_K,
+    P_SPIN_RATIO,
+    P_GRAVITY,
+    P_SIN2DELTA,
+    P_FORCE_K,
+    P_CD0,
+    P_CD2,
+    P_CLA,
+    P_CNPA,
+    P_DAMP_K,
+    P_CMQ,
+    P_CLP,
+    P_CMPA,
+    P_DIAMETER,
+    P_WIND,
+) = range(15)
 N_PARAM = P_WIND + 3
 
 
-def make_params(ball: BallPreset, moment: str = "linear", aero: AeroModel | None = None,
-                gravity: float = GRAVITY) -> np.ndarray:
-    """Kernel parameters. ``aero`` None = the paper's model (torque only).
+def make_params(
+    ball: BallPreset,
+    moment: str = 'linear',
+    aero: AeroModel | None = None,
+    gravity: float = GRAVITY,
+) -> np.ndarray:
+    """
+    Kernel parameters. ``aero`` None = the paper's model (torque only).
 
     k = rho S D C_Malpha / (2 I_t) [1/m^2], I_t/I_s, g [m/s^2], moment-curve flag, then the full
     model's rho S / (2 m) [1/m], coefficients, rho S D^2 / (2 I_t) [1/m], D [m] and wind [m/s].
@@ -56,10 +77,10 @@ def make_params(ball: BallPreset, moment: str = "linear", aero: AeroModel | None
     params[P_MOMENT_K] = ball.moment_coefficient()
     params[P_SPIN_RATIO] = 1.0 / ball.inertia_ratio
     params[P_GRAVITY] = gravity
-    params[P_SIN2DELTA] = 1.0 if moment == "sin2delta" else 0.0
+    params[P_SIN2DELTA] = 1.0 if moment == 'sin2delta' else 0.0
     if aero is not None:
         params[P_FORCE_K] = rho * area / (2.0 * ball.mass)
-        params[P_DAMP_K] = rho * area * ball.diameter ** 2 / (2.0 * ball.inertia_transverse)
+        params[P_DAMP_K] = rho * area * ball.diameter**2 / (2.0 * ball.inertia_transverse)
         params[P_DIAMETER] = ball.diameter
         if aero.drag:
             params[P_CD0], params[P_CD2] = aero.c_d0, aero.c_d2
@@ -71,7 +92,7 @@ def make_params(ball: BallPreset, moment: str = "linear", aero: AeroModel | None
             params[P_CMQ] = aero.c_m_q
         if aero.spin_damping:
             params[P_CLP] = aero.c_l_p
-        params[P_WIND:P_WIND + 3] = aero.wind
+        params[P_WIND : P_WIND + 3] = aero.wind
     return params
 
 
@@ -82,10 +103,12 @@ def axis_of(y: np.ndarray) -> tuple:
     return (1.0 - 2.0 * (qy * qy + qz * qz), 2.0 * (qx * qy + qw * qz), 2.0 * (qx * qz - qw * qy))
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline='always')
 def loads(v: tuple, s: tuple, h: tuple, h1: float, params: np.ndarray) -> tuple:
-    """Acceleration a [m/s^2], dh/dt [rad/s^2] and dh1/dt of the ball (module docstring and
-    :mod:`football_ros.physics.aero` give the terms). Shared by every kernel."""
+    """
+    Acceleration a [m/s^2], dh/dt [rad/s^2] and dh1/dt of the ball (module docstring and
+    :mod:`football_ros.physics.aero` give the terms). Shared by every kernel.
+    """
     vx, vy, vz = v
     sx, sy, sz = s
     hx, hy, hz = h
@@ -126,7 +149,9 @@ def derivative(y: np.ndarray, params: np.ndarray, out: np.ndarray) -> None:
     s = axis_of(y)
     sx, sy, sz = s
     hx, hy, hz = y[H], y[H + 1], y[H + 2]
-    ax, ay, az, dhx, dhy, dhz, dh1 = loads((y[V], y[V + 1], y[V + 2]), s, (hx, hy, hz), y[H1], params)
+    ax, ay, az, dhx, dhy, dhz, dh1 = loads(
+        (y[V], y[V + 1], y[V + 2]), s, (hx, hy, hz), y[H1], params
+    )
     # Transverse angular velocity w_perp = h - (h.s) s turns the non-rolling frame.
     hs = hx * sx + hy * sy + hz * sz
     wx, wy, wz = hx - hs * sx, hy - hs * sy, hz - hs * sz
@@ -204,9 +229,16 @@ def crossed_ground(before: np.ndarray, after: np.ndarray, ground: float) -> bool
 
 
 @njit(cache=True, nogil=True)  # the release node predicts beside its executor
-def propagate(y0: np.ndarray, dt: float, params: np.ndarray, sample_period: float,
-              duration: float, ground: float) -> tuple:
-    """Integrate from ``y0`` at t = 0 and sample at multiples of ``sample_period`` [s].
+def propagate(
+    y0: np.ndarray,
+    dt: float,
+    params: np.ndarray,
+    sample_period: float,
+    duration: float,
+    ground: float,
+) -> tuple:
+    """
+    Integrate from ``y0`` at t = 0 and sample at multiples of ``sample_period`` [s].
 
     Stops at ``duration`` or when the ball, moving down, reaches z = ``ground``; the last
     sample is then the landing, located to round-off inside its step. Integration steps are
@@ -229,8 +261,9 @@ def propagate(y0: np.ndarray, dt: float, params: np.ndarray, sample_period: floa
             n_steps += 1
         rk4_step(y, t_sample - n_steps * dt, params, nxt)
         if crossed_ground(y, nxt, ground):
-            return _finish_with_landing(times, states, k, y, n_steps * dt, t_sample - n_steps * dt,
-                                        params, ground)
+            return _finish_with_landing(
+                times, states, k, y, n_steps * dt, t_sample - n_steps * dt, params, ground
+            )
         times[k] = t_sample
         states[k] = nxt
     return times, states, False
@@ -242,14 +275,16 @@ def _finish_with_landing(times, states, k, y, t, step, params, ground):
     rk4_step(y, tau, params, states[k])
     states[k, R + 2] = ground
     times[k] = t + tau
-    return times[:k + 1], states[:k + 1], True
+    return times[: k + 1], states[: k + 1], True
 
 
 @njit(cache=True)
 def velocity_frame_components(v: tuple, s: tuple) -> tuple:
-    """Components (s1, s2, s3) of ``s`` along e1 = v/V, e2 = up made perpendicular to e1 and
+    """
+    Components (s1, s2, s3) of ``s`` along e1 = v/V, e2 = up made perpendicular to e1 and
     e3 = e1 x e2 (compiled twin of :func:`football_ros.physics.frames.to_velocity_frame`).
-    Pass the air-relative velocity v - wind for aerodynamic angles."""
+    Pass the air-relative velocity v - wind for aerodynamic angles.
+    """
     vx, vy, vz = v
     sx, sy, sz = s
     speed = math.sqrt(vx * vx + vy * vy + vz * vz)
@@ -258,8 +293,11 @@ def velocity_frame_components(v: tuple, s: tuple) -> tuple:
     n2 = math.sqrt(e2x * e2x + e2y * e2y + e2z * e2z)
     e2x, e2y, e2z = e2x / n2, e2y / n2, e2z / n2
     e3x, e3y, e3z = e1y * e2z - e1z * e2y, e1z * e2x - e1x * e2z, e1x * e2y - e1y * e2x
-    return (sx * e1x + sy * e1y + sz * e1z, sx * e2x + sy * e2y + sz * e2z,
-            sx * e3x + sy * e3y + sz * e3z)
+    return (
+        sx * e1x + sy * e1y + sz * e1z,
+        sx * e2x + sy * e2y + sz * e2z,
+        sx * e3x + sy * e3y + sz * e3z,
+    )
 
 
 # Columns of describe(): orientation (x, y, z, w), axis, angular velocity, alpha, beta, delta.
@@ -269,7 +307,8 @@ N_DESCRIBE = 13
 
 @njit(cache=True)
 def describe(states: np.ndarray, params: np.ndarray) -> np.ndarray:
-    """Derived quantities of state rows (N, N_STATE) -> (N, N_DESCRIBE), in ``field``.
+    """
+    Derived quantities of state rows (N, N_STATE) -> (N, N_DESCRIBE), in ``field``.
 
     Orientation = q_nr * rot_x(phi) (body x = axis, spin angle included); angular velocity
     w = h - h1 s + p s with p = (I_t/I_s) h1; alpha, beta, delta as in docs/physics.md,

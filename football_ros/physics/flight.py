@@ -1,4 +1,5 @@
-"""A flight: initial state + ball + model, integrated headless or paced in real time.
+"""
+A flight: initial state + ball + model, integrated headless or paced in real time.
 
 Everything is in ``field`` and SI. :class:`Flight` owns the state vector of
 :mod:`football_ros.physics.dynamics`; :class:`Trajectory` turns sampled state vectors into the
@@ -10,34 +11,54 @@ from __future__ import annotations
 
 import csv
 import dataclasses
-import math
 from dataclasses import dataclass
 from functools import cached_property
+import math
 from pathlib import Path
 
 import numpy as np
 
 from . import dynamics as dyn
-from .linear_theory import LinearModes, QuasiSteadyTracker, linear_modes, quasi_steady_components
-from .presets import BallPreset
 from .aero import AeroModel, resolve
-from .release import MODELS, InitialState, Release
+from .linear_theory import linear_modes, LinearModes, quasi_steady_components, QuasiSteadyTracker
+from .presets import BallPreset
+from .release import InitialState, MODELS, Release
 
 DEFAULT_STEP = 1e-3
 """Default integration step [s]: RK4 error on alpha/beta stays below 1e-6 rad over a pass."""
 
-CSV_BASE_HEADER = ("t", "x", "y", "z", "vx", "vy", "vz", "qx", "qy", "qz", "qw", "sx", "sy", "sz",
-                   "alpha", "beta", "alpha_linear", "beta_linear")
+CSV_BASE_HEADER = (
+    't',
+    'x',
+    'y',
+    'z',
+    'vx',
+    'vy',
+    'vz',
+    'qx',
+    'qy',
+    'qz',
+    'qw',
+    'sx',
+    'sy',
+    'sz',
+    'alpha',
+    'beta',
+    'alpha_linear',
+    'beta_linear',
+)
 """The 18 columns every simulate CSV starts with, in this order (a contract: never reordered)."""
-CSV_HEADER = CSV_BASE_HEADER + ("delta", "alpha_quasi_steady", "beta_quasi_steady", "spin")
+CSV_HEADER = CSV_BASE_HEADER + ('delta', 'alpha_quasi_steady', 'beta_quasi_steady', 'spin')
 """Columns written by :meth:`Trajectory.write_csv`: the base 18, then (appended) the total angle
 delta [rad], the quasi-steady linear theory's alpha, beta [rad] and the spin p [rad/s]."""
 
 
 @dataclass(frozen=True)
 class Trajectory:
-    """Sampled flight. ``times`` (N,) [s] since release, ``states`` (N, N_STATE) state vectors;
-    ``params`` the kernel parameters flown (None: the paper's, no wind)."""
+    """
+    Sampled flight. ``times`` (N,) [s] since release, ``states`` (N, N_STATE) state vectors;
+    ``params`` the kernel parameters flown (None: the paper's, no wind).
+    """
 
     times: np.ndarray
     states: np.ndarray
@@ -51,7 +72,7 @@ class Trajectory:
         """Wind [m/s] in ``field`` (zeros without)."""
         if self.params is None:
             return np.zeros(3)
-        return self.params[dyn.P_WIND:dyn.P_WIND + 3].copy()
+        return self.params[dyn.P_WIND : dyn.P_WIND + 3].copy()
 
     @property
     def air_velocities(self) -> np.ndarray:
@@ -61,12 +82,12 @@ class Trajectory:
     @property
     def positions(self) -> np.ndarray:
         """(N, 3) [m] in ``field``."""
-        return self.states[:, dyn.R:dyn.R + 3]
+        return self.states[:, dyn.R : dyn.R + 3]
 
     @property
     def velocities(self) -> np.ndarray:
         """(N, 3) [m/s] in ``field``."""
-        return self.states[:, dyn.V:dyn.V + 3]
+        return self.states[:, dyn.V : dyn.V + 3]
 
     @cached_property
     def _described(self) -> np.ndarray:
@@ -76,27 +97,27 @@ class Trajectory:
     @property
     def axes(self) -> np.ndarray:
         """(N, 3) unit spin axis in ``field``."""
-        return self._described[:, dyn.D_AXIS:dyn.D_AXIS + 3]
+        return self._described[:, dyn.D_AXIS : dyn.D_AXIS + 3]
 
     @property
     def orientations(self) -> np.ndarray:
         """(N, 4) ball orientation (x, y, z, w), body x = axis, spin angle included."""
-        return self._described[:, dyn.D_ORIENT:dyn.D_ORIENT + 4]
+        return self._described[:, dyn.D_ORIENT : dyn.D_ORIENT + 4]
 
     @property
     def angular_velocities(self) -> np.ndarray:
         """(N, 3) ball angular velocity [rad/s] in ``field``: w = h - h1 s + p s."""
-        return self._described[:, dyn.D_OMEGA:dyn.D_OMEGA + 3]
+        return self._described[:, dyn.D_OMEGA : dyn.D_OMEGA + 3]
 
     @property
     def spin_momentum(self) -> np.ndarray:
         """(N,) h.s [rad/s], computed from h and s (not the stored h1)."""
-        return np.sum(self.states[:, dyn.H:dyn.H + 3] * self.axes, axis=-1)
+        return np.sum(self.states[:, dyn.H : dyn.H + 3] * self.axes, axis=-1)
 
     @property
     def aero_angles(self) -> np.ndarray:
         """(N, 3) alpha, beta, delta [rad] of the integrated flight, against the air."""
-        return self._described[:, dyn.D_ALPHA:dyn.D_DELTA + 1]
+        return self._described[:, dyn.D_ALPHA : dyn.D_DELTA + 1]
 
     @property
     def aero_angles_linear(self) -> np.ndarray:
@@ -110,70 +131,112 @@ class Trajectory:
 
     @cached_property
     def axis_components_quasi_steady(self) -> np.ndarray:
-        """(N,) complex x = s2 + i s3 of the quasi-steady linear theory (local U, Phi, h1, and
-        the flown model's lift, damping and Magnus terms)."""
+        """
+        (N,) complex x = s2 + i s3 of the quasi-steady linear theory (local U, Phi, h1, and
+        the flown model's lift, damping and Magnus terms).
+        """
         params = dyn.make_params(self.ball) if self.params is None else self.params
-        return quasi_steady_components(self.modes, params, self.times, self.air_velocities,
-                                       self.states[:, dyn.H1])
+        return quasi_steady_components(
+            self.modes, params, self.times, self.air_velocities, self.states[:, dyn.H1]
+        )
 
     @property
     def aero_angles_quasi_steady(self) -> np.ndarray:
-        """(N, 2) alpha, beta [rad] of the quasi-steady linear theory: M_alpha(U), w_V, s3p
-        and h1 local, phases integrated along the flight (docs/physics.md)."""
+        """
+        (N, 2) alpha, beta [rad] of the quasi-steady linear theory: M_alpha(U), w_V, s3p
+        and h1 local, phases integrated along the flight (docs/physics.md).
+        """
         from .linear_theory import angles_from_components
+
         return np.stack(angles_from_components(self.axis_components_quasi_steady), axis=-1)
 
     def table(self) -> np.ndarray:
         """(N, len(CSV_HEADER)) rows in the order of :data:`CSV_HEADER`."""
-        return np.column_stack([self.times, self.positions, self.velocities, self.orientations,
-                                self.axes, self.aero_angles[:, :2], self.aero_angles_linear,
-                                self.aero_angles[:, 2], self.aero_angles_quasi_steady, self.spin])
+        return np.column_stack(
+            [
+                self.times,
+                self.positions,
+                self.velocities,
+                self.orientations,
+                self.axes,
+                self.aero_angles[:, :2],
+                self.aero_angles_linear,
+                self.aero_angles[:, 2],
+                self.aero_angles_quasi_steady,
+                self.spin,
+            ]
+        )
 
     def write_csv(self, path: str | Path) -> None:
         """Write :meth:`table` with :data:`CSV_HEADER` (full float precision)."""
-        with open(path, "w", newline="") as handle:
+        with open(path, 'w', newline='') as handle:
             writer = csv.writer(handle)
             writer.writerow(CSV_HEADER)
             writer.writerows([[repr(float(v)) for v in row] for row in self.table()])
 
 
 class Flight:
-    """One ball in flight: build from a :class:`Release` or an :class:`InitialState`.
+    """
+    One ball in flight: build from a :class:`Release` or an :class:`InitialState`.
 
     ``step`` is the fixed integration step [s]; sampling never changes the trajectory.
     """
 
-    def __init__(self, ball: BallPreset, initial: InitialState, model: str = "paper",
-                 moment: str = "linear", step: float = DEFAULT_STEP, aero: AeroModel | None = None) -> None:
+    def __init__(
+        self,
+        ball: BallPreset,
+        initial: InitialState,
+        model: str = 'paper',
+        moment: str = 'linear',
+        step: float = DEFAULT_STEP,
+        aero: AeroModel | None = None,
+    ) -> None:
         if model not in MODELS:
             raise ValueError(f"unknown model '{model}' (known: {', '.join(MODELS)})")
         if not (0.0 < step <= 0.05):
-            raise ValueError(f"integration step must be in (0, 0.05] s, got {step}")
+            raise ValueError(f'integration step must be in (0, 0.05] s, got {step}')
         ball, self.aero = resolve(ball, model, aero)
-        self.ball, self.initial, self.model, self.moment, self.step = ball, initial, model, moment, step
+        self.ball, self.initial, self.model, self.moment, self.step = (
+            ball,
+            initial,
+            model,
+            moment,
+            step,
+        )
         self.params = dyn.make_params(ball, moment, self.aero)
-        self.wind = self.params[dyn.P_WIND:dyn.P_WIND + 3].copy()
+        self.wind = self.params[dyn.P_WIND : dyn.P_WIND + 3].copy()
         self.modes = linear_modes(ball, initial, wind=self.wind)
         y0 = np.zeros(dyn.N_STATE)
-        y0[dyn.R:dyn.R + 3] = initial.position
-        y0[dyn.V:dyn.V + 3] = initial.velocity
-        y0[dyn.Q:dyn.Q + 4] = initial.attitude
-        y0[dyn.H:dyn.H + 3] = initial.modified_momentum(ball)
+        y0[dyn.R : dyn.R + 3] = initial.position
+        y0[dyn.V : dyn.V + 3] = initial.velocity
+        y0[dyn.Q : dyn.Q + 4] = initial.attitude
+        y0[dyn.H : dyn.H + 3] = initial.modified_momentum(ball)
         y0[dyn.H1] = ball.inertia_ratio * initial.spin
         self.y0 = y0
         self.rewind()
 
     @classmethod
-    def from_release(cls, release: Release, step: float = DEFAULT_STEP) -> "Flight":
-        return cls(release.preset(), release.initial_state(), release.model, release.moment, step,
-                   release.aero_model())
+    def from_release(cls, release: Release, step: float = DEFAULT_STEP) -> 'Flight':
+        return cls(
+            release.preset(),
+            release.initial_state(),
+            release.model,
+            release.moment,
+            step,
+            release.aero_model(),
+        )
 
     # --- headless ---------------------------------------------------------------------------
-    def simulate(self, rate: float = 100.0, duration: float = 10.0, ground: float = 0.0) -> Trajectory:
-        """Samples at multiples of 1/``rate`` [Hz] from t = 0 until ``duration`` [s] or the
-        landing on z = ``ground`` (then the last sample is the landing itself)."""
-        times, states, landed = dyn.propagate(self.y0, self.step, self.params, 1.0 / rate,
-                                              duration, ground)
+    def simulate(
+        self, rate: float = 100.0, duration: float = 10.0, ground: float = 0.0
+    ) -> Trajectory:
+        """
+        Samples at multiples of 1/``rate`` [Hz] from t = 0 until ``duration`` [s] or the
+        landing on z = ``ground`` (then the last sample is the landing itself).
+        """
+        times, states, landed = dyn.propagate(
+            self.y0, self.step, self.params, 1.0 / rate, duration, ground
+        )
         return Trajectory(times, states, landed, self.ball, self.modes, self.params)
 
     # --- real time --------------------------------------------------------------------------
@@ -183,11 +246,13 @@ class Flight:
         self._steps = 0
         self.landing_time: float | None = None
         self._landing_state: np.ndarray | None = None
-        self._quasi_steady = QuasiSteadyTracker(self.modes, self.params,
-                                                self.initial.velocity - self.wind)
+        self._quasi_steady = QuasiSteadyTracker(
+            self.modes, self.params, self.initial.velocity - self.wind
+        )
 
     def state_at(self, t: float, ground: float = 0.0) -> np.ndarray:
-        """State vector at time ``t`` [s] after release (t never decreasing between calls).
+        """
+        State vector at time ``t`` [s] after release (t never decreasing between calls).
 
         Whole steps are committed, the remainder is a partial step. After the landing the
         landing state is returned; ``landing_time`` is then set.
@@ -216,32 +281,40 @@ class Flight:
         self._landing_state = state
         return state
 
-    def sample(self, t: float, ground: float = 0.0) -> "BallSample":
+    def sample(self, t: float, ground: float = 0.0) -> 'BallSample':
         """The ball at ``t`` [s] after release (or at its landing, once landed)."""
         state = self.state_at(t, ground)
         landed = self.landing_time is not None
         t_state = self.landing_time if landed else t
         d = dyn.describe(state[None, :], self.params)[0]
         alpha_lin, beta_lin = self.modes.aero_angles(t_state)
-        quasi = self._quasi_steady.update(t_state, state[dyn.V:dyn.V + 3] - self.wind,
-                                          float(state[dyn.H1]))
-        return BallSample(t=t_state, position=state[dyn.R:dyn.R + 3].copy(),
-                          velocity=state[dyn.V:dyn.V + 3].copy(),
-                          orientation=d[dyn.D_ORIENT:dyn.D_ORIENT + 4], axis=d[dyn.D_AXIS:dyn.D_AXIS + 3],
-                          angular_velocity=d[dyn.D_OMEGA:dyn.D_OMEGA + 3],
-                          aero_angles=d[dyn.D_ALPHA:dyn.D_DELTA + 1],
-                          aero_angles_linear=np.array([float(alpha_lin), float(beta_lin)]),
-                          landed=landed, aero_angles_quasi_steady=quasi)
+        quasi = self._quasi_steady.update(
+            t_state, state[dyn.V : dyn.V + 3] - self.wind, float(state[dyn.H1])
+        )
+        return BallSample(
+            t=t_state,
+            position=state[dyn.R : dyn.R + 3].copy(),
+            velocity=state[dyn.V : dyn.V + 3].copy(),
+            orientation=d[dyn.D_ORIENT : dyn.D_ORIENT + 4],
+            axis=d[dyn.D_AXIS : dyn.D_AXIS + 3],
+            angular_velocity=d[dyn.D_OMEGA : dyn.D_OMEGA + 3],
+            aero_angles=d[dyn.D_ALPHA : dyn.D_DELTA + 1],
+            aero_angles_linear=np.array([float(alpha_lin), float(beta_lin)]),
+            landed=landed,
+            aero_angles_quasi_steady=quasi,
+        )
 
 
 @dataclass(frozen=True)
 class BallSample:
-    """One instant of a flight, in ``field``: t [s] since release, position [m], velocity [m/s],
+    """
+    One instant of a flight, in ``field``: t [s] since release, position [m], velocity [m/s],
     orientation (x, y, z, w; body x = axis), axis (unit), angular_velocity [rad/s],
     aero_angles (alpha, beta, delta) [rad] against the air (v - wind), aero_angles_linear
     (alpha, beta) [rad] of the linear theory frozen at release, aero_angles_quasi_steady
     (alpha, beta) [rad] of the quasi-steady linear theory (NaN once an unstable ball's theory
-    overflows)."""
+    overflows).
+    """
 
     t: float
     position: np.ndarray
@@ -253,4 +326,5 @@ class BallSample:
     aero_angles_linear: np.ndarray
     landed: bool
     aero_angles_quasi_steady: np.ndarray = dataclasses.field(
-        default_factory=lambda: np.full(2, np.nan))
+        default_factory=lambda: np.full(2, np.nan)
+    )
