@@ -1,6 +1,8 @@
 """
-Baseline for bench/node_benchmark.py: a bare rclpy node that publishes the simulator's five
-state messages (prebuilt, only the stamp changes) from a plain rclpy timer at the same rate.
+Baseline for bench/node_benchmark.py.
+
+A bare rclpy node that publishes the simulator's five state messages (prebuilt, only the stamp
+changes) from a plain rclpy timer at the same rate.
 """
 
 import sys

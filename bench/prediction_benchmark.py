@@ -204,8 +204,10 @@ def run_flight(release: Release, seed: int, settings=None, oracle: bool = True):
 
 def _errors(pred, xy_land, t_land) -> tuple[float, float, float]:
     """
-    (landing point error [m], landing time error [s], NEES of the landing point: e' C^-1 e
-    with the published covariance C, NaN for the baselines that give none).
+    Return the landing point error [m], the landing time error [s] and the NEES.
+
+    NEES of the landing point: e' C^-1 e with the published covariance C, NaN for the baselines
+    that give none.
     """
     err = np.asarray(pred[1]) - xy_land
     nees = float(err @ np.linalg.solve(pred[2], err)) if len(pred) > 2 else math.nan
@@ -214,8 +216,9 @@ def _errors(pred, xy_land, t_land) -> tuple[float, float, float]:
 
 def time_tracker(releases: list[Release], seed: int) -> dict[str, np.ndarray]:
     """
-    Wall and CPU (this thread) time per fix [ms] of update() and of update() followed by
-    predict_landing(), replaying the camera fixes of ``releases`` (nothing else running).
+    Time per fix [ms] of update() and of update() + predict_landing(), wall and CPU.
+
+    CPU time of this thread; replaying the camera fixes of ``releases`` (nothing else running).
     """
     out = {
         'update wall': [],

@@ -1,9 +1,10 @@
 """
-Worst-case decision time of a release request (issue: every request up to the byte limit is
-decided in bounded time). Times the release node's two steps without ROS: reading the text
-(strict language) and judging the release (fields, flight order, flight construction), for a
-typical request and for hostile ones of up to ``max_request_bytes``; prints a table with each
-case's ratio to the typical request.
+Worst-case decision time of a release request.
+
+Issue: every request up to the byte limit is decided in bounded time. Times the release node's two
+steps without ROS: reading the text (strict language) and judging the release (fields, flight
+order, flight construction), for a typical request and for hostile ones of up to
+``max_request_bytes``; prints a table with each case's ratio to the typical request.
 
     .venv/bin/python bench/request_benchmark.py [--repeat N]
 """

@@ -186,8 +186,10 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
 
 def simulate_warnings(release: Release, flight: 'Flight', trajectory) -> list[str]:
     """
-    Sentences about a simulated flight the user must know: a gyroscopically unstable
-    release, and the model forms whose data range the flight's total angle left.
+    Sentences about a simulated flight the user must know.
+
+    A gyroscopically unstable release, and the model forms whose data range the flight's total
+    angle left.
     """
     import numpy as np
 
@@ -412,7 +414,7 @@ def _main(argv: Sequence[str] | None) -> int:
         import importlib
 
         module_name, function = NODE_COMMANDS[argv[0]]
-        own = argv[1 : argv.index('--ros-args')] if '--ros-args' in argv else argv[1:]
+        own = argv[1:argv.index('--ros-args')] if '--ros-args' in argv else argv[1:]
         if argv[0] in ('simulator', 'release', 'tracker') and ({'-h', '--help'} & set(own)):
             print(f'usage: football-ros {argv[0]} [--ros-args -p NAME:=VALUE ...]\n')
             print(plain(importlib.import_module(module_name).__doc__))

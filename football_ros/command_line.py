@@ -1,6 +1,8 @@
 """
-Command-line pieces shared by every command (no ROS): the release options, one-line usage
-errors and the help format. ``cli.py`` and the node commands (``throw``, ``demo``) use them.
+Command-line pieces shared by every command (no ROS).
+
+The release options, one-line usage errors and the help format. ``cli.py`` and the node commands
+(``throw``, ``demo``) use them.
 """
 
 from __future__ import annotations
@@ -17,8 +19,9 @@ class UsageError(Exception):
 
 class HelpFormatter(argparse.RawDescriptionHelpFormatter):
     """
-    Help with each option's default (when it has a meaningful one) and descriptions as
-    written (paragraphs kept).
+    Help with each option's default and descriptions as written.
+
+    The default is shown when it has a meaningful one; paragraphs are kept.
     """
 
     def _get_help_string(self, action: argparse.Action) -> str:

@@ -162,8 +162,10 @@ def _add(stack: list, value: Any, event) -> None:
 
 class StrictParseError(ValueError):
     """
-    A request text outside the strict language; ``partial`` holds the top-level mapping read
-    before the problem (so that the request's id can still be answered).
+    A request text outside the strict language.
+
+    ``partial`` holds the top-level mapping read before the problem (so that the request's id
+    can still be answered).
     """
 
     def __init__(self, reason: str, partial: dict) -> None:
@@ -326,8 +328,9 @@ def _within_limits(value: Any, depth: int = 0) -> bool:
 
 def _load_json(text: str) -> Any:
     """
-    Strict JSON, or None when the text is not JSON within the language's limits (the YAML
-    path then reads it, or says precisely what is wrong).
+    Parse strict JSON; None when the text is not JSON within the language's limits.
+
+    The YAML path then reads it, or says precisely what is wrong.
     """
     try:
         value = json.loads(

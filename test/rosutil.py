@@ -9,8 +9,10 @@ from std_msgs.msg import String
 
 def order_flight(collector, release: Release, request_id: str):
     """
-    Send a flight order straight to the simulator (what the release node does) and wait for
-    its 'released' event; an order lost to DDS discovery right after start-up is sent again.
+    Send a flight order straight to the simulator and wait for its 'released' event.
+
+    As the release node does; an order lost to DDS discovery right after start-up is sent
+    again.
     """
     if qos.DIAGNOSTICS not in collector.messages:
         collector.subscribe(DiagnosticArray, qos.DIAGNOSTICS, qos.DIAGNOSTICS_QOS)

@@ -56,8 +56,9 @@ def test_batch_landings_match_single_flights(model):
 
 def test_batch_angles_are_against_the_air_as_the_single_flight_s():
     """
-    With wind the batch's largest alpha, beta and delta are those of the single flight,
-    whose angles are taken against the air (v - wind).
+    With wind the batch's largest alpha, beta, delta are the single flight's.
+
+    The single flight's angles are taken against the air (v - wind).
     """
     from football_ros.physics.aero import AeroModel
 
@@ -110,7 +111,7 @@ def test_results_come_back_in_input_order():
     result = simulate_batch(get_preset('american'), st)
     for i in rng.choice(n, 5, replace=False):
         single = simulate_batch(
-            get_preset('american'), {k: v[i : i + 1] for k, v in st.items()}, step=0.01
+            get_preset('american'), {k: v[i:i + 1] for k, v in st.items()}, step=0.01
         )
         assert result.max_beta[i] == pytest.approx(single.max_beta[0], abs=3e-3)
         assert np.sign(result.max_beta[i]) == np.sign(single.max_beta[0])
@@ -249,8 +250,9 @@ def test_montecarlo_with_no_spread_is_the_single_flight(tmp_path):
 )
 def test_montecarlo_bad_options_fail_before_any_work(tmp_path, args):
     """
-    A bad option, output path included, fails at once (no flight is flown: 2M balls would
-    take a minute) with one line naming it.
+    A bad option, output path included, fails at once with one line naming it.
+
+    No flight is flown: 2M balls would take a minute.
     """
     args = [a.replace('{tmp}', str(tmp_path)) for a in args]
     if '--out' not in args:
@@ -289,8 +291,10 @@ def _aero_in(key):
 @hs.composite
 def accepted_releases(draw):
     """
-    Any release the package accepts: every range of LIMITS and AeroModel.LIMITS, both balls,
-    both models and moment curves, ball parameters scaled by 0.5 to 2.
+    Any release the package accepts.
+
+    Every range of LIMITS and AeroModel.LIMITS, both balls, both models and moment curves, ball
+    parameters scaled by 0.5 to 2.
     """
     model = draw(hs.sampled_from(['paper', 'full']))
     aero = {}
@@ -349,12 +353,14 @@ def _release(ball, draw, elevation, z, model, aero, preset, scale) -> Release:
 @given(accepted_releases())
 def test_batch_agrees_with_the_single_flight_for_every_accepted_release(release):
     """
-    Same landing (or the same position at max_time) as a tight single flight (RK4 at
-    0.25 ms, or 0.5 / the fastest rate if shorter, inside RK4's stability limit of 2.8 / rate):
-    the default step respects every fast rate (strong pitch damping included). Tolerance:
-    0.1 mm (1 us) plus the larger of the tight flight's own error (twice its change when its
-    step is halved) and the error of the single flight at its default step: a tumbling ball
-    hovering or gliding in an updraft is chaotic, and there neither integrator is exact.
+    Same landing (or the same position at max_time) as a tight single flight.
+
+    The single flight: RK4 at 0.25 ms, or 0.5 / the fastest rate if shorter, inside RK4's
+    stability limit of 2.8 / rate. The default step respects every fast rate (strong pitch
+    damping included). Tolerance: 0.1 mm (1 us) plus the larger of the tight flight's own error
+    (twice its change when its step is halved) and the error of the single flight at its
+    default step: a tumbling ball hovering or gliding in an updraft is chaotic, and there
+    neither integrator is exact.
     """
     states = states_of([release])
     result = simulate_batch(
@@ -380,7 +386,7 @@ def test_batch_agrees_with_the_single_flight_for_every_accepted_release(release)
     # A Magnus moment can pump the wobble far beyond its release value (10^4 rad/s seen); where
     # the tight single flight no longer resolves it (RK4 beyond 0.5 rad per step), it is no
     # reference (test_a_wobble_pumped_by_the_magnus_moment... covers pumping).
-    assume(np.linalg.norm(tr.states[:, dyn.H : dyn.H + 3], axis=1).max() * step <= 0.5)
+    assume(np.linalg.norm(tr.states[:, dyn.H:dyn.H + 3], axis=1).max() * step <= 0.5)
     assert result.landed[0] == tr.landed
     own = 2.0 * np.abs(tr.positions[-1] - half.positions[-1])
     if default.landed == tr.landed and np.isfinite(default.positions[-1]).all():
@@ -410,9 +416,11 @@ def test_strong_pitch_damping_lands_like_the_single_flight():
 
 def test_a_wobble_pumped_by_the_magnus_moment_shortens_the_step_in_flight():
     """
-    A slow spinner in an updraft: the Magnus moment pumps its transverse rate from ~0 to
-    ~470 rad/s in 20 s, beyond any bound known at release. The kernel shortens the step as
-    the rates grow (with the release's step it diverged to 1e38 m).
+    A slow spinner in an updraft.
+
+    The Magnus moment pumps its transverse rate from ~0 to ~470 rad/s in 20 s, beyond any bound
+    known at release. The kernel shortens the step as the rates grow (with the release's step
+    it diverged to 1e38 m).
     """
     release = Release(
         speed=1.0,

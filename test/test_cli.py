@@ -195,8 +195,9 @@ def test_a_closed_pipe_ends_quietly():
 
 def _read_only(cmd):
     """
-    ``cmd`` run so that read-only folders are read-only even for root (who would otherwise
-    write through the permission bits).
+    Return ``cmd`` run so that read-only folders are read-only even for root.
+
+    Root would otherwise write through the permission bits.
     """
     import os
     import shutil
@@ -210,8 +211,10 @@ def _read_only(cmd):
 
 def test_compile_ahead_into_a_per_user_cache_for_a_read_only_install(tmp_path):
     """
-    A read-only package folder (a colcon install): the kernels go to the per-user cache
-    chosen at import, every kernel is compiled the first time and loaded the second.
+    A read-only package folder (a colcon install).
+
+    The kernels go to the per-user cache chosen at import, every kernel is compiled the first
+    time and loaded the second.
     """
     import os
     from pathlib import Path

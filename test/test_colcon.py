@@ -66,8 +66,10 @@ def test_colcon_build_installs_node_executables(tmp_path):
 )
 def test_colcon_test_runs_the_package_tests(tmp_path):
     """
-    `colcon test` on the pip ROS: a cheap selection (the lint tests of the ament_python
-    template, skipped until the lint pass, the RViz config and the launch file arguments).
+    `colcon test` on the pip ROS.
+
+    A cheap selection (the lint tests of the ament_python template, skipped until the lint
+    pass, the RViz config and the launch file arguments).
     """
     env = dict(
         os.environ, AMENT_PREFIX_PATH=str(VENV), PATH=f'{VENV / "bin"}:{os.environ["PATH"]}'

@@ -17,8 +17,9 @@ RELEASE = Release(model='full', position=(0.0, 0.0, 1.8))
 
 def fixes(release, seed=1, **camera):
     """
-    Camera fixes of a flight (60 Hz, 2 cm, no latency unless given), captured before the
-    landing; returns (fixes, landing time, landing x y).
+    Camera fixes of a flight (60 Hz, 2 cm, no latency unless given), captured before the landing.
+
+    Returns (fixes, landing time, landing x y).
     """
     truth = Flight.from_release(release).simulate(rate=1000.0)
     t_land = float(truth.times[-1])
@@ -99,7 +100,7 @@ def test_converges_on_a_full_model_flight():
     # is near the true h1 = (I_s/I_t) 600 rpm and the drag and lift scales near 1.
     t, x, P = tracker.estimate
     h1_true = Flight.from_release(RELEASE).y0[dyn.H1]
-    assert x[X_H : X_H + 3] @ x[X_S : X_S + 3] == pytest.approx(h1_true, rel=0.15)
+    assert x[X_H:X_H + 3] @ x[X_S:X_S + 3] == pytest.approx(h1_true, rel=0.15)
     assert x[X_KD] == pytest.approx(1.0, abs=0.15) and x[X_KL] == pytest.approx(1.0, abs=0.2)
     assert xy[1] < -2.5 and len(tracker.track.hyps) == 1
     # The reported uncertainty is honest: the error is within 3 sigma.
@@ -121,7 +122,7 @@ def test_coefficients_30_percent_off_are_estimated():
     assert np.linalg.norm(at_05.position[:2] - xy) < 0.1
     _, x, _ = tracker.estimate
     assert x[X_KD] > 1.1  # drag scale found high
-    assert x[X_H : X_H + 3] @ x[X_S : X_S + 3] < 0  # left hand
+    assert x[X_H:X_H + 3] @ x[X_S:X_S + 3] < 0  # left hand
     # The same fixes through a filter that knows the true coefficients: the estimated scales
     # bring the default-model tracker close to it.
     known = FlightTracker(TrackerSettings(aero=AeroModel(**aero)))
@@ -131,11 +132,13 @@ def test_coefficients_30_percent_off_are_estimated():
 
 def test_a_lob_with_more_lift_is_not_locked_on_a_wrong_spin():
     """
-    A 44 deg lob, 720 rpm left-handed, axis 1.7 deg off the velocity at release, 30 % less
-    drag and 30 % more lift than the filter's defaults. With a prior that did not correlate h
-    with the axis the filter settled on a wrong spin and lift scale and missed by 37 to 146 cm
-    at 1 s lead with a landing NEES of 30 to 55 (seeds 1 to 3): its covariance lied. Now it
-    misses by 6.3 cm at 1 s, 3.1 cm at 0.5 s, and the error is inside its own covariance.
+    A 44 deg lob, 720 rpm left-handed, axis 1.7 deg off the velocity at release.
+
+    With 30 % less drag and 30 % more lift than the filter's defaults. With a prior that did
+    not correlate h with the axis the filter settled on a wrong spin and lift scale and missed
+    by 37 to 146 cm at 1 s lead with a landing NEES of 30 to 55 (seeds 1 to 3): its covariance
+    lied. Now it misses by 6.3 cm at 1 s, 3.1 cm at 0.5 s, and the error is inside its own
+    covariance.
     """
     aero = {'c_d0': 0.055 * 0.7, 'c_d2': 0.30 * 0.7, 'c_l_alpha': 0.40 * 1.3}
     lob = Release(
@@ -159,7 +162,7 @@ def test_a_lob_with_more_lift_is_not_locked_on_a_wrong_spin():
     for err, pred in ((err_1s, at_1s), (err_05, at_05)):
         assert err @ np.linalg.solve(pred.covariance, err) < 11.6
     _, x, _ = tracker.estimate
-    assert x[X_H : X_H + 3] @ x[X_S : X_S + 3] < 0  # left hand
+    assert x[X_H:X_H + 3] @ x[X_S:X_S + 3] < 0  # left hand
 
 
 def test_outliers_nan_and_late_fixes_do_not_poison_it():

@@ -117,8 +117,10 @@ def test_air_density_from_altitude_and_temperature():
 
 def _measured_mode_exponents(aero, rate=200.0, duration=1.5):
     """
-    Complex exponents of the two modes of x = s2 + i s3 in a flight without gravity or drag
-    (constant U: the linear equation has constant coefficients), by Prony's method.
+    Return complex exponents of the two modes of x = s2 + i s3, by Prony's method.
+
+    In a flight without gravity or drag (constant U: the linear equation has constant
+    coefficients).
     """
     release = Release(
         model='full',
@@ -145,8 +147,10 @@ def _measured_mode_exponents(aero, rate=200.0, duration=1.5):
 )
 def test_damping_rates_with_magnus_match_flights(c_m_p_alpha, c_n_p_alpha):
     """
-    McCoy's T carries the Magnus MOMENT: the rates measured in integrated flights agree
-    within 2 % (measured 0.1-1 %); the Magnus force leaves them (and S_d) unchanged.
+    McCoy's T carries the Magnus MOMENT.
+
+    The rates measured in integrated flights agree within 2 % (measured 0.1-1 %); the Magnus
+    force leaves them (and S_d) unchanged.
     """
     sigma, pred = _measured_mode_exponents(
         {'c_m_p_alpha': c_m_p_alpha, 'c_n_p_alpha': c_n_p_alpha}
@@ -179,8 +183,10 @@ def test_damping_rates_with_magnus_match_flights(c_m_p_alpha, c_n_p_alpha):
 
 def test_magnus_force_has_the_classical_direction():
     """
-    A positive C_Npalpha pushes along p (s x u): a right-handed spiral flying nose-right
-    (beta > 0, i.e. toward -y for a throw along +x) is pushed up, a left-handed one down.
+    A positive C_Npalpha pushes along p (s x u).
+
+    A right-handed spiral flying nose-right (beta > 0, i.e. toward -y for a throw along +x) is
+    pushed up, a left-handed one down.
     """
     ball = get_preset('american')
     aero = AeroModel(
@@ -225,8 +231,10 @@ def test_lift_follows_sin_2_delta():
 
 def test_aero_angles_are_relative_to_the_air():
     """
-    Galilean check: a flight in a wind W equals the still-air flight released at v0 - W seen
-    from a frame moving with W; angles and the linear theory are identical, positions shift.
+    Galilean check.
+
+    A flight in a wind W equals the still-air flight released at v0 - W seen from a frame
+    moving with W; angles and the linear theory are identical, positions shift.
     """
     ball = get_preset('american')
     st = Release(
@@ -254,8 +262,10 @@ def test_aero_angles_are_relative_to_the_air():
 
 def test_linear_moment_range_is_where_it_leaves_rae_and_streit_by_10_percent():
     """
-    The kernel's linear torque against the sin2delta one (Rae & Streit's 0.165 sin 2 delta
-    scaled to the slope): ratio 1/cos(delta), 1.10 at the 24.6 deg limit of VALIDITY.
+    Kernel's linear torque against the sin2delta one: ratio 1/cos(delta).
+
+    The sin2delta torque is Rae & Streit's 0.165 sin 2 delta scaled to the slope; the ratio is
+    1.10 at the 24.6 deg limit of VALIDITY.
     """
     from football_ros.physics.aero import VALIDITY
 
@@ -343,9 +353,10 @@ def test_mccoy_factors_are_consistent():
 
 def _measured_rates_with_drag(aero, spin_rpm, t1=0.2, t2=2.8, half=0.15, rate=500.0):
     """
-    Each mode's amplitude rate [1/s] in an integrated flight without gravity (drag slows
-    it): amplitudes fitted (Prony exponents, then least squares) in windows around t1 and t2;
-    and the package's rates averaged over the same interval of the same flight.
+    Each mode's amplitude rate [1/s] in an integrated flight without gravity (drag slows it).
+
+    Amplitudes fitted (Prony exponents, then least squares) in windows around t1 and t2; and
+    the package's rates averaged over the same interval of the same flight.
     """
     release = Release(
         model='full',
@@ -398,9 +409,11 @@ def _measured_rates_with_drag(aero, spin_rpm, t1=0.2, t2=2.8, half=0.15, rate=50
 @pytest.mark.parametrize('spin_rpm', [600.0, -600.0])
 def test_damping_rates_with_drag_match_flights(aero, expected, spin_rpm):
     """
-    Drag on: the per-second rates (time domain with the WKB terms) agree with the decay
-    measured in integrated flights to 1 % (measured 0.1-0.6 %), for both spin directions; the
-    pre-fix McCoy lambda V / D gave -0.278/-0.367, -0.277/-0.369, -0.049/-0.597.
+    Drag on: the per-second rates agree with integrated flights to 1 %.
+
+    Rates in the time domain with the WKB terms, against the decay measured in integrated
+    flights (measured 0.1-0.6 %), for both spin directions; the pre-fix McCoy lambda V / D gave
+    -0.278/-0.367, -0.277/-0.369, -0.049/-0.597.
     """
     measured, predicted = _measured_rates_with_drag(aero, spin_rpm)
     assert measured == pytest.approx(expected, abs=0.003)
@@ -432,10 +445,11 @@ def test_aero_round_trip():
 @pytest.mark.parametrize('aero', [{}, {'c_m_p_alpha': 0.03, 'c_n_p_alpha': 0.3}])
 def test_quasi_steady_theory_carries_the_full_models_damping(aero):
     """
-    No gravity or drag (constant coefficients): the full model's own linear equation
-    (lift, damping, Magnus) follows the integrated wobble to 3e-3 rad of a 0.05 rad wobble
-    over 3 s (measured 1.4e-3 / 1.5e-3), where the paper's undamped frozen theory is off by
-    0.035-0.044 rad.
+    No gravity or drag (constant coefficients).
+
+    The full model's own linear equation (lift, damping, Magnus) follows the integrated wobble
+    to 3e-3 rad of a 0.05 rad wobble over 3 s (measured 1.4e-3 / 1.5e-3), where the paper's
+    undamped frozen theory is off by 0.035-0.044 rad.
     """
     from football_ros.physics import linear_modes
 
@@ -458,8 +472,10 @@ def test_quasi_steady_theory_carries_the_full_models_damping(aero):
 @pytest.mark.parametrize('ball, ratio', [('american', 0.15), ('rugby', 0.5)])
 def test_quasi_steady_tracks_full_flights_better(ball, ratio):
     """
-    Nominal full-model flights, rms over alpha, beta: measured American 0.0057 vs 0.0646 rad,
-    rugby 0.088 vs 0.222 rad (0.0111 and 0.093 before the equilibrium's drift was added).
+    Nominal full-model flights, rms over alpha, beta.
+
+    Measured American 0.0057 vs 0.0646 rad, rugby 0.088 vs 0.222 rad (0.0111 and 0.093 before
+    the equilibrium's drift was added).
     """
     tr = Flight.from_release(Release(ball=ball, model='full')).simulate(rate=1000.0, duration=10.0)
     rms = lambda a: float(np.sqrt(np.mean((a - tr.aero_angles[:, :2]) ** 2)))

@@ -198,8 +198,9 @@ def test_yaml_keys_are_declared_and_applied_in_a_namespace(
     start_node, collector, tmp_path, command, node_name
 ):
     """
-    Every key of the node's YAML section is a parameter it declares, with the YAML's type,
-    and a changed value reaches the node run under -r __ns:=/team1 (wildcard keys).
+    Every key of the node's YAML section is a parameter it declares, with the YAML's type.
+
+    And a changed value reaches the node run under -r __ns:=/team1 (wildcard keys).
     """
     section = _section(node_name)
     changed = dict(section, integration_step=0.002)

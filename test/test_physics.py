@@ -1,6 +1,8 @@
 """
-Physics core against docs/physics.md: published numbers, invariants, signs, an independent
-solver, the quasi-steady theory, flight files and the paper report.
+Physics core against docs/physics.md.
+
+Published numbers, invariants, signs, an independent solver, the quasi-steady theory, flight files
+and the paper report.
 """
 
 import math
@@ -64,9 +66,11 @@ def test_stability_and_critical_spin(paper_modes):
 @pytest.mark.parametrize('ball', ['american', 'rugby'])
 def test_left_handed_spin_mirrors_the_modes(ball):
     """
-    Mirror symmetry (the vertical plane of flight): spin -p with mirrored beta and beta
-    rate has w_f, w_s and s3p of +p with their signs flipped and conj(C1), conj(C2); the fast
-    mode is still the larger |w| and C1 still its amplitude; the full model's rates are equal.
+    Mirror symmetry (the vertical plane of flight) of the modes.
+
+    Spin -p with mirrored beta and beta rate has w_f, w_s and s3p of +p with their signs
+    flipped and conj(C1), conj(C2); the fast mode is still the larger |w| and C1 still its
+    amplitude; the full model's rates are equal.
     """
     from football_ros.cli import modes_report
     from football_ros.physics.aero import AeroModel, dynamic_stability
@@ -109,8 +113,9 @@ def test_left_handed_spin_mirrors_the_modes(ball):
 
 def test_left_handed_flight_is_the_mirror_image():
     """
-    Integrated flights (nonlinear, frozen and quasi-steady theories) of mirrored releases
-    are mirror images: alpha equal, beta opposite.
+    Integrated flights of mirrored releases are mirror images: alpha equal, beta opposite.
+
+    Nonlinear, frozen and quasi-steady theories.
     """
     kw = {'alpha0_deg': 2.0, 'alpha_rate_deg_s': 15.0, 'model': 'full'}
     right = Flight.from_release(Release(spin_rpm=600.0, beta0_deg=1.0, **kw)).simulate(rate=100.0)
@@ -356,9 +361,10 @@ def test_quasi_steady_equals_frozen_when_nothing_changes():
 @pytest.mark.parametrize('ball, ratio', [('american', 0.1), ('rugby', 0.5)])
 def test_quasi_steady_tracks_the_flight_better(ball, ratio):
     """
-    Whole nominal flights, rms |linear - nonlinear| of alpha and beta: measured American
-    0.0035 vs 0.0698 rad (20x closer; 0.0082 before the equilibrium drift), rugby 0.058 vs
-    0.167 rad (2.9x; 0.086 before).
+    Whole nominal flights, rms |linear - nonlinear| of alpha and beta.
+
+    Measured American 0.0035 vs 0.0698 rad (20x closer; 0.0082 before the equilibrium drift),
+    rugby 0.058 vs 0.167 rad (2.9x; 0.086 before).
     """
     tr = Flight.from_release(Release(ball=ball)).simulate(rate=1000.0, duration=10.0)
     rms = lambda a: float(np.sqrt(np.mean((a - tr.aero_angles[:, :2]) ** 2)))
@@ -378,11 +384,12 @@ def test_quasi_steady_tracks_the_flight_better(ball, ratio):
 )
 def test_quasi_steady_within_the_validity_range(ball, model, bound):
     """
-    Where the linear theory is meant to hold (until delta first leaves the linear moment's
-    24.6 deg), rms of quasi-steady - integrated: measured American 0.0035 (paper) and 0.0057
-    (full) rad, rugby 0.0135 and 0.0210 rad over its first second, 3-4x closer than the
-    frozen theory; without the equilibrium's drift B x_p'/C it was 0.0082, 0.0111, 0.060 and
-    0.072 (rugby: worse than frozen).
+    Quasi-steady theory against integrated flights where the linear theory holds.
+
+    Until delta first leaves the linear moment's 24.6 deg, rms of quasi-steady - integrated:
+    measured American 0.0035 (paper) and 0.0057 (full) rad, rugby 0.0135 and 0.0210 rad over
+    its first second, 3-4x closer than the frozen theory; without the equilibrium's drift B
+    x_p'/C it was 0.0082, 0.0111, 0.060 and 0.072 (rugby: worse than frozen).
     """
     tr = Flight.from_release(Release(ball=ball, model=model)).simulate(rate=1000.0, duration=10.0)
     over = np.flatnonzero(tr.aero_angles[:, 2] > math.radians(24.6))
@@ -395,10 +402,11 @@ def test_quasi_steady_within_the_validity_range(ball, model, bound):
 
 def test_equilibrium_drift_matches_the_flights_own():
     """
-    X_p - x_p = B x_p' / C, with x_p' from the linearised path rates (package) against
-    x_p' differentiated numerically along the integrated full-model flight (independent):
-    within 6 % of its largest value (measured 4 %: the flown u' also carries the lift of
-    the wobble, which the linearised rates leave out).
+    X_p - x_p = B x_p' / C: package rates against a numerical derivative, within 6 %.
+
+    x_p' from the linearised path rates (package) against x_p' differentiated numerically along
+    the integrated full-model flight (independent): within 6 % of its largest value (measured 4
+    %: the flown u' also carries the lift of the wobble, which the linearised rates leave out).
     """
     from football_ros.physics import linear_theory as lt
 
@@ -432,8 +440,10 @@ def test_quasi_steady_in_real_time_matches_the_table():
 
 def test_quasi_steady_amplitude_and_phase_by_hand():
     """
-    x_qs written out: local w_f, w_s from M_alpha(V(t)), phases by quadrature, WKB
-    amplitude, and the equilibrium with its first-order drift computed analytically.
+    x_qs written out.
+
+    Local w_f, w_s from M_alpha(V(t)), phases by quadrature, WKB amplitude, and the equilibrium
+    with its first-order drift computed analytically.
     """
     release = Release()
     tr = Flight.from_release(release).simulate(rate=1000.0, duration=1.0)

@@ -405,8 +405,9 @@ def test_full_disk_keeps_the_recording(start_node, collector, small_disk, storag
 
 def test_file_size_limit_drops_only_what_is_not_on_disk(tmp_path, monkeypatch):
     """
-    A write error that persists after the reserve is freed (EFBIG: a file size limit): the
-    messages not yet on disk are dropped, the rest is closed into a consistent bag.
+    A write error that persists after the reserve is freed (EFBIG: a file size limit).
+
+    The messages not yet on disk are dropped, the rest is closed into a consistent bag.
     """
     import errno
 
@@ -470,8 +471,10 @@ def test_file_size_limit_drops_only_what_is_not_on_disk(tmp_path, monkeypatch):
 # --- use_sim_time (issue 10.6) --------------------------------------------------------------------
 def test_recorder_under_sim_time_stamps_with_clock(start_node, collector, tmp_path):
     """
-    use_sim_time:=true: receive times are /clock time (as ros2 bag record --use-sim-time),
-    i.e. the simulated time of the tick that published the message.
+    use_sim_time:=true.
+
+    Receive times are /clock time (as ros2 bag record --use-sim-time), i.e. the simulated time
+    of the tick that published the message.
     """
     bag = tmp_path / 'sim_bag'
     start_node(

@@ -184,8 +184,9 @@ def test_each_bad_input_class_gets_one_error_and_nothing_else_changes(start_node
 
 def _state_request(release: Release, sec: int, child: str = 'football') -> Odometry:
     """
-    The release as an Odometry: twist in the body frame (child ``football``) or, for child
-    ``field``, in the field frame.
+    The release as an Odometry.
+
+    Twist in the body frame (child ``football``) or, for child ``field``, in the field frame.
     """
     st = release.initial_state()
     msg = Odometry(child_frame_id=child)
@@ -203,8 +204,10 @@ def _state_request(release: Release, sec: int, child: str = 'football') -> Odome
 
 def test_typed_state_request(start_node, client):
     """
-    Any Odometry of the ball is a release: body-frame twist (the simulator's own odom fed
-    back included) or field-frame twist; the preset comes from the state_ball parameter.
+    Any Odometry of the ball is a release.
+
+    Body-frame twist (the simulator's own odom fed back included) or field-frame twist; the
+    preset comes from the state_ball parameter.
     """
     start_node('simulator')
     start_node('release', '--ros-args', '-p', 'state_ball:=rugby')
@@ -268,8 +271,9 @@ def _rss_kb(pid: int) -> int:
 @pytest.mark.parametrize('publishers', [1, 10])
 def test_flood_every_request_answered_once_memory_bounded(start_node, client, publishers):
     """
-    1000 requests/s for 10 s (one publisher, or ten in parallel), a third of them invalid:
-    every id gets exactly one answer (served, refused or busy), memory stays bounded, and the
+    1000 requests/s for 10 s (one publisher, or ten in parallel), a third of them invalid.
+
+    Every id gets exactly one answer (served, refused or busy), memory stays bounded, and the
     node answers at once afterwards.
     """
     start_node('simulator')
@@ -372,8 +376,10 @@ HOSTILE_ORDERS = [
 
 def test_hostile_flight_orders_are_refused_with_an_acknowledgement(start_node, collector):
     """
-    Any participant can publish on football/flight/order: each order gets one ERROR
-    acknowledgement naming the problem, the simulator keeps running and flies nothing.
+    Any participant can publish on football/flight/order.
+
+    Each order gets one ERROR acknowledgement naming the problem, the simulator keeps running
+    and flies nothing.
     """
     simulator = start_node('simulator')
     collector.subscribe(DiagnosticStatus, qos.FLIGHT_ACK, qos.ORDER)

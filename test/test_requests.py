@@ -210,8 +210,10 @@ def test_fuzz_valid_ranges_are_accepted_and_every_accepted_release_is_a_valid_or
     speed, elevation, spin, alpha0, beta0, alpha_rate, beta_rate
 ):
     """
-    One truth: a release accepted field by field is also accepted as a flight order, and the
-    combined limits (total axis offset, transverse rate) decide exactly as the order's do.
+    One truth: a release accepted field by field is also accepted as a flight order.
+
+    And the combined limits (total axis offset, transverse rate) decide exactly as the order's
+    do.
     """
     text = json.dumps(
         {

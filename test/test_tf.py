@@ -1,6 +1,7 @@
 """
-TF: the ball as the frame ``football`` in ``field`` on /tf (tf2_msgs/TFMessage), and the
-tf2_msgs built for the pip ROS (pip_ros/tf2_msgs) is wire-compatible with Jazzy's.
+TF: the ball as the frame ``football`` in ``field`` on /tf (tf2_msgs/TFMessage).
+
+And the tf2_msgs built for the pip ROS (pip_ros/tf2_msgs) is wire-compatible with Jazzy's.
 """
 
 import time

@@ -1,6 +1,7 @@
 """
-Tracker node across processes: simulator camera -> tracker -> landing prediction, and hostile
-fixes.
+Tracker node across processes.
+
+simulator camera -> tracker -> landing prediction, and hostile fixes.
 """
 
 import math
@@ -58,8 +59,9 @@ def assert_all_finite(collector):
 
 def test_prediction_converges_to_the_simulators_landing(start_node, collector):
     """
-    Two throws (right- then left-handed, the second after the first landed), camera at 60 Hz
-    with 2 cm noise, 20 ms latency, 10 % dropouts and 2 % outliers.
+    Two throws (right- then left-handed, the second after the first landed).
+
+    Camera at 60 Hz with 2 cm noise, 20 ms latency, 10 % dropouts and 2 % outliers.
     """
     start_node(
         'simulator',

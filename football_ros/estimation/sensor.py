@@ -34,6 +34,8 @@ LIMITS = {
 @dataclass(frozen=True)
 class CameraSettings:
     """
+    Camera settings, validated against :data:`LIMITS`.
+
     rate [Hz] (0 = off), noise [m], latency [s], dropout and outlier_rate [probability per
     capture], outlier_size [m], seed (int). Validated against :data:`LIMITS`.
     """
@@ -65,8 +67,10 @@ class CameraSettings:
 @dataclass(frozen=True)
 class Observation:
     """
-    One detection: capture time ``stamp`` [s], ``position`` (3,) [m] in ``field``, the
-    time it is delivered [s] (``stamp`` + latency) and whether it is an injected outlier.
+    One detection.
+
+    Capture time ``stamp`` [s], ``position`` (3,) [m] in ``field``, the time it is delivered
+    [s] (``stamp`` + latency) and whether it is an injected outlier.
     """
 
     stamp: float
@@ -87,6 +91,7 @@ class Camera:
     def restart(self, release_time: float) -> None:
         """
         A new flight released at ``release_time`` [s]: captures at release_time + k / rate.
+
         Observations still waiting are kept (they were captured).
         """
         self._release = float(release_time)
@@ -94,8 +99,9 @@ class Camera:
 
     def capture(self, stamp: float, position: np.ndarray) -> Observation | None:
         """
-        The detection of the ball at ``position`` [m] captured at ``stamp`` [s] (None when
-        dropped).
+        Return the detection of the ball at ``position`` [m] captured at ``stamp`` [s].
+
+        None when dropped.
         """
         s = self.settings
         draws = self._rng.random(2)
@@ -111,9 +117,10 @@ class Camera:
 
     def step(self, now: float, position_at: Callable[[float], np.ndarray]) -> list[Observation]:
         """
-        Capture every frame due up to ``now`` [s] (``position_at(t)`` gives the ball at
-        capture time t, called with non-decreasing t) and return the observations whose
-        delivery time has come, oldest first.
+        Capture every frame due up to ``now`` [s] and return the observations now delivered.
+
+        ``position_at(t)`` gives the ball at capture time t, called with non-decreasing t.
+        The observations returned are those whose delivery time has come, oldest first.
         """
         rate = self.settings.rate
         if rate > 0.0:

@@ -172,8 +172,10 @@ def _ground_time(y, dt, p, ground, k1, k2, k3, k4, tmp):
 @njit(cache=True)
 def land_points(points, params, step, ground, horizon):
     """
-    Landing of each row of ``points`` (m, N_X): (m, 4) rows of time from now [s], x, y [m]
-    and 1.0 if it lands within ``horizon`` [s] (else NaN, NaN, NaN, 0.0).
+    Landing of each row of ``points`` (m, N_X).
+
+    (m, 4) rows of time from now [s], x, y [m] and 1.0 if it lands within ``horizon`` [s] (else
+    NaN, NaN, NaN, 0.0).
     """
     out = np.full((points.shape[0], 4), np.nan)
     out[:, 3] = 0.0
@@ -209,8 +211,10 @@ def land_points(points, params, step, ground, horizon):
 @njit(cache=True)
 def path_of(x, params, sample_dt, step, ground, horizon):
     """
-    Positions (m, 3) [m] of the state ``x`` every ``sample_dt`` [s] from now until the
-    ground (the last row is on it) or ``horizon`` [s]; times (m,) [s] from now.
+    Return positions (m, 3) [m] and times (m,) [s] from now of the state ``x``'s path.
+
+    Positions every ``sample_dt`` [s] from now until the ground (the last row is on it) or
+    ``horizon`` [s]; times (m,) [s] from now.
     """
     n_max = int(math.ceil(horizon / sample_dt)) + 1
     times = np.empty(n_max)
@@ -348,9 +352,10 @@ class TrackerSettings:
 @dataclass(frozen=True)
 class LandingPrediction:
     """
-    Predicted landing on z = ground: ``time`` [s] on the observations' clock and its
-    variance [s^2], ``position`` (3,) [m] (z = ground) and ``covariance`` (2, 2) [m^2] of x, y,
-    made from the estimate at ``made_at`` [s].
+    Predicted landing on z = ground.
+
+    ``time`` [s] on the observations' clock and its variance [s^2], ``position`` (3,) [m] (z =
+    ground) and ``covariance`` (2, 2) [m^2] of x, y, made from the estimate at ``made_at`` [s].
     """
 
     time: float
@@ -363,10 +368,11 @@ class LandingPrediction:
 @dataclass(frozen=True)
 class UpdateResult:
     """
-    What :meth:`FlightTracker.update` did: ``status`` is one of 'accepted', 'started'
-    (a new throw), 'candidate' (kept for a possible new throw), 'outlier', 'late', 'future',
-    'duplicate', 'invalid'; ``reason`` says why for a refusal; ``landed`` is True on the fix
-    that ended the throw.
+    What :meth:`FlightTracker.update` did.
+
+    ``status`` is one of 'accepted', 'started' (a new throw), 'candidate' (kept for a possible
+    new throw), 'outlier', 'late', 'future', 'duplicate', 'invalid'; ``reason`` says why for a
+    refusal; ``landed`` is True on the fix that ended the throw.
     """
 
     status: str
@@ -436,8 +442,10 @@ class FlightTracker:
     # --- public API -----------------------------------------------------------------------
     def update(self, stamp: float, position, now: float | None = None) -> UpdateResult:
         """
-        Process one fix: capture time ``stamp`` [s], ``position`` (3,) [m] in ``field``;
-        ``now`` [s] (optional, same clock) refuses fixes from the future.
+        Process one fix.
+
+        Capture time ``stamp`` [s], ``position`` (3,) [m] in ``field``; ``now`` [s]
+        (optional, same clock) refuses fixes from the future.
         """
         result = self._update(stamp, position, now)
         self.counts[result.status] += 1
@@ -446,8 +454,9 @@ class FlightTracker:
     @property
     def estimate(self) -> tuple[float, np.ndarray, np.ndarray] | None:
         """
-        (time [s], state (N_X,), covariance (N_X, N_X)) of the current throw's most likely
-        hand, or None.
+        Return (time [s], state (N_X,), covariance (N_X, N_X)) of the current throw.
+
+        The estimate of the current throw's most likely hand, or None.
         """
         if self.track is None:
             return None
@@ -460,9 +469,10 @@ class FlightTracker:
 
     def predict_landing(self) -> LandingPrediction | None:
         """
-        Landing of the current throw from the sigma points of the estimate (None without a
-        throw or if it does not land within ``horizon``). While both hands are alive the
-        prediction is their mixture, weighted by likelihood. Model error adds
+        Predict the landing of the current throw from the sigma points of the estimate.
+
+        None without a throw or if it does not land within ``horizon``. While both hands
+        are alive the prediction is their mixture, weighted by likelihood. Model error adds
         accel_noise^2 T^3 / 3 to the x and y variances.
         """
         tr = self.track
@@ -499,8 +509,10 @@ class FlightTracker:
 
     def predict_path(self, sample_dt: float = 0.05) -> tuple[np.ndarray, np.ndarray] | None:
         """
-        Remaining path of the mean estimate: times (m,) [s] on the observations' clock and
-        positions (m, 3) [m], every ``sample_dt`` [s] until the ground.
+        Remaining path of the mean estimate.
+
+        Times (m,) [s] on the observations' clock and positions (m, 3) [m], every
+        ``sample_dt`` [s] until the ground.
         """
         tr = self.track
         if tr is None or not (0.001 <= sample_dt <= 10.0):
@@ -569,7 +581,7 @@ class FlightTracker:
                     ikh[:, :3] -= K
                     P = ikh @ P @ ikh.T + s.noise**2 * K @ K.T
                     P = 0.5 * (P + P.T)
-                    x[X_S : X_S + 3] /= np.linalg.norm(x[X_S : X_S + 3])
+                    x[X_S:X_S + 3] /= np.linalg.norm(x[X_S:X_S + 3])
                     if np.all(np.isfinite(x)) and np.all(np.isfinite(P)):
                         new = _Hypothesis(x, P, hyp.loglik - 0.5 * (d2 + logdet))
                         if hyp is best:
@@ -653,7 +665,7 @@ class FlightTracker:
             Pm[X_H + i, X_H + i] += s.rate_noise**2 * dt
         Pm[X_KD, X_KD] += s.scale_rate**2 * dt
         Pm[X_KL, X_KL] += s.scale_rate**2 * dt
-        xm[X_S : X_S + 3] /= np.linalg.norm(xm[X_S : X_S + 3])
+        xm[X_S:X_S + 3] /= np.linalg.norm(xm[X_S:X_S + 3])
         ok = bool(np.all(np.isfinite(xm)) and np.all(np.isfinite(Pm)))
         return xm, 0.5 * (Pm + Pm.T), ok
 
@@ -720,9 +732,9 @@ class FlightTracker:
         for i in range(3):
             P[3 + i, 3 + i] += (0.01 * speed) ** 2
             P[i, i] += 1e-4
-        P[X_S : X_S + 3, X_S : X_S + 3] = s.axis_sigma**2 * perp + 1e-8 * np.eye(3)
+        P[X_S:X_S + 3, X_S:X_S + 3] = s.axis_sigma**2 * perp + 1e-8 * np.eye(3)
         h1_sigma = s.spin_sigma * self.nominal_h1
-        P[X_H : X_H + 3, X_H : X_H + 3] = (
+        P[X_H:X_H + 3, X_H:X_H + 3] = (
             h1_sigma**2 * np.outer(axis, axis) + s.rate_sigma**2 * perp
         )
         P[X_KD, X_KD] = P[X_KL, X_KL] = s.scale_sigma**2
@@ -730,18 +742,18 @@ class FlightTracker:
         for hand in (1.0, -1.0):
             x = np.zeros(N_X)
             x[:6] = x0
-            x[X_S : X_S + 3] = axis
-            x[X_H : X_H + 3] = hand * self.nominal_h1 * axis
+            x[X_S:X_S + 3] = axis
+            x[X_H:X_H + 3] = hand * self.nominal_h1 * axis
             x[X_KD] = x[X_KL] = 1.0
             # h = h1 s + h_perp: the spin momentum turns with the axis (dh = h1 ds), so an
             # axis off the guess carries h along. Without this coupling the prior describes
             # balls whose h stays put while the axis is off, i.e. with transverse rates
             # h1 delta ~ 2 rad/s, far beyond rate_sigma.
-            c = hand * self.nominal_h1 * P[X_S : X_S + 3, X_S : X_S + 3]
+            c = hand * self.nominal_h1 * P[X_S:X_S + 3, X_S:X_S + 3]
             Ph = P.copy()
-            Ph[X_H : X_H + 3, X_S : X_S + 3] = c
-            Ph[X_S : X_S + 3, X_H : X_H + 3] = c.T
-            Ph[X_H : X_H + 3, X_H : X_H + 3] += hand * self.nominal_h1 * c
+            Ph[X_H:X_H + 3, X_S:X_S + 3] = c
+            Ph[X_S:X_S + 3, X_H:X_H + 3] = c.T
+            Ph[X_H:X_H + 3, X_H:X_H + 3] += hand * self.nominal_h1 * c
             hyps.append(_Hypothesis(x, Ph))
         self.track = _Track(hyps, float(t))
         self.track.history.append(
@@ -760,8 +772,9 @@ class FlightTracker:
 
 def _sigma_points(x: np.ndarray, P: np.ndarray, spread: float):
     """
-    Scaled unscented points (2n + 1, n) (row 0 the mean, then x +/- spread sqrt(n) columns
-    of chol(P)) and the weights of the mean and the covariance (beta = 2).
+    Return scaled unscented points (2n + 1, n) and the weights of mean and covariance.
+
+    Row 0 is the mean, then x +/- spread sqrt(n) columns of chol(P); weights with beta = 2.
     """
     n = x.size
     try:
@@ -772,8 +785,8 @@ def _sigma_points(x: np.ndarray, P: np.ndarray, spread: float):
     scale = spread * math.sqrt(n)
     pts = np.empty((2 * n + 1, n))
     pts[0] = x
-    pts[1 : n + 1] = x + scale * L.T
-    pts[n + 1 :] = x - scale * L.T
+    pts[1:n + 1] = x + scale * L.T
+    pts[n + 1:] = x - scale * L.T
     wm = np.full(2 * n + 1, 1.0 / (2.0 * spread**2 * n))
     wm[0] = 1.0 - 1.0 / spread**2
     wc = wm.copy()

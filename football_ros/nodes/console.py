@@ -1,6 +1,8 @@
 """
-``football-ros echo`` and ``football-ros throw``: topic echo and a one-line pass for machines
-without the ``ros2`` command (pip-installed ROS). Same output style as ``ros2 topic echo``.
+``football-ros echo`` and ``football-ros throw``.
+
+Topic echo and a one-line pass for machines without the ``ros2`` command (pip-installed ROS). Same
+output style as ``ros2 topic echo``.
 """
 
 from __future__ import annotations
@@ -21,8 +23,9 @@ from ..physics import ReleaseError
 
 def wait_for_answer(rclpy, node, answers: list, request_id: str, deadline: float):
     """
-    Spin ``node`` until ``answers`` holds the response named ``request_id`` or the monotonic
-    ``deadline`` passes; returns that response or None.
+    Spin ``node`` until ``answers`` holds the response named ``request_id``.
+
+    Stops when the monotonic ``deadline`` passes; returns that response or None.
     """
     while True:
         answer = next((a for a in answers if a.name == request_id), None)

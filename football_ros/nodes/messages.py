@@ -65,8 +65,10 @@ def pose_stamped(sample: BallSample, stamp: Time, frame_id: str) -> PoseStamped:
 
 def odometry(sample: BallSample, stamp: Time, frame_id: str, child_frame_id: str) -> Odometry:
     """
-    Pose in ``frame_id``; twist (linear and angular velocity) in the body frame
-    ``child_frame_id``, as nav_msgs/Odometry specifies. Covariances are zero (exact model).
+    Pose in ``frame_id``.
+
+    Twist (linear and angular velocity) in the body frame ``child_frame_id``, as
+    nav_msgs/Odometry specifies. Covariances are zero (exact model).
     """
     msg = Odometry(header=header(stamp, frame_id), child_frame_id=child_frame_id)
     msg.pose.pose.position = _point(sample.position)
@@ -78,8 +80,9 @@ def odometry(sample: BallSample, stamp: Time, frame_id: str, child_frame_id: str
 
 def to_body_frame(q: Sequence[float], v: Sequence[float]) -> tuple[float, float, float]:
     """
-    Components in the body frame of a world vector ``v`` (R(q)^T v), with plain floats: this
-    runs for every Odometry message, where numpy's per-call overhead would dominate.
+    Components in the body frame of a world vector ``v`` (R(q)^T v), with plain floats.
+
+    This runs for every Odometry message, where numpy's per-call overhead would dominate.
     """
     x, y, z, w = (-float(q[0]), -float(q[1]), -float(q[2]), float(q[3]))  # conjugate
     vx, vy, vz = float(v[0]), float(v[1]), float(v[2])
@@ -93,8 +96,10 @@ def to_body_frame(q: Sequence[float], v: Sequence[float]) -> tuple[float, float,
 
 def tf_message(sample: BallSample, stamp: Time, frame_id: str, child_frame_id: str):
     """
-    tf2_msgs/TFMessage with one transform: the body frame ``child_frame_id`` in the world
-    frame ``frame_id`` (translation = ball centre [m], rotation = orientation, as the pose).
+    tf2_msgs/TFMessage with one transform.
+
+    The body frame ``child_frame_id`` in the world frame ``frame_id`` (translation = ball
+    centre [m], rotation = orientation, as the pose).
     """
     transform = TransformStamped(header=header(stamp, frame_id), child_frame_id=child_frame_id)
     transform.transform.translation = _vector(sample.position)
@@ -157,8 +162,10 @@ def markers(
     namespace: str = 'football',
 ) -> MarkerArray:
     """
-    RViz markers: ball (ellipsoid), spin-axis arrow (red), velocity arrow (green, 0.1 s of
-    flight long), trail (line strip of past positions).
+    RViz markers.
+
+    Ball (ellipsoid), spin-axis arrow (red), velocity arrow (green, 0.1 s of flight long),
+    trail (line strip of past positions).
     """
     hdr = header(stamp, frame_id)
     ball = Marker(header=hdr, ns=namespace, id=0, type=Marker.SPHERE, action=Marker.ADD)

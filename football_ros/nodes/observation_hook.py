@@ -77,9 +77,10 @@ class ObservationHook:
 
     def tick(self, run, stamp) -> None:
         """
-        Capture and publish what is due at this tick (``run``: the simulator's flight run,
-        ``stamp``: the tick's builtin_interfaces/Time). Call before the tick samples the
-        flight.
+        Capture and publish what is due at this tick.
+
+        ``run``: the simulator's flight run, ``stamp``: the tick's builtin_interfaces/Time.
+        Call before the tick samples the flight. Call before the tick samples the flight.
         """
         node = self._node
         stamp_ns = stamp.sec * 1_000_000_000 + stamp.nanosec

@@ -141,8 +141,9 @@ def _jazzy(metadata: str) -> str:
 
 class _File:
     """
-    Unbuffered binary file that writes everything or raises (no silent short writes), so
-    that after a write error the file can be cut back to its last complete record.
+    Unbuffered binary file that writes everything or raises (no silent short writes).
+
+    So that after a write error the file can be cut back to its last complete record.
     """
 
     def __init__(self, path: Path, position: int) -> None:
@@ -262,8 +263,9 @@ class _Mcap(McapWriter):
 
 class _Sqlite3(Sqlite3Writer):
     """
-    rosbags' sqlite3 writer that commits every SQLITE_COMMIT_S (rosbags commits only at the
-    end: a failure would roll the whole recording back) and says ``ros_distro: jazzy``.
+    rosbags' sqlite3 writer that commits every SQLITE_COMMIT_S and says ``ros_distro: jazzy``.
+
+    rosbags commits only at the end: a failure would roll the whole recording back.
     """
 
     SQLITE_SCHEMA = Sqlite3Writer.SQLITE_SCHEMA.replace("(4, 'rosbags')", f"(4, '{ROS_DISTRO}')")
@@ -294,8 +296,10 @@ class _Sqlite3(Sqlite3Writer):
 
 class BagWriter(Writer):
     """
-    rosbags Writer whose bags match ``ros2 bag record`` (jazzy) in ros_distro, channel
-    metadata and type hashes, and that can close cleanly after a write error.
+    rosbags Writer whose bags match ``ros2 bag record`` (jazzy).
+
+    They match in ros_distro, channel metadata and type hashes; the writer can close cleanly
+    after a write error.
     """
 
     STORAGE_PLUGINS = {StoragePlugin.MCAP: _Mcap, StoragePlugin.SQLITE3: _Sqlite3}
@@ -312,8 +316,10 @@ class BagWriter(Writer):
 
     def close_after_error(self) -> tuple[int, Exception | None]:
         """
-        Close after a write error with what can be kept: the pending messages too if there
-        is room, else only what is on disk. Returns (messages lost, error if not closed).
+        Close after a write error with what can be kept.
+
+        The pending messages too if there is room, else only what is on disk. Returns
+        (messages lost, error if not closed).
         """
         lost = 0
         try:
@@ -545,7 +551,7 @@ def _reason(exc: Exception) -> str:
 
 def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
-    ros_args = argv[argv.index('--ros-args') :] if '--ros-args' in argv else []
+    ros_args = argv[argv.index('--ros-args'):] if '--ros-args' in argv else []
     own = argv[: len(argv) - len(ros_args)]
     parser = argparse.ArgumentParser(
         prog='football-ros record', description=__doc__.strip().splitlines()[0].replace('``', '')

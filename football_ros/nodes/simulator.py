@@ -70,8 +70,10 @@ class _FlightRun:
 
 class SimulatorNode(Node):
     """
-    Publishes pose, odometry, spin axis, alpha/beta (and their linear prediction), markers
-    and diagnostics of the ball in flight, paced in real time.
+    Simulator node: the ball in flight, paced in real time.
+
+    Publishes pose, odometry, spin axis, alpha/beta (and their linear prediction), markers and
+    diagnostics of the ball in flight, paced in real time.
     """
 
     def __init__(self) -> None:
@@ -386,8 +388,10 @@ class SimulatorNode(Node):
 
     def _publish_tf(self, sample: BallSample, stamp) -> None:
         """
-        TF hook (jazzy): one transform per published state; tf2 rejects a repeated or older
-        stamp for a frame, so a stamp that does not advance on the same clock is skipped.
+        TF hook (jazzy).
+
+        One transform per published state; tf2 rejects a repeated or older stamp for a
+        frame, so a stamp that does not advance on the same clock is skipped.
         """
         ns = stamp.sec * 1_000_000_000 + stamp.nanosec
         clock, last_ns = self._tf_last

@@ -207,22 +207,23 @@ def estimate_message(
     t: float, x: np.ndarray, P: np.ndarray, frame_id: str, inertia_ratio: float
 ) -> Odometry | None:
     """
-    Odometry of the estimate at ``t`` [s]: pose (orientation with body x = the estimated
-    axis) and twist (velocity and angular velocity) both in ``frame_id`` (child_frame_id =
-    frame_id), 6x6 covariances (x y z then rotations about x y z of that frame); None if
-    anything is non-finite.
+    Odometry of the estimate at ``t`` [s].
+
+    Pose (orientation with body x = the estimated axis) and twist (velocity and angular
+    velocity) both in ``frame_id`` (child_frame_id = frame_id), 6x6 covariances (x y z then
+    rotations about x y z of that frame); None if anything is non-finite.
     """
-    r, v, s, h = x[:3], x[X_V : X_V + 3], x[X_S : X_S + 3], x[X_H : X_H + 3]
+    r, v, s, h = x[:3], x[X_V:X_V + 3], x[X_S:X_S + 3], x[X_H:X_H + 3]
     h1 = float(h @ s)
     omega = h + (h1 / inertia_ratio - h1) * s  # w = h - h1 s + p s, p = h1 I_t / I_s
     q = attitude_with_axis(s)
     pose_cov = np.zeros((6, 6))
     pose_cov[:3, :3] = P[:3, :3]
     # Rotation covariance in the world frame: the axis's, plus an unknown spin angle about s.
-    pose_cov[3:, 3:] = P[X_S : X_S + 3, X_S : X_S + 3] + UNKNOWN_VARIANCE * np.outer(s, s)
+    pose_cov[3:, 3:] = P[X_S:X_S + 3, X_S:X_S + 3] + UNKNOWN_VARIANCE * np.outer(s, s)
     twist_cov = np.zeros((6, 6))
-    twist_cov[:3, :3] = P[X_V : X_V + 3, X_V : X_V + 3]
-    twist_cov[3:, 3:] = P[X_H : X_H + 3, X_H : X_H + 3]
+    twist_cov[:3, :3] = P[X_V:X_V + 3, X_V:X_V + 3]
+    twist_cov[3:, 3:] = P[X_H:X_H + 3, X_H:X_H + 3]
     if not (_finite(r, v, q, omega, pose_cov, twist_cov) and _stampable(t)):
         return None
     msg = Odometry(header=mb.header(_seconds_msg(t), frame_id), child_frame_id=frame_id)
@@ -237,8 +238,10 @@ def estimate_message(
 
 def landing_message(pred, frame_id: str) -> PoseWithCovarianceStamped | None:
     """
-    The predicted landing: header.stamp = predicted landing time, position on the ground
-    plane, covariance x/y block from the prediction (z and rotations 0: not estimated).
+    The predicted landing.
+
+    header.stamp = predicted landing time, position on the ground plane, covariance x/y block
+    from the prediction (z and rotations 0: not estimated).
     """
     cov = np.zeros((6, 6))
     cov[:2, :2] = pred.covariance
@@ -267,8 +270,9 @@ def path_message(t: float, times: np.ndarray, positions: np.ndarray, frame_id: s
 
 def _warm_up(tracker: FlightTracker) -> None:
     """
-    Compile the filter's kernels now (a throw seen on a scratch tracker), not on the first
-    real fix.
+    Compile the filter's kernels now, not on the first real fix.
+
+    A throw seen on a scratch tracker.
     """
     scratch = FlightTracker(tracker.settings)
     for k in range(12):

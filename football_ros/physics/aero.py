@@ -69,8 +69,10 @@ def isa_temperature_c(altitude_m: float) -> float:
 
 def air_density(altitude_m: float = 0.0, temperature_c: float | None = None) -> float:
     """
-    Dry-air density [kg/m^3]: ISA pressure at ``altitude_m`` [m] and ``temperature_c``
-    [deg C], or the ISA temperature there when None (the ISA density: 1.0467 at 1609 m).
+    Dry-air density [kg/m^3].
+
+    ISA pressure at ``altitude_m`` [m] and ``temperature_c`` [deg C], or the ISA temperature
+    there when None (the ISA density: 1.0467 at 1609 m).
     """
     pressure = 101325.0 * (1.0 - 2.25577e-5 * altitude_m) ** 5.25588
     if temperature_c is None:
@@ -178,8 +180,10 @@ def resolve(
     ball: BallPreset, model: str, aero: AeroModel | None
 ) -> tuple[BallPreset, AeroModel | None]:
     """
-    The ball and aero settings a ``model`` flies with: for ``full`` the given settings (or
-    the defaults) and the ball with their air density; for ``paper`` the ball as it is and None.
+    The ball and aero settings a ``model`` flies with.
+
+    For ``full`` the given settings (or the defaults) and the ball with their air density; for
+    ``paper`` the ball as it is and None.
     """
     if model != 'full':
         return ball, None
@@ -221,8 +225,10 @@ def dynamic_stability(
     ball: BallPreset, speed: float, spin: float, model: AeroModel
 ) -> DynamicStability:
     """
-    McCoy's S_g, S_d and the modes' per-second damping rates at air speed ``speed`` [m/s]
-    and ``spin`` [rad/s], for the terms switched on in ``model`` (the ball's air density).
+    Return McCoy's S_g, S_d and the modes' per-second damping rates.
+
+    At air speed ``speed`` [m/s] and ``spin`` [rad/s], for the terms switched on in ``model``
+    (the ball's air density).
 
     S_g = P^2 / (4M), S_d = 2T/H with P = (I_s/I_t) p D / V, M = rho S D^3 C_Malpha / (2 I_t),
     H = rho S D / (2m) [C_Lalpha - C_D0 - (m D^2/I_t) C_Mq],
@@ -333,8 +339,10 @@ def max_valid_delta(
     model: str = 'paper', moment: str = 'linear', aero: AeroModel | None = None
 ) -> float:
     """
-    The largest total angle delta [rad] inside every form in force: a cheap per-sample test
-    (``delta > max_valid_delta(...)``) before :func:`out_of_validity` words the warning.
+    The largest total angle delta [rad] inside every form in force.
+
+    A cheap per-sample test (``delta > max_valid_delta(...)``) before :func:`out_of_validity`
+    words the warning.
     """
     terms = validity_terms(model, moment, aero)
     return math.radians(min(VALIDITY[k].max_delta_deg for k in terms))
@@ -344,8 +352,10 @@ def out_of_validity(
     delta: float, model: str = 'paper', moment: str = 'linear', aero: AeroModel | None = None
 ) -> list[str]:
     """
-    Pure check of one state (or a flight's largest angle): the forms in force whose data
-    range the total angle ``delta`` [rad] exceeds, one sentence each (empty: all within).
+    Pure check of one state (or a flight's largest angle).
+
+    The forms in force whose data range the total angle ``delta`` [rad] exceeds, one sentence
+    each (empty: all within).
 
     For the simulator's /diagnostics (WARN with these sentences) and ``simulate`` (stderr).
     """

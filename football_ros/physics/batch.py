@@ -26,8 +26,10 @@ from .presets import BallPreset
 
 def _dop853_tableau():
     """
-    Scipy's published DOP853 tableau (scipy/integrate/_ivp/dop853_coefficients.py), read
-    without importing scipy.integrate, which costs 0.2-2 s of start-up.
+    Scipy's published DOP853 tableau, read without importing scipy.integrate.
+
+    From scipy/integrate/_ivp/dop853_coefficients.py; importing scipy.integrate costs 0.2-2 s
+    of start-up.
     """
     import importlib.util
     import os
@@ -66,8 +68,9 @@ MAX_STEP = 0.04
 @njit(cache=True, inline='always')
 def _rate(speed, h, h1, params):
     """
-    Fastest rate [1/s] of the motion at air speed ``speed`` [m/s], |h| and |h1| [rad/s]:
-    the axis' rotation |h| (nutation, |h1| for a spiral) or 2 sqrt(M) (a ball tumbling in the
+    Fastest rate [1/s] of the motion at air speed ``speed`` [m/s], |h| and |h1| [rad/s].
+
+    The axis' rotation |h| (nutation, |h1| for a spiral) or 2 sqrt(M) (a ball tumbling in the
     overturning moment M_alpha plus the Magnus moment's stiffness), plus the damping and force
     rates (pitch and spin damping, lift, drag, Magnus force).
     """
@@ -93,15 +96,17 @@ def _rates(speed, h, h1, params):
 
 def fastest_rates(y0: np.ndarray, params: np.ndarray, ground: float = 0.0) -> np.ndarray:
     """
-    Fastest rate [1/s] of each ball's motion (lean states y0), at the largest air speed its
-    flight can reach: energy bound sqrt(V^2 + 2 g z) (capped at the terminal speed when there
-    is drag) plus twice the wind. This sets each block's step; during the flight the kernel
-    shortens it if the current rates grow beyond it (a Magnus moment can pump the wobble).
+    Return the fastest rate [1/s] of each ball's motion (lean states y0).
+
+    At the largest air speed its flight can reach: energy bound sqrt(V^2 + 2 g z) (capped at
+    the terminal speed when there is drag) plus twice the wind. This sets each block's step;
+    during the flight the kernel shortens it if the current rates grow beyond it (a Magnus
+    moment can pump the wobble).
     """
     v = y0[:, 3:6]
     z = np.maximum(y0[:, 2] - ground, 0.0)
     g = params[dyn.P_GRAVITY]
-    wind = np.linalg.norm(params[dyn.P_WIND : dyn.P_WIND + 3])
+    wind = np.linalg.norm(params[dyn.P_WIND:dyn.P_WIND + 3])
     speed = np.sqrt(np.sum(v * v, axis=1) + 2.0 * g * z)
     fk = params[dyn.P_FORCE_K]
     if fk * params[dyn.P_CD0] > 1e-9:
@@ -189,8 +194,9 @@ def _hermite(p0, d0, p1, d1, dt, u):
 @njit(cache=True)
 def _hermite_root(z0, d0, z1, d1, h, ground):
     """
-    Fraction u of a step of length h where the cubic Hermite interpolant of z reaches
-    ``ground`` (bisection; z0 above, z1 at or below it).
+    Return the fraction u of a step of length h where the Hermite z reaches ``ground``.
+
+    z is the cubic Hermite interpolant; bisection; z0 above, z1 at or below it.
     """
     lo, hi = 0.0, 1.0
     for _ in range(60):
@@ -205,8 +211,9 @@ def _hermite_root(z0, d0, z1, d1, h, ground):
 @njit(cache=True)
 def _curved(y, nxt, j, b, h, u):
     """
-    |cubic Hermite - quadratic| at fraction u for coordinate j (velocity j + 3) of column b:
-    a bound on the cubic's interpolation error, which is far smaller (~ h^4 vs h^3).
+    |cubic Hermite - quadratic| at fraction u for coordinate j (velocity j + 3) of column b.
+
+    A bound on the cubic's interpolation error, which is far smaller (~ h^4 vs h^3).
     """
     p0, d0, p1 = y[j, b], y[j + 3, b], nxt[j, b]
     quadratic = p0 + d0 * h * u + (p1 - p0 - d0 * h) * u * u
@@ -216,8 +223,9 @@ def _curved(y, nxt, j, b, h, u):
 @njit(cache=True, fastmath=True)
 def _landing(y, nxt, b, h, params, ground, out):
     """
-    Fraction u of the step of length h from column b of y to nxt at which z = ground; the
-    state there (a partial step from y) into out[:, 0]. The root of the cubic Hermite
+    Fraction u of the step of length h from column b of y to nxt at which z = ground.
+
+    The state there (a partial step from y) into out[:, 0]. The root of the cubic Hermite
     interpolant of z is taken, the state computed there, and, if z misses the ground there by
     more than 1e-12 m, the bracket narrowed on it (at most 3 rounds: the interpolation error
     shrinks as the bracket's length^4).
@@ -259,10 +267,11 @@ def _integrate_batch(
     y0, params, steps, max_time, ground, sample_every, samples, results, adaptive
 ):
     """
-    Integrate every row of y0 (N, N_LEAN), block b of BLOCK rows with step steps[b] (if
-    ``adaptive``, shortened whenever the block's current fastest rate needs it);
-    results (N, 7) = landing x, y, time, landed, max|alpha|, max|beta|, max delta.
-    ``samples`` (N, M, 2) gets alpha, beta every ``sample_every`` steps.
+    Integrate every row of y0 (N, N_LEAN) in blocks of BLOCK rows.
+
+    Block b with step steps[b] (if ``adaptive``, shortened whenever the block's current fastest
+    rate needs it); results (N, 7) = landing x, y, time, landed, max|alpha|, max|beta|, max
+    delta. ``samples`` (N, M, 2) gets alpha, beta every ``sample_every`` steps.
     """
     n_balls = y0.shape[0]
     n_blocks = (n_balls + BLOCK - 1) // BLOCK
@@ -372,9 +381,11 @@ def _integrate_batch(
 @dataclass(frozen=True)
 class BatchResult:
     """
-    Per-ball results: landing_x, landing_y [m], time_of_flight [s] (max_time if not landed),
-    landed (bool), max_alpha, max_beta, max_delta [rad] over the flight, and, when asked for,
-    samples (N, M, 2) of alpha, beta [rad] at multiples of ``sample_period``.
+    Per-ball results.
+
+    landing_x, landing_y [m], time_of_flight [s] (max_time if not landed), landed (bool),
+    max_alpha, max_beta, max_delta [rad] over the flight, and, when asked for, samples (N, M,
+    2) of alpha, beta [rad] at multiples of ``sample_period``.
     """
 
     landing_x: np.ndarray
@@ -414,8 +425,10 @@ def simulate_batch(
     sample_count: int = 0,
 ) -> BatchResult:
     """
-    Fly N balls (same ball and model, releases from ``states``) until each lands on z = ground
-    or ``max_time`` [s] passes. ``step`` [s]: None = the default rule (module docstring).
+    Fly N balls until each lands on z = ground or ``max_time`` [s] passes.
+
+    Same ball and model, releases from ``states``. ``step`` [s]: None = the default rule
+    (module docstring).
     """
     ball, aero = resolve(ball, model, aero)
     y0 = lean_states(ball, states)

@@ -92,7 +92,7 @@ def make_params(
             params[P_CMQ] = aero.c_m_q
         if aero.spin_damping:
             params[P_CLP] = aero.c_l_p
-        params[P_WIND : P_WIND + 3] = aero.wind
+        params[P_WIND:P_WIND + 3] = aero.wind
     return params
 
 
@@ -106,8 +106,10 @@ def axis_of(y: np.ndarray) -> tuple:
 @njit(cache=True, inline='always')
 def loads(v: tuple, s: tuple, h: tuple, h1: float, params: np.ndarray) -> tuple:
     """
-    Acceleration a [m/s^2], dh/dt [rad/s^2] and dh1/dt of the ball (module docstring and
-    :mod:`football_ros.physics.aero` give the terms). Shared by every kernel.
+    Return acceleration a [m/s^2], dh/dt [rad/s^2] and dh1/dt of the ball.
+
+    The module docstring and :mod:`football_ros.physics.aero` give the terms. Shared by every
+    kernel.
     """
     vx, vy, vz = v
     sx, sy, sz = s
@@ -281,9 +283,11 @@ def _finish_with_landing(times, states, k, y, t, step, params, ground):
 @njit(cache=True)
 def velocity_frame_components(v: tuple, s: tuple) -> tuple:
     """
-    Components (s1, s2, s3) of ``s`` along e1 = v/V, e2 = up made perpendicular to e1 and
-    e3 = e1 x e2 (compiled twin of :func:`football_ros.physics.frames.to_velocity_frame`).
-    Pass the air-relative velocity v - wind for aerodynamic angles.
+    Return components (s1, s2, s3) of ``s`` along e1, e2, e3.
+
+    e1 = v/V, e2 = up made perpendicular to e1 and e3 = e1 x e2 (compiled twin of
+    :func:`football_ros.physics.frames.to_velocity_frame`). Pass the air-relative velocity v -
+    wind for aerodynamic angles.
     """
     vx, vy, vz = v
     sx, sy, sz = s

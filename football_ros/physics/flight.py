@@ -56,8 +56,10 @@ delta [rad], the quasi-steady linear theory's alpha, beta [rad] and the spin p [
 @dataclass(frozen=True)
 class Trajectory:
     """
-    Sampled flight. ``times`` (N,) [s] since release, ``states`` (N, N_STATE) state vectors;
-    ``params`` the kernel parameters flown (None: the paper's, no wind).
+    Sampled flight.
+
+    ``times`` (N,) [s] since release, ``states`` (N, N_STATE) state vectors; ``params`` the
+    kernel parameters flown (None: the paper's, no wind).
     """
 
     times: np.ndarray
@@ -72,7 +74,7 @@ class Trajectory:
         """Wind [m/s] in ``field`` (zeros without)."""
         if self.params is None:
             return np.zeros(3)
-        return self.params[dyn.P_WIND : dyn.P_WIND + 3].copy()
+        return self.params[dyn.P_WIND:dyn.P_WIND + 3].copy()
 
     @property
     def air_velocities(self) -> np.ndarray:
@@ -82,12 +84,12 @@ class Trajectory:
     @property
     def positions(self) -> np.ndarray:
         """(N, 3) [m] in ``field``."""
-        return self.states[:, dyn.R : dyn.R + 3]
+        return self.states[:, dyn.R:dyn.R + 3]
 
     @property
     def velocities(self) -> np.ndarray:
         """(N, 3) [m/s] in ``field``."""
-        return self.states[:, dyn.V : dyn.V + 3]
+        return self.states[:, dyn.V:dyn.V + 3]
 
     @cached_property
     def _described(self) -> np.ndarray:
@@ -97,27 +99,27 @@ class Trajectory:
     @property
     def axes(self) -> np.ndarray:
         """(N, 3) unit spin axis in ``field``."""
-        return self._described[:, dyn.D_AXIS : dyn.D_AXIS + 3]
+        return self._described[:, dyn.D_AXIS:dyn.D_AXIS + 3]
 
     @property
     def orientations(self) -> np.ndarray:
         """(N, 4) ball orientation (x, y, z, w), body x = axis, spin angle included."""
-        return self._described[:, dyn.D_ORIENT : dyn.D_ORIENT + 4]
+        return self._described[:, dyn.D_ORIENT:dyn.D_ORIENT + 4]
 
     @property
     def angular_velocities(self) -> np.ndarray:
         """(N, 3) ball angular velocity [rad/s] in ``field``: w = h - h1 s + p s."""
-        return self._described[:, dyn.D_OMEGA : dyn.D_OMEGA + 3]
+        return self._described[:, dyn.D_OMEGA:dyn.D_OMEGA + 3]
 
     @property
     def spin_momentum(self) -> np.ndarray:
         """(N,) h.s [rad/s], computed from h and s (not the stored h1)."""
-        return np.sum(self.states[:, dyn.H : dyn.H + 3] * self.axes, axis=-1)
+        return np.sum(self.states[:, dyn.H:dyn.H + 3] * self.axes, axis=-1)
 
     @property
     def aero_angles(self) -> np.ndarray:
         """(N, 3) alpha, beta, delta [rad] of the integrated flight, against the air."""
-        return self._described[:, dyn.D_ALPHA : dyn.D_DELTA + 1]
+        return self._described[:, dyn.D_ALPHA:dyn.D_DELTA + 1]
 
     @property
     def aero_angles_linear(self) -> np.ndarray:
@@ -132,8 +134,9 @@ class Trajectory:
     @cached_property
     def axis_components_quasi_steady(self) -> np.ndarray:
         """
-        (N,) complex x = s2 + i s3 of the quasi-steady linear theory (local U, Phi, h1, and
-        the flown model's lift, damping and Magnus terms).
+        Return (N,) complex x = s2 + i s3 of the quasi-steady linear theory.
+
+        Local U, Phi, h1, and the flown model's lift, damping and Magnus terms.
         """
         params = dyn.make_params(self.ball) if self.params is None else self.params
         return quasi_steady_components(
@@ -143,8 +146,10 @@ class Trajectory:
     @property
     def aero_angles_quasi_steady(self) -> np.ndarray:
         """
-        (N, 2) alpha, beta [rad] of the quasi-steady linear theory: M_alpha(U), w_V, s3p
-        and h1 local, phases integrated along the flight (docs/physics.md).
+        (N, 2) alpha, beta [rad] of the quasi-steady linear theory.
+
+        M_alpha(U), w_V, s3p and h1 local, phases integrated along the flight
+        (docs/physics.md).
         """
         from .linear_theory import angles_from_components
 
@@ -204,13 +209,13 @@ class Flight:
             step,
         )
         self.params = dyn.make_params(ball, moment, self.aero)
-        self.wind = self.params[dyn.P_WIND : dyn.P_WIND + 3].copy()
+        self.wind = self.params[dyn.P_WIND:dyn.P_WIND + 3].copy()
         self.modes = linear_modes(ball, initial, wind=self.wind)
         y0 = np.zeros(dyn.N_STATE)
-        y0[dyn.R : dyn.R + 3] = initial.position
-        y0[dyn.V : dyn.V + 3] = initial.velocity
-        y0[dyn.Q : dyn.Q + 4] = initial.attitude
-        y0[dyn.H : dyn.H + 3] = initial.modified_momentum(ball)
+        y0[dyn.R:dyn.R + 3] = initial.position
+        y0[dyn.V:dyn.V + 3] = initial.velocity
+        y0[dyn.Q:dyn.Q + 4] = initial.attitude
+        y0[dyn.H:dyn.H + 3] = initial.modified_momentum(ball)
         y0[dyn.H1] = ball.inertia_ratio * initial.spin
         self.y0 = y0
         self.rewind()
@@ -231,8 +236,10 @@ class Flight:
         self, rate: float = 100.0, duration: float = 10.0, ground: float = 0.0
     ) -> Trajectory:
         """
-        Samples at multiples of 1/``rate`` [Hz] from t = 0 until ``duration`` [s] or the
-        landing on z = ``ground`` (then the last sample is the landing itself).
+        Return samples at multiples of 1/``rate`` [Hz] from t = 0.
+
+        Until ``duration`` [s] or the landing on z = ``ground`` (then the last sample is
+        the landing itself).
         """
         times, states, landed = dyn.propagate(
             self.y0, self.step, self.params, 1.0 / rate, duration, ground
@@ -289,16 +296,16 @@ class Flight:
         d = dyn.describe(state[None, :], self.params)[0]
         alpha_lin, beta_lin = self.modes.aero_angles(t_state)
         quasi = self._quasi_steady.update(
-            t_state, state[dyn.V : dyn.V + 3] - self.wind, float(state[dyn.H1])
+            t_state, state[dyn.V:dyn.V + 3] - self.wind, float(state[dyn.H1])
         )
         return BallSample(
             t=t_state,
-            position=state[dyn.R : dyn.R + 3].copy(),
-            velocity=state[dyn.V : dyn.V + 3].copy(),
-            orientation=d[dyn.D_ORIENT : dyn.D_ORIENT + 4],
-            axis=d[dyn.D_AXIS : dyn.D_AXIS + 3],
-            angular_velocity=d[dyn.D_OMEGA : dyn.D_OMEGA + 3],
-            aero_angles=d[dyn.D_ALPHA : dyn.D_DELTA + 1],
+            position=state[dyn.R:dyn.R + 3].copy(),
+            velocity=state[dyn.V:dyn.V + 3].copy(),
+            orientation=d[dyn.D_ORIENT:dyn.D_ORIENT + 4],
+            axis=d[dyn.D_AXIS:dyn.D_AXIS + 3],
+            angular_velocity=d[dyn.D_OMEGA:dyn.D_OMEGA + 3],
+            aero_angles=d[dyn.D_ALPHA:dyn.D_DELTA + 1],
             aero_angles_linear=np.array([float(alpha_lin), float(beta_lin)]),
             landed=landed,
             aero_angles_quasi_steady=quasi,
@@ -308,12 +315,13 @@ class Flight:
 @dataclass(frozen=True)
 class BallSample:
     """
-    One instant of a flight, in ``field``: t [s] since release, position [m], velocity [m/s],
-    orientation (x, y, z, w; body x = axis), axis (unit), angular_velocity [rad/s],
-    aero_angles (alpha, beta, delta) [rad] against the air (v - wind), aero_angles_linear
-    (alpha, beta) [rad] of the linear theory frozen at release, aero_angles_quasi_steady
-    (alpha, beta) [rad] of the quasi-steady linear theory (NaN once an unstable ball's theory
-    overflows).
+    One instant of a flight, in ``field``.
+
+    t [s] since release, position [m], velocity [m/s], orientation (x, y, z, w; body x = axis),
+    axis (unit), angular_velocity [rad/s], aero_angles (alpha, beta, delta) [rad] against the
+    air (v - wind), aero_angles_linear (alpha, beta) [rad] of the linear theory frozen at
+    release, aero_angles_quasi_steady (alpha, beta) [rad] of the quasi-steady linear theory
+    (NaN once an unstable ball's theory overflows).
     """
 
     t: float

@@ -86,8 +86,9 @@ def aero_angles(axis: np.ndarray, velocity: np.ndarray, wind=None) -> np.ndarray
 
 def axis_from_aero_angles(alpha, beta, velocity: np.ndarray) -> np.ndarray:
     """
-    Unit axis in ``field`` with the given alpha and beta [rad] against ``velocity``
-    (alpha, beta broadcast with the leading axes of ``velocity``).
+    Return the unit axis in ``field`` with alpha and beta [rad] against ``velocity``.
+
+    alpha, beta broadcast with the leading axes of ``velocity``.
     """
     alpha, beta = np.asarray(alpha, dtype=float), np.asarray(beta, dtype=float)
     comps = np.stack(
@@ -104,9 +105,10 @@ def flight_path_angle(velocity: np.ndarray) -> np.ndarray:
 
 def direction(speed, elevation, azimuth) -> np.ndarray:
     """
-    Velocity [m/s] in ``field`` from speed, elevation above the horizontal and azimuth [rad]
-    (azimuth from +x toward +y, i.e. counter-clockwise seen from above); arrays broadcast to
-    (..., 3).
+    Return velocity [m/s] in ``field`` from speed, elevation and azimuth [rad].
+
+    Elevation above the horizontal, azimuth from +x toward +y, i.e. counter-clockwise seen from
+    above; arrays broadcast to (..., 3).
     """
     speed, elevation, azimuth = (np.asarray(x, dtype=float) for x in (speed, elevation, azimuth))
     return speed[..., None] * np.stack(

@@ -33,8 +33,10 @@ from .release import InitialState, RPM
 
 def angles_from_components(x) -> tuple[np.ndarray, np.ndarray]:
     """
-    alpha, beta [rad] of the unit axis with velocity-frame components
-    (sqrt(1 - s2^2 - s3^2), s2, s3), x = s2 + i s3 (complex, any shape).
+    Return alpha, beta [rad] of the unit axis from x = s2 + i s3.
+
+    Velocity-frame components (sqrt(1 - s2^2 - s3^2), s2, s3), x = s2 + i s3 (complex, any
+    shape).
     """
     x = np.asarray(x)
     s2, s3 = np.clip(x.real, -1.0, 1.0), np.clip(x.imag, -1.0, 1.0)
@@ -90,8 +92,10 @@ class LinearModes:
 
     def aero_angles(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """
-        Predicted alpha, beta [rad] at times ``t``: the angles of the unit axis with
-        velocity-frame components (sqrt(1 - s2^2 - s3^2), s2, s3).
+        Predicted alpha, beta [rad] at times ``t``.
+
+        The angles of the unit axis with velocity-frame components (sqrt(1 - s2^2 - s3^2),
+        s2, s3).
         """
         return angles_from_components(self.axis_components(t))
 
@@ -180,8 +184,10 @@ def local_modes(moment_k: float, air_velocity: np.ndarray, h1, gravity: float = 
 
 def local_exponents(params: np.ndarray, air_velocity: np.ndarray, h1):
     """
-    Local linear equation x'' + B x' - C x = F of the flown model (kernel ``params`` of
-    :func:`football_ros.physics.dynamics.make_params`; the paper's when its extra terms are 0).
+    Return the local linear equation x'' + B x' - C x = F of the flown model.
+
+    Kernel ``params`` of :func:`football_ros.physics.dynamics.make_params`; the paper's when
+    its extra terms are 0.
 
     B = fk U C_Lalpha - dk U C_Mq - i (h1 + fk p D C_Npalpha),
     C = M_alpha + h1 fk p D C_Npalpha + i (h1 fk U C_Lalpha + dk U p C_Mpalpha),
@@ -222,8 +228,10 @@ def mode_rates(
     h1_rate: float | None = None,
 ) -> tuple[complex, complex]:
     """
-    Per-second exponents of the two modes of the full model's linear equation at air
-    speed ``speed`` [m/s] and spin momentum ``h1`` [rad/s] (kernel ``params``), fast first.
+    Return per-second exponents of the two modes of the full model's linear equation.
+
+    At air speed ``speed`` [m/s] and spin momentum ``h1`` [rad/s] (kernel ``params``), fast
+    first.
 
     Returns (fast, slow): complex, real part the damping rate [1/s] of the mode's amplitude
     (< 0 decays), imaginary part its frequency [rad/s] (fast = larger |frequency|). In the
@@ -292,7 +300,8 @@ def _scalar_constants(params: np.ndarray) -> tuple:
 
 def _local_exponents_scalar(consts: tuple, air_velocity, h1: float) -> tuple:
     """
-    :func:`local_exponents` for one sample in plain floats (the real-time path);
+    :func:`local_exponents` for one sample in plain floats (the real-time path).
+
     ``consts`` from :func:`_scalar_constants`.
     """
     spin_ratio, fk, dk, c_la, c_mq, diameter, c_np, moment_k, c_mp, gravity = consts[:10]
@@ -318,8 +327,9 @@ EQUILIBRIUM_STEP = 1e-4
 
 def _path_rates(consts: tuple, air, h1):
     """
-    U' [m/s^2] and h1' [rad/s^2] of the linearised flight (zero yaw): gravity and drag
-    C_D0 on u, spin damping on h1 (arrays (..., 3) and (...) or plain floats).
+    U' [m/s^2] and h1' [rad/s^2] of the linearised flight (zero yaw).
+
+    Gravity and drag C_D0 on u, spin damping on h1 (arrays (..., 3) and (...) or plain floats).
     """
     spin_ratio, fk, dk, gravity, c_d0, c_lp = (
         consts[0],
@@ -356,8 +366,9 @@ def _drifting_equilibrium(exponents, consts, air, h1, b, d_c, x_p):
 
 def _start(modes: LinearModes, sigma_1, sigma_2, x_p0, x_p_dot0=0.0) -> tuple[complex, complex]:
     """
-    Mode amplitudes for the release state of ``modes`` (x0, x0'), the local exponents and
-    the equilibrium x_p0 and its rate x_p_dot0 at release.
+    Return mode amplitudes for the release state of ``modes`` (x0, x0').
+
+    Also the local exponents and the equilibrium x_p0 and its rate x_p_dot0 at release.
     """
     w_f, w_s = modes._roots()
     x0 = modes.c1 + modes.c2 + 1j * modes.equilibrium_sideslip
@@ -371,8 +382,10 @@ def quasi_steady_components(
     modes: LinearModes, params: np.ndarray, times: np.ndarray, air_velocities: np.ndarray, h1
 ) -> np.ndarray:
     """
-    x(t) = s2 + i s3 of the quasi-steady linear theory at ``times`` [s] (increasing, the
-    first one the release), from the flight's air-relative velocities (N, 3) [m/s] and h1.
+    Return x(t) = s2 + i s3 of the quasi-steady linear theory at ``times`` [s].
+
+    ``times`` increasing, the first one the release; from the flight's air-relative velocities
+    (N, 3) [m/s] and h1.
 
     x = A1 K1 exp(int sigma_1) + A2 K2 exp(int sigma_2) + X_p(t) with the local exponents of
     :func:`local_exponents`, the equilibrium to the same (first) order as the amplitudes,
@@ -409,9 +422,10 @@ def quasi_steady_components(
 
 class QuasiSteadyTracker:
     """
-    The quasi-steady linear theory sample by sample (real time): call :meth:`update` with
-    non-decreasing times; the integrals advance by the trapezoid rule between calls, from the
-    release (t = 0) on.
+    The quasi-steady linear theory sample by sample (real time).
+
+    Call :meth:`update` with non-decreasing times; the integrals advance by the trapezoid rule
+    between calls, from the release (t = 0) on.
     """
 
     def __init__(
@@ -431,8 +445,9 @@ class QuasiSteadyTracker:
 
     def update(self, t: float, air_velocity: np.ndarray, h1: float) -> np.ndarray:
         """
-        alpha, beta [rad] of the quasi-steady theory at ``t`` [s] since release (NaN once
-        an unstable ball's theory overflows).
+        Return alpha, beta [rad] of the quasi-steady theory at ``t`` [s] since release.
+
+        NaN once an unstable ball's theory overflows.
         """
         sig1, sig2, b, d_c, x_p = _local_exponents_scalar(self._consts, air_velocity, float(h1))
         x_p = self._equilibrium(air_velocity, float(h1), b, d_c, x_p)[0]

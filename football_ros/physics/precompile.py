@@ -20,8 +20,10 @@ from typing import Callable
 @dataclass(frozen=True)
 class CompileStep:
     """
-    One stage of :func:`compile_ahead`: what it loaded, how long it took [s], how many
-    kernel versions came from the disk cache and how many had to be compiled.
+    One stage of :func:`compile_ahead`.
+
+    What it loaded, how long it took [s], how many kernel versions came from the disk cache and
+    how many had to be compiled.
     """
 
     name: str
@@ -74,8 +76,9 @@ STEPS: tuple[tuple[str, Callable[[], None]], ...] = (
 
 def kernels() -> dict[str, object]:
     """
-    Every numba dispatcher defined in a :mod:`football_ros.physics` module, by
-    ``module.name`` (functions inlined into their callers are not compiled on their own).
+    Return every numba dispatcher of :mod:`football_ros.physics`, by ``module.name``.
+
+    Functions inlined into their callers are not compiled on their own.
     """
     from numba.core.registry import CPUDispatcher
 
@@ -133,8 +136,9 @@ def compile_ahead(progress: Callable[[str], None] | None = None) -> list[Compile
 
 def uncovered() -> list[str]:
     """
-    Kernels with no compiled version in this process. After :func:`compile_ahead` on a cold
-    cache none may be left (on a warm cache, the kernels a cached caller calls load inside it
-    and are listed here).
+    Kernels with no compiled version in this process.
+
+    After :func:`compile_ahead` on a cold cache none may be left (on a warm cache, the kernels
+    a cached caller calls load inside it and are listed here).
     """
     return sorted(name for name, d in kernels().items() if not d.signatures)

@@ -112,9 +112,10 @@ def write_csv(
     rows_per_block: int = 262144,
 ) -> None:
     """
-    Write equal-length columns as CSV with a header: floats with ``decimals`` decimals,
-    integer and boolean columns as integers. Values beyond :data:`LIMIT` fall back to
-    ``%.17g`` formatting for the whole file.
+    Write equal-length columns as CSV with a header.
+
+    Floats with ``decimals`` decimals, integer and boolean columns as integers. Values beyond
+    :data:`LIMIT` fall back to ``%.17g`` formatting for the whole file.
     """
     names = list(columns)
     arrays = [np.asarray(columns[k]) for k in names]
@@ -126,14 +127,14 @@ def write_csv(
         if finite.size and np.abs(finite).max() >= LIMIT:
             row = ','.join('%d' if i else '%.17g' for i in integer) + '\n'
             for first in range(0, len(table), rows_per_block):
-                block = table[first : first + rows_per_block]
+                block = table[first:first + rows_per_block]
                 handle.write(((row * len(block)) % tuple(block.ravel().tolist())).encode())
             return
         digits = np.where(integer, 0, decimals).astype(np.int64)
         for first in range(0, len(table), rows_per_block):
             handle.write(
                 _format(
-                    np.ascontiguousarray(table[first : first + rows_per_block]), digits
+                    np.ascontiguousarray(table[first:first + rows_per_block]), digits
                 ).tobytes()
             )
 

@@ -35,9 +35,10 @@ def flight_info(
     record: FlightRecord, ball: str | None = None, spin_rpm: float | None = None
 ) -> FlightInfo:
     """
-    What the flight is: the file's own description; else ``ball`` (and ``spin_rpm`` or the
-    preset's) when the user names it; else ValueError. A ``ball`` that contradicts the file's
-    is refused too.
+    What the flight is.
+
+    The file's own description; else ``ball`` (and ``spin_rpm`` or the preset's) when the user
+    names it; else ValueError. A ``ball`` that contradicts the file's is refused too.
     """
     info = record.info
     if info is not None:
@@ -238,8 +239,10 @@ def trajectory_axes(axes, record: FlightRecord) -> None:
 
 def complementary(record: FlightRecord, info: FlightInfo) -> dict[str, np.ndarray]:
     """
-    The complementary part x_c = x - i s3p(t) of the integrated flight and of the linear
-    theories (frozen: its own s3p at release), keyed "nonlinear", "frozen", "quasi_steady".
+    Return the complementary part x_c = x - i s3p(t) of the flight and the theories.
+
+    Of the integrated flight and of the linear theories (frozen: its own s3p at release), keyed
+    "nonlinear", "frozen", "quasi_steady".
     """
     s3p = equilibrium_sideslip(record, info)
     out = {

@@ -35,9 +35,11 @@ MAX_SIDECAR_BYTES = 1 << 20
 @dataclass(frozen=True)
 class FlightInfo:
     """
-    What a flight file holds: the ball as flown (overrides and the full model's density
-    applied), its preset name, spin at release [rad/s], model, moment curve, aero settings
-    (None for the paper model) and where this was read from.
+    What a flight file holds.
+
+    The ball as flown (overrides and the full model's density applied), its preset name, spin
+    at release [rad/s], model, moment curve, aero settings (None for the paper model) and where
+    this was read from.
     """
 
     ball: BallPreset
@@ -57,9 +59,10 @@ class FlightInfo:
 @dataclass(frozen=True)
 class FlightRecord:
     """
-    t (N,) [s], position, velocity, axis (N, 3), alpha, beta, alpha_linear, beta_linear (N,)
-    [rad]; spin (N,) [rad/s] about the axis when known, else None; alpha/beta_quasi_steady
-    (N,) [rad] when the source has them, else None; info: what the flight is, or None.
+    t (N,) [s], position, velocity, axis (N, 3), alpha, beta, alpha_linear, beta_linear (N,) [rad].
+
+    Spin (N,) [rad/s] about the axis when known, else None; alpha/beta_quasi_steady (N,) [rad]
+    when the source has them, else None; info: what the flight is, or None.
     """
 
     t: np.ndarray
@@ -91,8 +94,10 @@ def write_sidecar(
     extra: dict[str, Any] | None = None,
 ) -> Path:
     """
-    Write the sidecar of a simulate CSV: the release (ball name, overrides, spin, model,
-    moment, aero), the ball as flown and the columns. Returns its path.
+    Write the sidecar of a simulate CSV.
+
+    The release (ball name, overrides, spin, model, moment, aero), the ball as flown and the
+    columns. Returns its path.
     """
     data = {
         'format': SIDECAR_FORMAT,
@@ -193,7 +198,7 @@ def _last_flight(stamps: np.ndarray, positions: np.ndarray) -> np.ndarray:
     if gaps.size == 0:
         return index
     starts = np.flatnonzero(gaps > 10 * np.median(gaps)) + 1
-    return index[starts[-1] :] if starts.size else index
+    return index[starts[-1]:] if starts.size else index
 
 
 def load_bag(path: Path) -> FlightRecord:

@@ -89,8 +89,10 @@ def sample_releases(
 
 def output_paths(out: str, figure: str = 'auto') -> tuple[Path, Path | None]:
     """
-    The results file (its suffix picks the format: .csv or .npz) and the figure (``auto`` =
-    beside it as .png, ``none`` = no figure); ValueError for an unknown format.
+    Return the results file and the figure path.
+
+    The results file's suffix picks the format: .csv or .npz; the figure: ``auto`` = beside it
+    as .png, ``none`` = no figure; ValueError for an unknown format.
     """
     path = Path(out)
     if path.suffix.lower() not in FORMATS:
@@ -107,8 +109,10 @@ def run(
     release: Release, n: int, spread: Mapping[str, float], seed: int, progress: bool = True
 ) -> tuple[dict, BatchResult, float]:
     """
-    Sample and fly ``n`` releases; returns the samples, the concatenated results and the
-    seconds spent integrating (inside simulate_batch).
+    Sample and fly ``n`` releases.
+
+    Returns the samples, the concatenated results and the seconds spent integrating (inside
+    simulate_batch).
     """
     from ..physics.batch import BatchResult, simulate_batch
     from ..physics.release import release_states
@@ -121,7 +125,7 @@ def run(
     seconds = 0.0
     aero = release.aero_model()
     for first in range(0, n, CHUNK):
-        part = {k: v[first : first + CHUNK] for k, v in samples.items()}
+        part = {k: v[first:first + CHUNK] for k, v in samples.items()}
         states = release_states(
             part['speed'],
             part['elevation_deg'],
@@ -193,8 +197,10 @@ def columns(samples: Mapping[str, np.ndarray], result) -> dict[str, np.ndarray]:
 
 def write(path: Path, samples: Mapping[str, np.ndarray], result) -> None:
     """
-    Write the per-ball table: .npz (one array per column, full precision) or CSV (header
-    :data:`COLUMNS`, 6 decimals, landed as 0/1; :mod:`football_ros.tools.fastcsv`).
+    Write the per-ball table.
+
+    .npz (one array per column, full precision) or CSV (header :data:`COLUMNS`, 6 decimals,
+    landed as 0/1; :mod:`football_ros.tools.fastcsv`).
     """
     data = columns(samples, result)
     if path.suffix.lower() == '.npz':
@@ -208,8 +214,9 @@ def write(path: Path, samples: Mapping[str, np.ndarray], result) -> None:
 
 def plot(path: Path, result, title: str) -> None:
     """
-    Landing points (dots, or a density image above SCATTER_MAX balls; equal aspect),
-    time of flight and wobble histograms, one PNG.
+    Draw landing points, time of flight and wobble histograms into one PNG.
+
+    Landing points as dots, or a density image above SCATTER_MAX balls; equal aspect.
     """
     import matplotlib
 
@@ -268,9 +275,11 @@ FIGURE_FIELDS = ('landing_x', 'landing_y', 'time_of_flight', 'landed', 'max_alph
 
 class FigureProcess:
     """
-    The figure drawn by a forked child, which imports matplotlib while this process
-    integrates and draws while it writes the table (start-up and drawing leave the critical
-    path). Without ``os.fork``, or once numba (and its threads) is loaded, it draws in-process.
+    Figure drawn by a forked child, off the critical path.
+
+    The child imports matplotlib while this process integrates and draws while it writes the
+    table (start-up and drawing leave the critical path). Without ``os.fork``, or once numba
+    (and its threads) is loaded, it draws in-process.
     """
 
     def __init__(self, path: Path, title: str) -> None:

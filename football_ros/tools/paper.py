@@ -24,8 +24,10 @@ from ..physics.linear_theory import linear_modes, LinearModes
 @dataclass(frozen=True)
 class Row:
     """
-    One number: stable key, what it is, unit, the paper's value (None: not published in
-    the reference), the package's value, and the explanation of any difference.
+    One number of the paper report.
+
+    Stable key, what it is, unit, the paper's value (None: not published in the reference), the
+    package's value, and the explanation of any difference.
     """
 
     key: str
