@@ -73,7 +73,10 @@ setup(
     zip_safe=True,
     maintainer='football_ros developers',
     maintainer_email='football-ros@example.org',
-    description='Spinning American football / rugby ball flight (Dzielski & Blackburn 2022) for ROS 2 Jazzy',
+    description=(
+        'Spinning American football / rugby ball flight (Dzielski & Blackburn 2022) '
+        'for ROS 2 Jazzy'
+    ),
     license='Apache-2.0',
     entry_points={
         'console_scripts': [

@@ -42,7 +42,7 @@ def flops_per_step() -> int:
 
 
 def steps_taken(ball, states, model, tof) -> float:
-    """Steps the batch takes (its default step rule, balls sorted and blocked as it does)."""
+    """Count the steps the batch takes (its default step rule, balls sorted and blocked so)."""
     from football_ros.physics import batch as bt
     from football_ros.physics import dynamics as dyn
     from football_ros.physics.aero import resolve
@@ -109,7 +109,7 @@ def best_of(fn, repeat=3):
 
 
 def one_flight(baseline_rtol: float) -> list[tuple]:
-    """A 3 s flight (released 10 m up so it does not land), sampled at 100 Hz."""
+    """Fly a 3 s flight (released 10 m up so it does not land), sampled at 100 Hz."""
     release = Release(
         position=(0.0, 0.0, 10.0),
         alpha0_deg=3.0,
@@ -224,7 +224,8 @@ def main() -> None:
     )
     peak = peak_flops()
     print(
-        f'\nfootball_ros headless speed, {os.cpu_count()} cores (best of 3; errors vs DOP853 rtol=atol=1e-13)\n'
+        f'\nfootball_ros headless speed, {os.cpu_count()} cores '
+        '(best of 3; errors vs DOP853 rtol=atol=1e-13)\n'
     )
     print(f'{"contender":<48}{"time [s]":>12}{"max alpha/beta err [rad]":>26}')
     for name, seconds, err in rows + batch_rows:
@@ -234,7 +235,8 @@ def main() -> None:
             else f'{name:<48}{seconds:>12.4f}{"-":>26}'
         )
     print(
-        f'\none flight: football_ros is {rows[1][1] / rows[0][1]:.0f}x faster than solve_ivp (target >= 10x)'
+        f'\none flight: football_ros is {rows[1][1] / rows[0][1]:.0f}x faster than solve_ivp '
+        '(target >= 10x)'
     )
     print(
         f'batch: {rate:.3g} ball-seconds per second vs {ivp_rate:.3g} for the solve_ivp loop '

@@ -40,7 +40,7 @@ def timed(fn):
 
 
 def csv_module_write(path: Path, data: dict) -> None:
-    """The old writer: the csv module over rows of Python floats."""
+    """Write as the old writer did: the csv module over rows of Python floats."""
     with open(path, 'w', newline='') as handle:
         writer = csv.writer(handle)
         writer.writerow(list(data))
@@ -48,7 +48,7 @@ def csv_module_write(path: Path, data: dict) -> None:
 
 
 def scatter_figure(path: Path, result) -> None:
-    """The old figure's costly part: one dot per ball."""
+    """Draw the old figure's costly part: one dot per ball."""
     import matplotlib
 
     matplotlib.use('Agg')

@@ -22,8 +22,6 @@ import sys
 import threading
 import time
 
-import numpy as np
-
 os.environ.setdefault('ROS_DOMAIN_ID', str(150 + os.getpid() % 50))
 os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
 
@@ -32,6 +30,7 @@ from football_ros.nodes import qos  # noqa: E402
 from football_ros.physics import Release  # noqa: E402
 from football_ros.requests import FlightOrder  # noqa: E402
 from geometry_msgs.msg import PoseStamped  # noqa: E402
+import numpy as np  # noqa: E402
 import rclpy  # noqa: E402
 from rclpy.executors import SingleThreadedExecutor  # noqa: E402
 from std_msgs.msg import String  # noqa: E402
@@ -46,6 +45,7 @@ def cpu_seconds(pid: int) -> float:
 
 
 class Probe:
+
     def __init__(self) -> None:
         self.node = rclpy.create_node('bench_probe')
         self.arrivals: list[int] = []
@@ -171,7 +171,8 @@ def main() -> None:
 
     sim_r, bare_r = results['simulator'], results['bare rclpy']
     print(
-        f'\nfootball_ros simulator vs bare rclpy publisher: {args.rate:g} Hz, {args.seconds:g} s each, '
+        f'\nfootball_ros simulator vs bare rclpy publisher: {args.rate:g} Hz, '
+        f'{args.seconds:g} s each, '
         f'subscriber in another process, {os.cpu_count()} cores\n'
     )
     print(f'{"metric":<28}{"simulator":>12}{"bare rclpy":>12}{"ratio":>8}')

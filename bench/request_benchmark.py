@@ -64,7 +64,7 @@ CASES = {
 
 
 def decide(text: str) -> str:
-    """The release node's decision up to the flight order (no prediction, no ROS)."""
+    """Decide as the release node does, up to the flight order (no prediction, no ROS)."""
     try:
         request_id, keys = read_request(text)
         release = release_from_request(request_id, keys)
@@ -92,7 +92,8 @@ def main() -> None:
     print(f'{"case":26} {"bytes":>6} {"median ms":>10} {"max ms":>8} {"x typical":>10}  outcome')
     for name, size, med, worst, outcome in rows:
         print(
-            f'{name:26} {size:6d} {med * 1e3:10.3f} {worst * 1e3:8.3f} {med / base:10.1f}  {outcome}'
+            f'{name:26} {size:6d} {med * 1e3:10.3f} {worst * 1e3:8.3f} '
+            f'{med / base:10.1f}  {outcome}'
         )
     print(f'worst case: {max(r[3] for r in rows) * 1e3:.1f} ms (limit {LIMIT} bytes)')
 

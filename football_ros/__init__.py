@@ -17,7 +17,7 @@ __version__ = '0.1.0'
 
 def numba_cache_dir() -> str | None:
     """
-    The folder numba caches this package's kernels in (None = beside the sources).
+    Return the folder numba caches this package's kernels in (None = beside the sources).
 
     A ``NUMBA_CACHE_DIR`` set by the user wins. Otherwise, when the package folder is not
     writable: ``$XDG_CACHE_HOME/football_ros/numba`` (default ``~/.cache``), or, if that

@@ -51,12 +51,12 @@ class Parser(argparse.ArgumentParser):
 
 
 def plain(text: str | None) -> str:
-    """A docstring as terminal text: reStructuredText ``literals`` lose their backticks."""
+    """Return a docstring as terminal text: reStructuredText ``literals`` lose their backticks."""
     return (text or '').lstrip('\n').replace('``', '').replace(':func:', '').replace(':mod:', '')
 
 
 def add_release_options(parser: argparse.ArgumentParser) -> None:
-    """The release options shared by every command that throws a ball."""
+    """Add the release options shared by every command that throws a ball."""
     g = parser.add_argument_group("release (defaults: the preset's nominal release)")
     g.add_argument('--ball', default='american', help=f'preset: {", ".join(PRESETS)}')
     g.add_argument(

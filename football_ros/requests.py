@@ -121,7 +121,7 @@ def _scalar(event: yaml.ScalarEvent) -> Any:
 
 
 def _plain(event: yaml.ScalarEvent) -> bool:
-    """True for a plain (unquoted) scalar; libyaml reports its style as '' and PyYAML as None."""
+    """Tell a plain (unquoted) scalar; libyaml reports its style as '' and PyYAML as None."""
     return not event.style
 
 
@@ -282,7 +282,11 @@ def read_request(text: str, max_bytes: int = MAX_REQUEST_BYTES) -> tuple[str, di
 
 
 def release_from_request(request_id: str, data: dict) -> Release:
-    """The second step: the Release a request's keys mean, or RequestError naming the field."""
+    """
+    Second step: return the Release a request's keys mean.
+
+    Else raise RequestError naming the field.
+    """
     try:
         return Release.from_mapping(data)
     except (TypeError, ValueError) as exc:  # ReleaseError, or a wrongly typed entry
@@ -346,7 +350,7 @@ def _load_json(text: str) -> Any:
 
 
 def _recovered_id(partial: dict) -> str:
-    """The id of a request that could not be read to its end, if its valid 'id' came first."""
+    """Return the id of a request not readable to its end, if its valid 'id' came first."""
     try:
         return check_id(partial['id'])
     except (KeyError, ValueError):
@@ -482,7 +486,7 @@ class FlightOrder:
 
 
 def flight_summary(times: np.ndarray, positions: np.ndarray, landed: bool) -> dict[str, float]:
-    """Return time_of_flight [s], range [m] (horizontal distance from the release), apex height [m]."""
+    """Return time_of_flight [s], range [m] (horizontal, from the release), apex height [m]."""
     horizontal = positions[-1, :2] - positions[0, :2]
     return {
         'time_of_flight': float(times[-1]) if landed else math.nan,

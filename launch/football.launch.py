@@ -21,20 +21,19 @@ import math
 import os
 
 from ament_index_python.packages import get_package_share_directory
+from launch import LaunchDescription
 from launch.actions import DeclareLaunchArgument, GroupAction, OpaqueFunction
 from launch.conditions import IfCondition
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node, PushRosNamespace
 from launch_ros.parameter_descriptions import ParameterValue
 
-from launch import LaunchDescription
-
 PACKAGE = 'football_ros'
 DEFAULT_CAMERA_RATE = 60.0
 
 
 def _flag(context, name):
-    """A boolean launch argument, read as launch's conditions read them."""
+    """Read a boolean launch argument as launch's conditions read them."""
     text = LaunchConfiguration(name).perform(context).strip().lower()
     if text not in ('true', 'false', '1', '0'):
         raise ValueError(f"launch argument '{name}' must be true or false, got '{text}'")
@@ -42,7 +41,7 @@ def _flag(context, name):
 
 
 def _rate(context, name):
-    """A rate launch argument [Hz] as a float, or None when left empty."""
+    """Read a rate launch argument [Hz] as a float, or None when left empty."""
     text = LaunchConfiguration(name).perform(context).strip()
     if not text:
         return None
@@ -56,7 +55,7 @@ def _rate(context, name):
 
 
 def simulator_overrides(context):
-    """Simulator parameters set by launch arguments (on top of the params file)."""
+    """Return the simulator parameters set by launch arguments (on top of the params file)."""
     overrides = {}
     rate = _rate(context, 'publish_rate')
     if rate is not None:

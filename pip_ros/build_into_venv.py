@@ -55,7 +55,7 @@ def patch_cmake_configs(prefix: Path) -> list[Path]:
 
 
 def built(prefix: Path, package: str) -> bool:
-    """The package is installed from this very package.xml and imports."""
+    """Tell whether the package is installed from this very package.xml and imports."""
     installed = prefix / 'share' / package / 'package.xml'
     if (
         not installed.exists()

@@ -67,7 +67,7 @@ class NodeProcess:
 
 @pytest.fixture
 def start_node(tmp_path):
-    """start_node('simulator', '--ros-args', ...) -> NodeProcess, waited until ready."""
+    """Start a node: ('simulator', '--ros-args', ...) -> NodeProcess, waited until ready."""
     started: list[NodeProcess] = []
 
     def _start(command: str, *args: str, ready: str = 'ready') -> NodeProcess:

@@ -5,10 +5,15 @@ import math
 import subprocess
 import sys
 
+from football_ros.physics import dynamics as dyn
 from football_ros.physics import Flight, frames, get_preset, Release
-from football_ros.physics.batch import simulate_batch
-from football_ros.physics.release import release_states
+from football_ros.physics.aero import AeroModel, resolve
+from football_ros.physics.batch import fastest_rates, lean_states, simulate_batch
+from football_ros.physics.dynamics import make_params
+from football_ros.physics.release import LIMITS, release_states, ReleaseError
 from football_ros.tools.montecarlo import COLUMNS
+from hypothesis import assume, given, HealthCheck, settings
+from hypothesis import strategies as hs
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
@@ -269,13 +274,6 @@ def test_montecarlo_bad_options_fail_before_any_work(tmp_path, args):
 
 
 # --- batch vs single flight over every accepted input (issue 11.2) ---------------------------
-from football_ros.physics import dynamics as dyn  # noqa: E402
-from football_ros.physics.aero import AeroModel, resolve  # noqa: E402
-from football_ros.physics.batch import fastest_rates, lean_states  # noqa: E402
-from football_ros.physics.dynamics import make_params  # noqa: E402
-from football_ros.physics.release import LIMITS, ReleaseError  # noqa: E402
-from hypothesis import assume, given, HealthCheck, settings  # noqa: E402
-from hypothesis import strategies as hs  # noqa: E402
 
 
 def _in(key):

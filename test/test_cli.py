@@ -115,8 +115,10 @@ def test_physics_and_headless_commands_need_no_ros(tmp_path):
         f"assert main(['modes', '--json']) == 0\n"
         f"assert main(['simulate', '--out', {str(csv_path)!r}]) == 0\n"
         f"assert main(['plot', {str(csv_path)!r}, '--out', {str(figs)!r}]) == 0\n"
-        f"assert main(['montecarlo', '--n', '50', '--quiet', '--out', {str(tmp_path / 'mc.csv')!r}]) == 0\n"
-        "assert not any(m.split('.')[0] in {'rclpy'} for m in sys.modules if sys.modules[m] is not None)\n"
+        f"assert main(['montecarlo', '--n', '50', '--quiet', '--out', "
+        f"{str(tmp_path / 'mc.csv')!r}]) == 0\n"
+        "assert not any(m.split('.')[0] in {'rclpy'} "
+        'for m in sys.modules if sys.modules[m] is not None)\n'
     )
     proc = subprocess.run(
         [sys.executable, '-c', code], capture_output=True, text=True, timeout=300

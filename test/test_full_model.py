@@ -17,7 +17,8 @@ import pytest
 
 G = 9.81
 ZERO = {
-    'c_d0': 0.0, 'c_d2': 0.0, 'c_l_alpha': 0.0, 'c_n_p_alpha': 0.0, 'c_m_q': 0.0, 'c_l_p': 0.0, 'c_m_p_alpha': 0.0
+    'c_d0': 0.0, 'c_d2': 0.0, 'c_l_alpha': 0.0, 'c_n_p_alpha': 0.0, 'c_m_q': 0.0, 'c_l_p': 0.0,
+    'c_m_p_alpha': 0.0,
 }
 
 
@@ -147,7 +148,7 @@ def _measured_mode_exponents(aero, rate=200.0, duration=1.5):
 )
 def test_damping_rates_with_magnus_match_flights(c_m_p_alpha, c_n_p_alpha):
     """
-    McCoy's T carries the Magnus MOMENT.
+    Check that McCoy's T carries the Magnus MOMENT.
 
     The rates measured in integrated flights agree within 2 % (measured 0.1-1 %); the Magnus
     force leaves them (and S_d) unchanged.
@@ -309,7 +310,11 @@ def test_validity_ranges_flag_large_angles():
 
 
 def _mccoy_rates(ball, speed, spin, c_l_alpha=0.40, c_d0=0.0, c_m_q=-0.10, c_m_p_alpha=0.0):
-    """McCoy's per-calibre rates lambda_F,S = -[H -+ P (2T - H)/sqrt(P^2 - 4M)]/2, times V/D."""
+    """
+    Return McCoy's per-calibre rates, times V/D.
+
+    lambda_F,S = -[H -+ P (2T - H)/sqrt(P^2 - 4M)]/2.
+    """
     area = math.pi * ball.diameter**2 / 4
     fk_d = 1.225 * area * ball.diameter / (2 * ball.mass)
     h_nd = fk_d * (
@@ -478,5 +483,8 @@ def test_quasi_steady_tracks_full_flights_better(ball, ratio):
     the equilibrium's drift was added).
     """
     tr = Flight.from_release(Release(ball=ball, model='full')).simulate(rate=1000.0, duration=10.0)
-    rms = lambda a: float(np.sqrt(np.mean((a - tr.aero_angles[:, :2]) ** 2)))
+
+    def rms(a):
+        return float(np.sqrt(np.mean((a - tr.aero_angles[:, :2]) ** 2)))
+
     assert rms(tr.aero_angles_quasi_steady) < ratio * rms(tr.aero_angles_linear)

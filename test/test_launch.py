@@ -26,16 +26,19 @@ CONFIG = REPO / 'config' / 'football.yaml'
 
 
 class _Recorded:
+
     def __init__(self, *args, **kwargs):
         self.args, self.kwargs = args, kwargs
 
 
 class LaunchConfiguration(_Recorded):
+
     def perform(self, context):
         return context.launch_configurations[self.args[0]]
 
 
 class ParameterValue(_Recorded):
+
     def resolve(self, context):
         text = self.args[0].perform(context)
         kind = self.kwargs['value_type']
@@ -65,7 +68,7 @@ def _stub_modules(monkeypatch):
 
 
 def launch(monkeypatch, **arguments):
-    """(declared arguments, {node name: (node, resolved parameter list)}) for these arguments."""
+    """Return (declared arguments, {node name: (node, resolved parameters)}) of ``arguments``."""
     _stub_modules(monkeypatch)
     spec = importlib.util.spec_from_file_location('football_launch', LAUNCH_FILE)
     module = importlib.util.module_from_spec(spec)

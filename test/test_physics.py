@@ -76,7 +76,8 @@ def test_left_handed_spin_mirrors_the_modes(ball):
     from football_ros.physics.aero import AeroModel, dynamic_stability
 
     kw = {
-        'ball': ball, 'alpha0_deg': 2.0, 'beta0_deg': 1.5, 'alpha_rate_deg_s': 15.0, 'beta_rate_deg_s': -10.0
+        'ball': ball, 'alpha0_deg': 2.0, 'beta0_deg': 1.5, 'alpha_rate_deg_s': 15.0,
+        'beta_rate_deg_s': -10.0,
     }
     spin = Release(ball=ball).spin_rpm
     right = Release(spin_rpm=spin, **kw)
@@ -247,7 +248,10 @@ def test_equilibrium_release_has_least_wobble():
     assert abs(mc.c1) < 1e-9 and abs(mc.c2) < 1e-9
     plain = Flight.from_release(Release()).simulate(rate=1000, duration=0.5)
     quiet = Flight.from_release(calm).simulate(rate=1000, duration=0.5)
-    wobble = lambda tr, eq: np.max(np.abs(tr.aero_angles[:, 1] - eq))
+
+    def wobble(tr, eq):
+        return np.max(np.abs(tr.aero_angles[:, 1] - eq))
+
     assert wobble(quiet, m0.equilibrium_sideslip) < 0.25 * wobble(plain, m0.equilibrium_sideslip)
 
 
@@ -367,7 +371,10 @@ def test_quasi_steady_tracks_the_flight_better(ball, ratio):
     rugby 0.058 vs 0.167 rad (2.9x; 0.086 before).
     """
     tr = Flight.from_release(Release(ball=ball)).simulate(rate=1000.0, duration=10.0)
-    rms = lambda a: float(np.sqrt(np.mean((a - tr.aero_angles[:, :2]) ** 2)))
+
+    def rms(a):
+        return float(np.sqrt(np.mean((a - tr.aero_angles[:, :2]) ** 2)))
+
     assert rms(tr.aero_angles_quasi_steady) < ratio * rms(tr.aero_angles_linear)
     # At release both theories start where the ball is.
     assert tr.aero_angles_quasi_steady[0] == pytest.approx(tr.aero_angles[0, :2], abs=1e-12)
@@ -395,7 +402,10 @@ def test_quasi_steady_within_the_validity_range(ball, model, bound):
     over = np.flatnonzero(tr.aero_angles[:, 2] > math.radians(24.6))
     n = over[0] if len(over) else len(tr.times)
     nl = tr.aero_angles[:n, :2]
-    rms = lambda a: float(np.sqrt(np.mean((a[:n] - nl) ** 2)))
+
+    def rms(a):
+        return float(np.sqrt(np.mean((a[:n] - nl) ** 2)))
+
     assert rms(tr.aero_angles_quasi_steady) < bound
     assert rms(tr.aero_angles_quasi_steady) < rms(tr.aero_angles_linear) / 2.5
 
@@ -608,7 +618,7 @@ def test_paper_report_reproduces_the_published_numbers(paper_report):
 
 
 def _write_bag(path, trajectory, order_json=None):
-    """A rosbag2 folder (rosbags, no ROS) with football/odom and, optionally, the order."""
+    """Write a rosbag2 folder (rosbags, no ROS) with football/odom and, optionally, the order."""
     from rosbags.rosbag2 import Writer
     from rosbags.typesys import get_typestore, Stores
 

@@ -8,6 +8,7 @@ import types
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from football_ros.nodes import qos
+from football_ros.nodes import recorder as recorder_node
 from football_ros.physics import Flight, Release
 from geometry_msgs.msg import PoseStamped, Vector3Stamped
 from hypothesis import given, settings
@@ -244,7 +245,6 @@ def test_demo_end_to_end(tmp_path):
 
 
 # --- parameters, params files, namespaces (issue 10.1, 10.3) -------------------------------------
-from football_ros.nodes import recorder as recorder_node  # noqa: E402
 
 
 def _config():
@@ -328,7 +328,7 @@ def test_bad_parameters_give_one_line_naming_the_field(tmp_path, line, field):
 
 # --- write errors: full disk, file size limit (issue 9.7) ----------------------------------------
 def check_bag_consistent(bag):
-    """The bag opens with rosbags and with the mcap reader, and every count agrees."""
+    """Check that the bag opens with rosbags and with the mcap reader, and every count agrees."""
     meta = yaml.safe_load((bag / 'metadata.yaml').read_text())['rosbag2_bagfile_information']
     counts, _, _ = read_bag(bag)
     assert meta['message_count'] == sum(counts.values())
@@ -358,7 +358,7 @@ def check_bag_consistent(bag):
 
 @pytest.fixture
 def small_disk(tmp_path):
-    """A tmpfs of the recorder's reserve + 1.5 MiB (root with mount rights only)."""
+    """Mount a tmpfs of the recorder's reserve + 1.5 MiB (root with mount rights only)."""
     disk = tmp_path / 'disk'
     disk.mkdir()
     size = recorder_node.RESERVE_BYTES + (3 << 19)
@@ -468,7 +468,7 @@ def test_file_size_limit_drops_only_what_is_not_on_disk(tmp_path, monkeypatch):
     assert xs == [float(i) for i in range(written - lost)]  # the first ones, in order, intact
 
 
-# --- use_sim_time (issue 10.6) --------------------------------------------------------------------
+# --- use_sim_time (issue 10.6) -------------------------------------------------------------------
 def test_recorder_under_sim_time_stamps_with_clock(start_node, collector, tmp_path):
     """
     use_sim_time:=true.

@@ -1,4 +1,4 @@
-"""Release node across processes: contract, bad input on the wire, the typed state path, a flood."""
+"""Release node across processes: contract, bad input on the wire, typed state path, a flood."""
 
 from collections import Counter
 import json
@@ -184,7 +184,7 @@ def test_each_bad_input_class_gets_one_error_and_nothing_else_changes(start_node
 
 def _state_request(release: Release, sec: int, child: str = 'football') -> Odometry:
     """
-    The release as an Odometry.
+    Build the release as an Odometry.
 
     Twist in the body frame (child ``football``) or, for child ``field``, in the field frame.
     """
@@ -343,7 +343,8 @@ def test_a_killed_simulator_is_reported_within_a_second(start_node, client):
 HOSTILE_ORDERS = [
     ('[' * 5000 + ']' * 5000, 'unknown', 'nest'),
     (
-        '{"id": "h1", "position": [0, 0, 1e999], "velocity": [1, 0, 1], "orientation": [0, 0, 0, 1], '
+        '{"id": "h1", "position": [0, 0, 1e999], "velocity": [1, 0, 1], '
+        '"orientation": [0, 0, 0, 1], '
         '"angular_velocity": [0, 0, 0]}',
         'h1',
         'finite',
@@ -363,7 +364,8 @@ HOSTILE_ORDERS = [
         'mass',
     ),
     (
-        '{"id": "h4", "position": [0, 0, 1], "velocity": [20, 0, 10], "orientation": [0, 0, 0, 0], '
+        '{"id": "h4", "position": [0, 0, 1], "velocity": [20, 0, 10], '
+        '"orientation": [0, 0, 0, 0], '
         '"angular_velocity": [0, 0, 0]}',
         'h4',
         'quaternion',

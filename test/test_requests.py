@@ -27,7 +27,10 @@ def test_defaults_and_id():
 
 
 def test_yaml_and_json_forms_are_equivalent():
-    text_yaml = 'id: 7\nball: rugby\nspeed: 22.5\nspin_rpm: -400\nposition: [1, 2, 0.5]\nball_params: {c_m_alpha: 0.2}'
+    text_yaml = (
+        'id: 7\nball: rugby\nspeed: 22.5\nspin_rpm: -400\nposition: [1, 2, 0.5]\n'
+        'ball_params: {c_m_alpha: 0.2}'
+    )
     text_json = json.dumps(
         {
             'id': 7,

@@ -90,7 +90,7 @@ class Camera:
 
     def restart(self, release_time: float) -> None:
         """
-        A new flight released at ``release_time`` [s]: captures at release_time + k / rate.
+        Start a new flight released at ``release_time`` [s]: captures at release_time + k / rate.
 
         Observations still waiting are kept (they were captured).
         """

@@ -619,7 +619,7 @@ class FlightTracker:
                 tr.hyps = [tr.best]
 
     def _below_ground_soon(self, tr: _Track) -> bool:
-        """True when the mean reaches the ground within 10 ms (before the next frame)."""
+        """Tell whether the mean reaches the ground within 10 ms (before the next frame)."""
         x = tr.best.x
         if x[5] >= 0.0:
             return False

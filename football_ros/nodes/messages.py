@@ -112,7 +112,7 @@ def vector3_stamped(vec: Sequence[float], stamp: Time, frame_id: str) -> Vector3
 
 
 def key_values(values: Mapping[str, object]) -> list[KeyValue]:
-    """KeyValue list; floats with full precision (repr), bools as 'true'/'false'."""
+    """Build a KeyValue list; floats with full precision (repr), bools as 'true'/'false'."""
     out = []
     for key, value in values.items():
         if isinstance(value, bool):
@@ -162,7 +162,7 @@ def markers(
     namespace: str = 'football',
 ) -> MarkerArray:
     """
-    RViz markers.
+    Build the RViz markers.
 
     Ball (ellipsoid), spin-axis arrow (red), velocity arrow (green, 0.1 s of flight long),
     trail (line strip of past positions).
@@ -196,7 +196,7 @@ def vector_of(msg_vector) -> np.ndarray:
 
 
 def to_plain(msg):
-    """A message as plain data (dicts, lists, numbers, strings) for printing as YAML/JSON."""
+    """Convert a message to plain data (dicts, lists, numbers, strings) for YAML/JSON."""
     if hasattr(msg, 'get_fields_and_field_types'):
         return {name: to_plain(getattr(msg, name)) for name in msg.get_fields_and_field_types()}
     if isinstance(msg, (bytes, bytearray)):

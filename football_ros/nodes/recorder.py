@@ -347,7 +347,7 @@ class BagWriter(Writer):
 
 
 def _string_param(node: Node, name: str, default: str, description: str) -> str:
-    """A read-only string parameter; unset (null in a params file) means ``default``."""
+    """Declare a read-only string parameter; unset (null in a params file) means ``default``."""
     value = node.declare_parameter(
         name,
         None,

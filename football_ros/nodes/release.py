@@ -247,7 +247,7 @@ class ReleaseNode(Node):
         self._enqueue(_Work(request_id, order=order))
 
     def _order_from_odometry(self, request_id: str, msg: Odometry) -> FlightOrder:
-        """The flight order an Odometry of the ball means (twist per the Odometry convention)."""
+        """Return the flight order an Odometry of the ball means (twist per its convention)."""
         frame, child = msg.header.frame_id, msg.child_frame_id
         if frame not in ('', FIELD_FRAME):
             raise ReleaseError(
@@ -393,8 +393,9 @@ class ReleaseNode(Node):
                 ):
                     self._other_simulators.add(simulator)
                     self.get_logger().warning(
-                        f"flight order '{msg.name[:40]}' was acknowledged again, by '{simulator}': more "
-                        'than one simulator listens to the flight orders (or its answer came too late)'
+                        f"flight order '{msg.name[:40]}' was acknowledged again, by "
+                        f"'{simulator}': more than one simulator listens to the flight orders "
+                        '(or its answer came too late)'
                     )
                 return
             values = dict(pending.values, simulator=simulator)

@@ -187,7 +187,8 @@ class SimulatorNode(Node):
         self._thread.start()
         self.get_logger().info(
             f'ready: {self.publish_rate:g} Hz, step {self.integration_step:g} s, real-time factor '
-            f"{self.real_time_factor:g}; waiting for flights on '{self.resolve_topic_name(qos.FLIGHT_ORDER)}'"
+            f'{self.real_time_factor:g}; waiting for flights on '
+            f"'{self.resolve_topic_name(qos.FLIGHT_ORDER)}'"
         )
 
     # --- parameters, services, orders (executor thread) --------------------------------------
@@ -256,7 +257,8 @@ class SimulatorNode(Node):
         modes = flight.modes
         v = order.initial.velocity
         text = (
-            f"flight '{order.request_id}': {order.ball_name} released at {np.linalg.norm(v):.2f} m/s, "
+            f"flight '{order.request_id}': {order.ball_name} released at "
+            f'{np.linalg.norm(v):.2f} m/s, '
             f'{math.degrees(modes.flight_path_angle):.1f} deg, {order.initial.spin / RPM:.0f} rpm'
             f' ({"stable" if modes.stable else "gyroscopically UNSTABLE"}, equilibrium sideslip '
             f'{math.degrees(modes.equilibrium_sideslip):.2f} deg)'
@@ -483,7 +485,7 @@ class SimulatorNode(Node):
 
 
 def _order_name(text: str) -> str:
-    """The ``order`` (else ``id``) of a flight order's text, for acknowledging even a bad one."""
+    """Return the ``order`` (else ``id``) of a flight order's text, to acknowledge bad ones too."""
     try:
         data = load_strict(text) if isinstance(text, str) and len(text) <= 1 << 20 else None
     except ValueError as exc:

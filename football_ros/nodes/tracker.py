@@ -199,7 +199,7 @@ def _finite(*arrays) -> bool:
 
 
 def _stampable(*seconds) -> bool:
-    """True if every time [s] fits a builtin_interfaces/Time (0 <= t < 2^31 s)."""
+    """Tell whether every time [s] fits a builtin_interfaces/Time (0 <= t < 2^31 s)."""
     return all(math.isfinite(t) and 0.0 <= t < 2.0**31 - 1.0 for t in seconds)
 
 
@@ -238,7 +238,7 @@ def estimate_message(
 
 def landing_message(pred, frame_id: str) -> PoseWithCovarianceStamped | None:
     """
-    The predicted landing.
+    Build the predicted landing.
 
     header.stamp = predicted landing time, position on the ground plane, covariance x/y block
     from the prediction (z and rotations 0: not estimated).

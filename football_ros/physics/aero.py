@@ -180,7 +180,7 @@ def resolve(
     ball: BallPreset, model: str, aero: AeroModel | None
 ) -> tuple[BallPreset, AeroModel | None]:
     """
-    The ball and aero settings a ``model`` flies with.
+    Return the ball and aero settings a ``model`` flies with.
 
     For ``full`` the given settings (or the defaults) and the ball with their air density; for
     ``paper`` the ball as it is and None.
@@ -339,7 +339,7 @@ def max_valid_delta(
     model: str = 'paper', moment: str = 'linear', aero: AeroModel | None = None
 ) -> float:
     """
-    The largest total angle delta [rad] inside every form in force.
+    Return the largest total angle delta [rad] inside every form in force.
 
     A cheap per-sample test (``delta > max_valid_delta(...)``) before :func:`out_of_validity`
     words the warning.

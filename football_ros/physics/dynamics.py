@@ -226,7 +226,7 @@ def landing_time_in_step(y: np.ndarray, dt: float, params: np.ndarray, ground: f
 
 @njit(cache=True)
 def crossed_ground(before: np.ndarray, after: np.ndarray, ground: float) -> bool:
-    """True when a step took the ball from above ``ground`` to at or below it, moving down."""
+    """Tell whether a step took the ball from above ``ground`` to at or below it, moving down."""
     return before[R + 2] > ground and after[R + 2] <= ground and after[V + 2] < 0.0
 
 
@@ -312,7 +312,7 @@ N_DESCRIBE = 13
 @njit(cache=True)
 def describe(states: np.ndarray, params: np.ndarray) -> np.ndarray:
     """
-    Derived quantities of state rows (N, N_STATE) -> (N, N_DESCRIBE), in ``field``.
+    Derive quantities of state rows (N, N_STATE) -> (N, N_DESCRIBE), in ``field``.
 
     Orientation = q_nr * rot_x(phi) (body x = axis, spin angle included); angular velocity
     w = h - h1 s + p s with p = (I_t/I_s) h1; alpha, beta, delta as in docs/physics.md,

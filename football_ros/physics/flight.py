@@ -289,7 +289,7 @@ class Flight:
         return state
 
     def sample(self, t: float, ground: float = 0.0) -> 'BallSample':
-        """The ball at ``t`` [s] after release (or at its landing, once landed)."""
+        """Return the ball at ``t`` [s] after release (or at its landing, once landed)."""
         state = self.state_at(t, ground)
         landed = self.landing_time is not None
         t_state = self.landing_time if landed else t

@@ -38,7 +38,9 @@ def _unit(v: np.ndarray) -> np.ndarray:
 
 def velocity_frame(velocity: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """
-    Unit vectors e1 (along v), e2 (up, perpendicular to e1), e3 = e1 x e2 (right), in ``field``.
+    Return unit vectors e1 (along v), e2 (up, perpendicular to e1), e3 = e1 x e2 (right).
+
+    In ``field``.
 
     Undefined for a vertical velocity.
     """
@@ -50,14 +52,14 @@ def velocity_frame(velocity: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.nda
 
 
 def to_velocity_frame(vec: np.ndarray, velocity: np.ndarray) -> np.ndarray:
-    """Components (along e1, e2, e3) of a ``field`` vector in the velocity frame of ``velocity``."""
+    """Return components (along e1, e2, e3) of a ``field`` vector in ``velocity``'s frame."""
     e1, e2, e3 = velocity_frame(velocity)
     vec = np.asarray(vec, dtype=float)
     return np.stack([np.sum(vec * e, axis=-1) for e in (e1, e2, e3)], axis=-1)
 
 
 def from_velocity_frame(components: np.ndarray, velocity: np.ndarray) -> np.ndarray:
-    """``field`` vector from its velocity-frame components (inverse of :func:`to_velocity_frame`)."""
+    """Return a ``field`` vector from velocity-frame components (inverse of to_velocity_frame)."""
     e1, e2, e3 = velocity_frame(velocity)
     c = np.asarray(components, dtype=float)
     return c[..., 0:1] * e1 + c[..., 1:2] * e2 + c[..., 2:3] * e3
@@ -122,7 +124,7 @@ def direction(speed, elevation, azimuth) -> np.ndarray:
 
 
 def quaternion_from_matrix(rot: np.ndarray) -> np.ndarray:
-    """Unit quaternion (x, y, z, w) of a 3x3 rotation matrix (columns = body axes in the world)."""
+    """Return the unit quaternion (x, y, z, w) of a 3x3 rotation matrix (columns = body axes)."""
     m = np.asarray(rot, dtype=float)
     trace = m[0, 0] + m[1, 1] + m[2, 2]
     if trace > 0.0:

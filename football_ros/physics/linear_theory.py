@@ -278,7 +278,7 @@ def mode_rates(
 
 
 def _scalar_constants(params: np.ndarray) -> tuple:
-    """The kernel parameters :func:`_local_exponents_scalar` reads, as Python floats."""
+    """Return the kernel parameters :func:`_local_exponents_scalar` reads, as Python floats."""
     from . import dynamics as dyn
 
     keys = (
@@ -348,7 +348,7 @@ def _path_rates(consts: tuple, air, h1):
 
 def _drifting_equilibrium(exponents, consts, air, h1, b, d_c, x_p):
     """
-    The equilibrium to first order in its drift and that drift: (x_p + B x_p' / C, x_p').
+    Return the equilibrium to first order in its drift and that drift: (x_p + B x_p' / C, x_p').
 
     Inserting x = x_p(t) + y in x'' + B x' - C x = F leaves B x_p' on the right; its
     quasi-static answer is y = B x_p' / C. x_p' is a central difference of ``exponents``

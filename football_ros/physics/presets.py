@@ -58,7 +58,11 @@ class BallPreset:
         )
 
     def with_overrides(self, overrides: Mapping[str, float]) -> 'BallPreset':
-        """A copy with some numeric fields replaced; unknown or non-positive values raise ValueError."""
+        """
+        Return a copy with some numeric fields replaced.
+
+        Unknown or non-positive values raise ValueError.
+        """
         numeric = {f.name for f in dataclasses.fields(self)} - {
             'name',
             'speed',

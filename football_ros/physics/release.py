@@ -238,7 +238,7 @@ class Release:
         InitialState.from_rigid_body(st.position, st.velocity, st.attitude, st.angular_velocity())
 
     def aero_model(self) -> AeroModel | None:
-        """The full model's settings (None for the paper's model)."""
+        """Return the full model's settings (None for the paper's model)."""
         if not isinstance(self.aero, Mapping):
             raise ReleaseError(f"'aero' must be a mapping, got {_brief(self.aero)}")
         if self.model != 'full':
@@ -251,7 +251,7 @@ class Release:
             raise ReleaseError(str(exc)) from None
 
     def preset(self) -> BallPreset:
-        """The ball with ``ball_params`` applied."""
+        """Return the ball with ``ball_params`` applied."""
         if not isinstance(self.ball, str):
             raise ReleaseError(f"'ball' must be a preset name, got {_brief(self.ball)}")
         if not isinstance(self.ball_params, Mapping):
@@ -290,7 +290,7 @@ class Release:
         return out
 
     def initial_state(self) -> InitialState:
-        """The rigid-body state in ``field`` this release means (docs/physics.md section 1)."""
+        """Return the rigid-body state in ``field`` this release means (docs/physics.md sec. 1)."""
         st = release_states(
             self.speed,
             self.elevation_deg,
@@ -313,7 +313,7 @@ class Release:
         )
 
     def replace(self, **changes: Any) -> 'Release':
-        """A validated copy with some fields changed."""
+        """Return a validated copy with some fields changed."""
         return dataclasses.replace(self, **changes)
 
 

@@ -26,6 +26,7 @@ from ..physics import ReleaseError
 
 
 class _Child:
+
     def __init__(self, name: str, args: list[str], log_dir: Path) -> None:
         self.name = name
         self.log_path = log_dir / f'{name}.log'

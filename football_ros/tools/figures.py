@@ -35,7 +35,7 @@ def flight_info(
     record: FlightRecord, ball: str | None = None, spin_rpm: float | None = None
 ) -> FlightInfo:
     """
-    What the flight is.
+    Describe what the flight is.
 
     The file's own description; else ``ball`` (and ``spin_rpm`` or the preset's) when the user
     names it; else ValueError. A ``ball`` that contradicts the file's is refused too.
@@ -116,7 +116,7 @@ def plot_source(
 def plot_record(
     record: FlightRecord, info: FlightInfo, out_dir: str | Path, subtitle: str, prefix: str = ''
 ) -> list[Path]:
-    """The four figures of one record into ``out_dir`` (names prefixed by ``prefix``)."""
+    """Draw the four figures of one record into ``out_dir`` (names prefixed by ``prefix``)."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     paths = []

@@ -117,7 +117,7 @@ def write_sidecar(
 
 
 def read_sidecar(csv_path: str | Path) -> FlightInfo | None:
-    """The flight a CSV holds, from its sidecar; None without one; ValueError when it is bad."""
+    """Read the flight a CSV holds from its sidecar; None without one; ValueError when bad."""
     path = sidecar_path(csv_path)
     if not path.exists():
         return None
@@ -137,7 +137,7 @@ def read_sidecar(csv_path: str | Path) -> FlightInfo | None:
 
 
 def info_from_order(text: str, origin: str) -> FlightInfo:
-    """The flight an order JSON (``football/flight/order``) describes; ValueError if bad."""
+    """Return the flight an order JSON (``football/flight/order``) describes; ValueError if bad."""
     from ..requests import FlightOrder  # the order's one parser (owned with the release path)
 
     order = FlightOrder.from_json(text)
@@ -149,7 +149,7 @@ def info_from_order(text: str, origin: str) -> FlightInfo:
 
 
 def load(path: str | Path) -> FlightRecord:
-    """A CSV file from ``simulate``, or a bag (folder, or its .mcap/.db3 file)."""
+    """Load a CSV file from ``simulate``, or a bag (folder, or its .mcap/.db3 file)."""
     path = Path(path)
     if path.suffix == '.csv':
         return load_csv(path)
@@ -161,7 +161,11 @@ def load(path: str | Path) -> FlightRecord:
 
 
 def load_csv(path: Path) -> FlightRecord:
-    """A simulate CSV: its 18 base columns (required, in order), appended columns when present."""
+    """
+    Load a simulate CSV: its 18 base columns (required, in order).
+
+    Appended columns when present.
+    """
     with open(path, newline='') as handle:
         header = next(csv.reader(handle), [])
     if tuple(header[: len(CSV_BASE_HEADER)]) != CSV_BASE_HEADER:
@@ -190,7 +194,11 @@ def load_csv(path: Path) -> FlightRecord:
 
 
 def _last_flight(stamps: np.ndarray, positions: np.ndarray) -> np.ndarray:
-    """Indices of the last flight: drop repeats of a state (the held landing), split at pauses."""
+    """
+    Return indices of the last flight.
+
+    Drop repeats of a state (the held landing), split at pauses.
+    """
     fresh = np.ones(len(stamps), bool)
     fresh[1:] = np.any(positions[1:] != positions[:-1], axis=1)
     index = np.flatnonzero(fresh)
@@ -274,7 +282,11 @@ def load_bag(path: Path) -> FlightRecord:
 def record_from_trajectory(
     trajectory, info: FlightInfo, source: str = 'simulated'
 ) -> FlightRecord:
-    """A :class:`FlightRecord` of a :class:`football_ros.physics.flight.Trajectory` (no file)."""
+    """
+    Make a :class:`FlightRecord` of a :class:`football_ros.physics.flight.Trajectory`.
+
+    No file.
+    """
     angles, linear, quasi = (
         trajectory.aero_angles,
         trajectory.aero_angles_linear,

@@ -181,7 +181,7 @@ def summary_rows(result) -> list[tuple[str, np.ndarray, str]]:
 
 
 def columns(samples: Mapping[str, np.ndarray], result) -> dict[str, np.ndarray]:
-    """The per-ball table as named columns in the order and units of :data:`COLUMNS`."""
+    """Return the per-ball table as named columns in the order and units of :data:`COLUMNS`."""
     data = {k: samples[k] for k in SPREAD_DEFAULTS}
     data.update(
         landing_x=result.landing_x,
@@ -336,6 +336,7 @@ class FigureProcess:
 
 
 class _Fields:
+
     def __init__(self, data: dict) -> None:
         self.__dict__.update(data)
 
@@ -362,5 +363,6 @@ def print_summary(result, n: int, seconds: float) -> None:
             continue
         p5, p50, p95 = np.percentile(values, [5, 50, 95])
         print(
-            f'{name:<24}{values.mean():>10.3f}{values.std():>10.3f}{p5:>10.3f}{p50:>10.3f}{p95:>10.3f}  {unit}'
+            f'{name:<24}{values.mean():>10.3f}{values.std():>10.3f}'
+            f'{p5:>10.3f}{p50:>10.3f}{p95:>10.3f}  {unit}'
         )

@@ -56,7 +56,7 @@ class Case:
 
 
 def _equilibrium_release(ball: str) -> Release:
-    """The least-wobble release: beta0 = s3p, axis turning with the velocity frame."""
+    """Return the least-wobble release: beta0 = s3p, axis turning with the velocity frame."""
     m = linear_modes(get_preset(ball), Release(ball=ball).initial_state())
     return Release(
         ball=ball,
@@ -66,7 +66,7 @@ def _equilibrium_release(ball: str) -> Release:
 
 
 def cases() -> list[Case]:
-    """The cases of the paper's Figures 3 to 8, both balls."""
+    """Return the cases of the paper's Figures 3 to 8, both balls."""
     crit = linear_modes(get_preset('american'), Release().initial_state()).critical_spin_rpm
     return [
         Case(
