@@ -16,7 +16,6 @@ from ament_flake8.main import main_with_errors
 import pytest
 
 
-@pytest.mark.skip(reason='lint pass pending')
 @pytest.mark.flake8
 @pytest.mark.linter
 def test_flake8():
