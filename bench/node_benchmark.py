@@ -1,4 +1,19 @@
-"""Simulator node at a high publish rate vs a bare rclpy publisher, measured in the same run.
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Simulator node at a high publish rate vs a bare rclpy publisher, measured in the same run.
 
     .venv/bin/python bench/node_benchmark.py [--rate 1000] [--seconds 60] [--rounds 4]
 
@@ -27,46 +42,48 @@ from __future__ import annotations
 
 import argparse
 import os
+from pathlib import Path
 import signal
 import subprocess
 import sys
 import threading
 import time
-from pathlib import Path
 
-import numpy as np
+os.environ.setdefault('ROS_DOMAIN_ID', str(150 + os.getpid() % 50))
+os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
 
-os.environ.setdefault("ROS_DOMAIN_ID", str(150 + os.getpid() % 50))
-os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-
-import rclpy  # noqa: E402
 from diagnostic_msgs.msg import DiagnosticArray  # noqa: E402
-from geometry_msgs.msg import PoseStamped  # noqa: E402
-from rclpy.executors import SingleThreadedExecutor  # noqa: E402
-from std_msgs.msg import String  # noqa: E402
-
 from football_ros.nodes import qos  # noqa: E402
 from football_ros.physics import Release  # noqa: E402
 from football_ros.requests import FlightOrder  # noqa: E402
+from geometry_msgs.msg import PoseStamped  # noqa: E402
+import numpy as np  # noqa: E402
+import rclpy  # noqa: E402
+from rclpy.executors import SingleThreadedExecutor  # noqa: E402
+from std_msgs.msg import String  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
-TICKS = os.sysconf("SC_CLK_TCK")
+TICKS = os.sysconf('SC_CLK_TCK')
 
 
 def cpu_seconds(pid: int) -> float:
-    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    fields = Path(f'/proc/{pid}/stat').read_text().rsplit(')', 1)[1].split()
     return (int(fields[11]) + int(fields[12])) / TICKS
 
 
 class Probe:
+    """A subscriber that records arrival times and stamps."""
+
     def __init__(self) -> None:
-        self.node = rclpy.create_node("bench_probe")
+        self.node = rclpy.create_node('bench_probe')
         self.arrivals: list[int] = []
         self.stamps: list[int] = []
         self.overruns = 0
         self.recording = False
         self.node.create_subscription(PoseStamped, qos.POSE, self._on_pose, qos.STATE)
-        self.node.create_subscription(DiagnosticArray, qos.DIAGNOSTICS, self._on_diag, qos.DIAGNOSTICS_QOS)
+        self.node.create_subscription(
+            DiagnosticArray, qos.DIAGNOSTICS, self._on_diag, qos.DIAGNOSTICS_QOS
+        )
         self.orders = self.node.create_publisher(String, qos.FLIGHT_ORDER, qos.ORDER)
         self.executor = SingleThreadedExecutor()
         self.executor.add_node(self.node)
@@ -81,7 +98,7 @@ class Probe:
     def _on_diag(self, msg) -> None:
         for status in msg.status:
             for kv in status.values:
-                if kv.key == "overruns":
+                if kv.key == 'overruns':
                     self.overruns = int(kv.value)
 
     def measure(self, pid: int, seconds: float, rate: float, keep_flying: bool) -> dict:
@@ -91,7 +108,7 @@ class Probe:
         if keep_flying:
             while self.orders.get_subscription_count() == 0:
                 time.sleep(0.05)
-        order = String(data=FlightOrder.from_release("bench", Release()).to_json())
+        order = String(data=FlightOrder.from_release('bench', Release()).to_json())
         if keep_flying:
             self.orders.publish(order)
         time.sleep(2.0)  # settle
@@ -116,30 +133,43 @@ class Probe:
         missed = int(np.sum(np.maximum(np.round(gaps / period) - 1, 0))) if keep_flying else None
         if missed:
             where = np.nonzero(np.round(gaps / period) > 1)[0]
-            print(f"stamp gaps: {[(int(i), int(gaps[i])) for i in where[:10]]} of {len(stamps)}")
-        return {"received": len(arrivals), "expected": int(seconds * rate), "missed": missed,
-                "jitter": jitter, "cpu_s": cpu, "seconds": seconds,
-                "overruns": self.overruns - overruns0 if keep_flying else None}
+            print(f'stamp gaps: {[(int(i), int(gaps[i])) for i in where[:10]]} of {len(stamps)}')
+        return {
+            'received': len(arrivals),
+            'expected': int(seconds * rate),
+            'missed': missed,
+            'jitter': jitter,
+            'cpu_s': cpu,
+            'seconds': seconds,
+            'overruns': self.overruns - overruns0 if keep_flying else None,
+        }
 
 
 def pooled(parts: list[dict]) -> dict:
     """One result from the rounds of one publisher."""
-    jitter = np.concatenate([p["jitter"] for p in parts])
-    total = sum(p["seconds"] for p in parts)
+    jitter = np.concatenate([p['jitter'] for p in parts])
+    total = sum(p['seconds'] for p in parts)
 
     def add(key):
         values = [p[key] for p in parts]
         return None if any(v is None for v in values) else sum(values)
-    return {"received": add("received"), "expected": add("expected"), "missed": add("missed"),
-            "overruns": add("overruns"), "p50": float(np.percentile(jitter, 50)),
-            "p99": float(np.percentile(jitter, 99)), "max": float(jitter.max()),
-            "cpu": 100 * sum(p["cpu_s"] for p in parts) / total}
+
+    return {
+        'received': add('received'),
+        'expected': add('expected'),
+        'missed': add('missed'),
+        'overruns': add('overruns'),
+        'p50': float(np.percentile(jitter, 50)),
+        'p99': float(np.percentile(jitter, 99)),
+        'max': float(jitter.max()),
+        'cpu': 100 * sum(p['cpu_s'] for p in parts) / total,
+    }
 
 
 def start(cmd: list[str]) -> subprocess.Popen:
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     for line in proc.stdout:
-        if "ready" in line:
+        if 'ready' in line:
             break
     threading.Thread(target=proc.stdout.read, daemon=True).start()
     return proc
@@ -156,26 +186,38 @@ def stop(proc: subprocess.Popen) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--rate", type=float, default=1000.0)
-    parser.add_argument("--seconds", type=float, default=60.0)
-    parser.add_argument("--rounds", type=int, default=4)
+    parser.add_argument('--rate', type=float, default=1000.0)
+    parser.add_argument('--seconds', type=float, default=60.0)
+    parser.add_argument('--rounds', type=int, default=4)
     args = parser.parse_args()
     rclpy.init()
     probe = Probe()
-    parts: dict[str, list[dict]] = {"simulator": [], "bare rclpy": []}
+    parts: dict[str, list[dict]] = {'simulator': [], 'bare rclpy': []}
     segment = args.seconds / args.rounds
     for _ in range(args.rounds):
-        sim = start([sys.executable, "-m", "football_ros.cli", "simulator", "--ros-args", "-p",
-                     f"publish_rate:={args.rate}", "-p", "hold_rate:=0.0"])
+        sim = start(
+            [
+                sys.executable,
+                '-m',
+                'football_ros.cli',
+                'simulator',
+                '--ros-args',
+                '-p',
+                f'publish_rate:={args.rate}',
+                '-p',
+                'hold_rate:=0.0',
+            ]
+        )
         try:
-            parts["simulator"].append(probe.measure(sim.pid, segment, args.rate, keep_flying=True))
+            parts['simulator'].append(probe.measure(sim.pid, segment, args.rate, keep_flying=True))
         finally:
             stop(sim)
         time.sleep(1.0)
-        bare = start([sys.executable, str(HERE / "bare_publisher.py"), str(args.rate)])
+        bare = start([sys.executable, str(HERE / 'bare_publisher.py'), str(args.rate)])
         try:
-            parts["bare rclpy"].append(probe.measure(bare.pid, segment, args.rate,
-                                                     keep_flying=False))
+            parts['bare rclpy'].append(
+                probe.measure(bare.pid, segment, args.rate, keep_flying=False)
+            )
         finally:
             stop(bare)
         time.sleep(1.0)
@@ -185,23 +227,33 @@ def main() -> None:
     rclpy.try_shutdown()
     results = {name: pooled(p) for name, p in parts.items()}
 
-    sim_r, bare_r = results["simulator"], results["bare rclpy"]
-    print(f"\nfootball_ros simulator vs bare rclpy publisher: {args.rate:g} Hz, "
-          f"{args.seconds:g} s each "
-          f"in {args.rounds} alternating rounds, subscriber in another process, "
-          f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.2f}\n")
-    print(f"{'metric':<28}{'simulator':>12}{'bare rclpy':>12}{'ratio':>8}")
-    rows = [("messages received", "received", "{:.0f}"), ("messages expected", "expected", "{:.0f}"),
-            ("missed ticks (stamp gaps)", "missed", "{}"), ("overruns (node's own count)", "overruns", "{}"),
-            ("jitter p50 [ms]", "p50", "{:.3f}"), ("jitter p99 [ms]", "p99", "{:.3f}"),
-            ("jitter max [ms]", "max", "{:.3f}"), ("CPU [% of one core]", "cpu", "{:.1f}")]
+    sim_r, bare_r = results['simulator'], results['bare rclpy']
+    print(
+        f'\nfootball_ros simulator vs bare rclpy publisher: {args.rate:g} Hz, '
+        f'{args.seconds:g} s each '
+        f'in {args.rounds} alternating rounds, subscriber in another process, '
+        f'{os.cpu_count()} cores, load average {os.getloadavg()[0]:.2f}\n'
+    )
+    print(f'{"metric":<28}{"simulator":>12}{"bare rclpy":>12}{"ratio":>8}')
+    rows = [
+        ('messages received', 'received', '{:.0f}'),
+        ('messages expected', 'expected', '{:.0f}'),
+        ('missed ticks (stamp gaps)', 'missed', '{}'),
+        ("overruns (node's own count)", 'overruns', '{}'),
+        ('jitter p50 [ms]', 'p50', '{:.3f}'),
+        ('jitter p99 [ms]', 'p99', '{:.3f}'),
+        ('jitter max [ms]', 'max', '{:.3f}'),
+        ('CPU [% of one core]', 'cpu', '{:.1f}'),
+    ]
     for label, key, fmt in rows:
         a, b = sim_r[key], bare_r[key]
-        ratio = f"{a / b:.2f}" if isinstance(a, float) and isinstance(b, float) and b else "-"
-        print(f"{label:<28}{fmt.format(a) if a is not None else '-':>12}"
-              f"{fmt.format(b) if b is not None else '-':>12}{ratio:>8}")
-    print("\ntarget: 0 missed ticks; jitter p99 and max ratios <= 1 (no worse than bare rclpy)")
+        ratio = f'{a / b:.2f}' if isinstance(a, float) and isinstance(b, float) and b else '-'
+        print(
+            f'{label:<28}{fmt.format(a) if a is not None else "-":>12}'
+            f'{fmt.format(b) if b is not None else "-":>12}{ratio:>8}'
+        )
+    print('\ntarget: 0 missed ticks; jitter p99 and max ratios <= 1 (no worse than bare rclpy)')
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     main()

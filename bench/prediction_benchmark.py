@@ -1,4 +1,19 @@
-"""Landing prediction benchmark (headless, seeded): the tracker against two common baselines.
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Landing prediction benchmark (headless, seeded): the tracker against two common baselines.
 
 Many full-model flights (both hands, a spread of speeds, elevations, spins and release angles)
 are seen by the simulated camera (60 Hz, 2 cm noise, 20 ms latency). At lead times 1.5, 1.0
@@ -25,13 +40,12 @@ import argparse
 import math
 import time
 
-import numpy as np
-from numba import njit
-from scipy.optimize import least_squares
-
 from football_ros.estimation import Camera, CameraSettings, FlightTracker, TrackerSettings
 from football_ros.physics import Flight, Release
 from football_ros.physics.aero import AeroModel
+from numba import njit
+import numpy as np
+from scipy.optimize import least_squares
 
 LEADS = (1.5, 1.0, 0.5)
 RATE, NOISE, LATENCY = 60.0, 0.02, 0.02
@@ -39,11 +53,17 @@ CHI2_2_95 = 5.991  # chi-square 2 dof, 95 %: an honest covariance has NEES mean 
 G = 9.81
 DEFAULT = AeroModel()
 CASES = {
-    "defaults": {},
-    "drag +30%, lift -30%": {"c_d0": DEFAULT.c_d0 * 1.3, "c_d2": DEFAULT.c_d2 * 1.3,
-                             "c_l_alpha": DEFAULT.c_l_alpha * 0.7},
-    "drag -30%, lift +30%": {"c_d0": DEFAULT.c_d0 * 0.7, "c_d2": DEFAULT.c_d2 * 0.7,
-                             "c_l_alpha": DEFAULT.c_l_alpha * 1.3},
+    'defaults': {},
+    'drag +30%, lift -30%': {
+        'c_d0': DEFAULT.c_d0 * 1.3,
+        'c_d2': DEFAULT.c_d2 * 1.3,
+        'c_l_alpha': DEFAULT.c_l_alpha * 0.7,
+    },
+    'drag -30%, lift +30%': {
+        'c_d0': DEFAULT.c_d0 * 0.7,
+        'c_d2': DEFAULT.c_d2 * 0.7,
+        'c_l_alpha': DEFAULT.c_l_alpha * 1.3,
+    },
 }
 
 
@@ -51,13 +71,19 @@ def random_releases(rng: np.random.Generator, n: int, aero: dict) -> list[Releas
     out = []
     for _ in range(n):
         hand = 1.0 if rng.random() < 0.5 else -1.0
-        out.append(Release(speed=float(rng.uniform(16.0, 29.0)),
-                           elevation_deg=float(rng.uniform(18.0, 45.0)),
-                           azimuth_deg=float(rng.uniform(-20.0, 20.0)),
-                           spin_rpm=hand * float(rng.uniform(400.0, 800.0)),
-                           alpha0_deg=float(rng.normal(0.0, 1.5)),
-                           beta0_deg=float(rng.normal(0.0, 1.5)),
-                           position=(0.0, 0.0, 1.8), model="full", aero=aero))
+        out.append(
+            Release(
+                speed=float(rng.uniform(16.0, 29.0)),
+                elevation_deg=float(rng.uniform(18.0, 45.0)),
+                azimuth_deg=float(rng.uniform(-20.0, 20.0)),
+                spin_rpm=hand * float(rng.uniform(400.0, 800.0)),
+                alpha0_deg=float(rng.normal(0.0, 1.5)),
+                beta0_deg=float(rng.normal(0.0, 1.5)),
+                position=(0.0, 0.0, 1.8),
+                model='full',
+                aero=aero,
+            )
+        )
     return out
 
 
@@ -66,7 +92,7 @@ def parabola_landing(t: np.ndarray, z: np.ndarray):
     """Quadratic fit per axis; the landing is the later root of z(t) = 0."""
     t0 = t[-1]
     tau = t - t0
-    A = np.column_stack([np.ones_like(tau), tau, tau ** 2])
+    A = np.column_stack([np.ones_like(tau), tau, tau**2])
     coef, *_ = np.linalg.lstsq(A, z, rcond=None)
     c, b, a = coef[0, 2], coef[1, 2], coef[2, 2]
     if a >= 0:
@@ -75,7 +101,7 @@ def parabola_landing(t: np.ndarray, z: np.ndarray):
     if disc < 0:
         return None
     root = (-b - math.sqrt(disc)) / (2 * a)
-    xy = coef[0, :2] + coef[1, :2] * root + coef[2, :2] * root ** 2
+    xy = coef[0, :2] + coef[1, :2] * root + coef[2, :2] * root**2
     return t0 + root, xy
 
 
@@ -120,7 +146,7 @@ def drag_landing(t: np.ndarray, z: np.ndarray, guess_v: np.ndarray):
         return (out - z).ravel()
 
     p0 = np.concatenate([z[0], guess_v, [0.005]])
-    fit = least_squares(residual, p0, method="lm", x_scale="jac")
+    fit = least_squares(residual, p0, method='lm', x_scale='jac')
     p = fit.x
     times = np.array([t[0], t[-1]])
     tmp = np.empty((2, 3))
@@ -150,8 +176,14 @@ def run_flight(release: Release, seed: int, settings=None, oracle: bool = True):
     cam.restart(float(rng.uniform(0.0, 1.0 / RATE)))
     obs = [o for o in cam.step(t_land + 1.0, lambda t: flight.state_at(t)[:3]) if o.stamp < t_land]
     tracker = FlightTracker(settings)
-    known = FlightTracker(TrackerSettings(spin_rpm=abs(release.spin_rpm), spin_sigma=0.01,
-                                          scale_sigma=0.01, aero=release.aero_model()))
+    known = FlightTracker(
+        TrackerSettings(
+            spin_rpm=abs(release.spin_rpm),
+            spin_sigma=0.01,
+            scale_sigma=0.01,
+            aero=release.aero_model(),
+        )
+    )
     results = {}
     delivered_t, delivered_z = [], []
     i = 0
@@ -167,101 +199,126 @@ def run_flight(release: Release, seed: int, settings=None, oracle: bool = True):
             i += 1
         row = {}
         pred = tracker.predict_landing()
-        row["tracker"] = None if pred is None else (pred.time, pred.position[:2], pred.covariance)
+        row['tracker'] = None if pred is None else (pred.time, pred.position[:2], pred.covariance)
         pred = known.predict_landing() if oracle else None
-        row["oracle"] = None if pred is None else (pred.time, pred.position[:2], pred.covariance)
+        row['oracle'] = None if pred is None else (pred.time, pred.position[:2], pred.covariance)
         t_arr, z_arr = np.array(delivered_t), np.array(delivered_z)
         if len(t_arr) >= 6:
             par = parabola_landing(t_arr, z_arr)
-            row["parabola"] = par
+            row['parabola'] = par
             guess = (z_arr[5] - z_arr[0]) / (t_arr[5] - t_arr[0])
-            row["drag"] = drag_landing(t_arr, z_arr, guess)
+            row['drag'] = drag_landing(t_arr, z_arr, guess)
         else:
-            row["parabola"] = row["drag"] = None
-        results[lead] = {k: (None if v is None else _errors(v, xy_land, t_land))
-                         for k, v in row.items()}
+            row['parabola'] = row['drag'] = None
+        results[lead] = {
+            k: (None if v is None else _errors(v, xy_land, t_land)) for k, v in row.items()
+        }
     return results
 
 
 def _errors(pred, xy_land, t_land) -> tuple[float, float, float]:
-    """(landing point error [m], landing time error [s], NEES of the landing point: e' C^-1 e
-    with the published covariance C, NaN for the baselines that give none)."""
+    """
+    Return the landing point error [m], the landing time error [s] and the NEES.
+
+    NEES of the landing point: e' C^-1 e with the published covariance C, NaN for the baselines
+    that give none.
+    """
     err = np.asarray(pred[1]) - xy_land
     nees = float(err @ np.linalg.solve(pred[2], err)) if len(pred) > 2 else math.nan
     return float(np.linalg.norm(err)), float(pred[0] - t_land), nees
 
 
 def time_tracker(releases: list[Release], seed: int) -> dict[str, np.ndarray]:
-    """Wall and CPU (this thread) time per fix [ms] of update() and of update() followed by
-    predict_landing(), replaying the camera fixes of ``releases`` (nothing else running)."""
-    out = {"update wall": [], "update cpu": [], "update+landing wall": [],
-           "update+landing cpu": []}
+    """
+    Time per fix [ms] of update() and of update() + predict_landing(), wall and CPU.
+
+    CPU time of this thread; replaying the camera fixes of ``releases`` (nothing else running).
+    """
+    out = {
+        'update wall': [],
+        'update cpu': [],
+        'update+landing wall': [],
+        'update+landing cpu': [],
+    }
     for k, release in enumerate(releases):
         flight = Flight.from_release(release)
         t_land = float(flight.simulate(rate=100.0, duration=20.0).times[-1])
         flight.rewind()
         cam = Camera(CameraSettings(rate=RATE, noise=NOISE, latency=LATENCY, seed=seed + k))
-        obs = [o for o in cam.step(t_land + 1.0, lambda t: flight.state_at(t)[:3])
-               if o.stamp < t_land]
+        obs = [
+            o for o in cam.step(t_land + 1.0, lambda t: flight.state_at(t)[:3]) if o.stamp < t_land
+        ]
         for with_landing in (False, True):
             tracker = FlightTracker()
-            key = "update+landing" if with_landing else "update"
+            key = 'update+landing' if with_landing else 'update'
             for o in obs:
                 w0, c0 = time.perf_counter(), time.thread_time()
                 tracker.update(o.stamp, o.position)
                 if with_landing:
                     tracker.predict_landing()
-                out[key + " wall"].append(time.perf_counter() - w0)
-                out[key + " cpu"].append(time.thread_time() - c0)
+                out[key + ' wall'].append(time.perf_counter() - w0)
+                out[key + ' cpu'].append(time.thread_time() - c0)
     return {k: np.array(v) * 1e3 for k, v in out.items()}
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--flights", type=int, default=60, help="flights per case")
-    ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--cases", nargs="*", default=list(CASES))
+    ap = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
+    ap.add_argument('--flights', type=int, default=60, help='flights per case')
+    ap.add_argument('--seed', type=int, default=1)
+    ap.add_argument('--cases', nargs='*', default=list(CASES))
     args = ap.parse_args()
     # Warm the compiled kernels so that the timings are of the steady state.
-    warm = Release(model="full")
+    warm = Release(model='full')
     run_flight(warm, 0)
-    methods = ("tracker", "oracle", "drag", "parabola")
-    print(f"camera {RATE:g} Hz, noise {NOISE * 100:g} cm, latency {LATENCY * 1000:g} ms; "
-          f"{args.flights} flights per case, seed {args.seed}")
+    methods = ('tracker', 'oracle', 'drag', 'parabola')
+    print(
+        f'camera {RATE:g} Hz, noise {NOISE * 100:g} cm, latency {LATENCY * 1000:g} ms; '
+        f'{args.flights} flights per case, seed {args.seed}'
+    )
     for ci, case in enumerate(args.cases):
         rng = np.random.default_rng(args.seed * 1000 + ci)
         releases = random_releases(rng, args.flights, CASES[case])
-        per = [run_flight(r, args.seed * 100000 + ci * 1000 + k)
-               for k, r in enumerate(releases)]
-        print(f"\ncase: true coefficients {case}")
-        print(f"{'lead [s]':>8} {'method':>9} {'n':>4} {'median [m]':>11} {'p95 [m]':>9} "
-              f"{'|dt| med [s]':>13} {'|dt| p95 [s]':>13} {'failed':>7} {'NEES':>6} "
-              f"{'in 95%':>7}")
+        per = [run_flight(r, args.seed * 100000 + ci * 1000 + k) for k, r in enumerate(releases)]
+        print(f'\ncase: true coefficients {case}')
+        print(
+            f'{"lead [s]":>8} {"method":>9} {"n":>4} {"median [m]":>11} {"p95 [m]":>9} '
+            f'{"|dt| med [s]":>13} {"|dt| p95 [s]":>13} {"failed":>7} {"NEES":>6} '
+            f'{"in 95%":>7}'
+        )
         for lead in LEADS:
             for m in methods:
                 vals = [p[lead][m] for p in per if p[lead][m] is not None]
                 failed = len(per) - len(vals)
                 if not vals:
-                    print(f"{lead:>8.1f} {m:>9} {0:>4} {'-':>11}")
+                    print(f'{lead:>8.1f} {m:>9} {0:>4} {"-":>11}')
                     continue
                 err = np.array([v[0] for v in vals])
                 dt = np.abs(np.array([v[1] for v in vals]))
                 nees = np.array([v[2] for v in vals])
-                consistency = (f" {np.mean(nees):>6.2f} {np.mean(nees <= CHI2_2_95):>7.2f}"
-                               if np.all(np.isfinite(nees)) else "")
-                print(f"{lead:>8.1f} {m:>9} {len(vals):>4} {np.median(err):>11.3f} "
-                      f"{np.percentile(err, 95):>9.3f} {np.median(dt):>13.4f} "
-                      f"{np.percentile(dt, 95):>13.4f} {failed:>7}{consistency}")
+                consistency = (
+                    f' {np.mean(nees):>6.2f} {np.mean(nees <= CHI2_2_95):>7.2f}'
+                    if np.all(np.isfinite(nees))
+                    else ''
+                )
+                print(
+                    f'{lead:>8.1f} {m:>9} {len(vals):>4} {np.median(err):>11.3f} '
+                    f'{np.percentile(err, 95):>9.3f} {np.median(dt):>13.4f} '
+                    f'{np.percentile(dt, 95):>13.4f} {failed:>7}{consistency}'
+                )
     period = 1e3 / RATE
     times = time_tracker(random_releases(np.random.default_rng(args.seed), 20, {}), args.seed)
-    print(f"\ntracker time per fix [ms] over {times['update wall'].size} fixes of 20 flights "
-          f"(frame period {period:.2f} ms; cpu = this thread's CPU time, wall includes waiting "
-          f"for a shared core)")
-    print(f"{'':>22} {'median':>8} {'p99':>8} {'max':>8} {'p99/period':>11}")
+    print(
+        f'\ntracker time per fix [ms] over {times["update wall"].size} fixes of 20 flights '
+        f"(frame period {period:.2f} ms; cpu = this thread's CPU time, wall includes waiting "
+        f'for a shared core)'
+    )
+    print(f'{"":>22} {"median":>8} {"p99":>8} {"max":>8} {"p99/period":>11}')
     for key, ms in times.items():
-        print(f"{key:>22} {np.median(ms):>8.3f} {np.percentile(ms, 99):>8.3f} {ms.max():>8.3f} "
-              f"{np.percentile(ms, 99) / period:>11.3f}")
+        print(
+            f'{key:>22} {np.median(ms):>8.3f} {np.percentile(ms, 99):>8.3f} {ms.max():>8.3f} '
+            f'{np.percentile(ms, 99) / period:>11.3f}'
+        )
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     main()

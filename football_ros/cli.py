@@ -1,4 +1,19 @@
-"""``football-ros``: command-line front end.
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+``football-ros``: command-line front end.
 
 Headless commands (no ROS needed): ``modes``, ``simulate``, ``montecarlo``, ``plot``,
 ``paper``, ``compile``. Node commands (``simulator``, ``release``, ``tracker``, ``record``,
@@ -13,52 +28,63 @@ import argparse
 import math
 import os
 import sys
-from typing import TYPE_CHECKING, Sequence
+from typing import Sequence, TYPE_CHECKING
 
-from .command_line import Parser, UsageError, add_release_options, plain, release_from_args
+from .command_line import add_release_options, Parser, plain, release_from_args, UsageError
 from .physics import PRESETS, Release, ReleaseError
 
 if TYPE_CHECKING:
     from .physics import Flight
 
 EXIT_USAGE = 2
-DESCRIPTION = "football-ros: a spinning American football or rugby ball in flight (ROS 2 Jazzy)."
+DESCRIPTION = 'football-ros: a spinning American football or rugby ball in flight (ROS 2 Jazzy).'
 
 NODE_COMMANDS = {  # command -> (module, function); these need rclpy and parse their own options
-    "simulator": ("football_ros.nodes.simulator", "main"),
-    "tracker": ("football_ros.nodes.tracker", "main"),
-    "release": ("football_ros.nodes.release", "main"),
-    "record": ("football_ros.nodes.recorder", "main"),
-    "demo": ("football_ros.tools.demo", "main"),
-    "echo": ("football_ros.nodes.console", "echo"),
-    "throw": ("football_ros.nodes.console", "throw"),
+    'simulator': ('football_ros.nodes.simulator', 'main'),
+    'tracker': ('football_ros.nodes.tracker', 'main'),
+    'release': ('football_ros.nodes.release', 'main'),
+    'record': ('football_ros.nodes.recorder', 'main'),
+    'demo': ('football_ros.tools.demo', 'main'),
+    'echo': ('football_ros.nodes.console', 'echo'),
+    'throw': ('football_ros.nodes.console', 'throw'),
 }
 
 
 def modes_report(release: Release) -> dict:
-    """Linear-theory numbers of a release as plain data (rad, rad/s, rpm).
+    """
+    Linear-theory numbers of a release as plain data (rad, rad/s, rpm).
 
     The same ball, settings and modes as :class:`football_ros.physics.Flight` builds, without
     importing the integrator (numba).
     """
     from .physics.aero import AeroModel, dynamic_stability, resolve
     from .physics.linear_theory import linear_modes
+
     initial = release.initial_state()
     ball, aero = resolve(release.preset(), release.model, release.aero_model())
     m = linear_modes(ball, initial)
     aero = aero or AeroModel().without_extras()
     dyn = dynamic_stability(ball, m.speed, initial.spin, aero)
     return {
-        "ball": release.ball, "speed": m.speed, "flight_path_angle": m.flight_path_angle,
-        "m_alpha": m.m_alpha, "h1": m.h1, "omega_fast": m.omega_fast, "omega_slow": m.omega_slow,
-        "growth_rate": m.growth_rate, "stable": m.stable,
-        "gyroscopic_stability_factor": m.gyroscopic_stability_factor,
-        "critical_spin_rpm": m.critical_spin_rpm, "equilibrium_sideslip": m.equilibrium_sideslip,
-        "c1": [m.c1.real, m.c1.imag], "c2": [m.c2.real, m.c2.imag],
-        "model": release.model, "dynamic_stability_factor": _finite_or_none(dyn.s_d),
-        "dynamically_stable": dyn.dynamically_stable if release.model == "full" else None,
-        "fast_damping_rate": _finite_or_none(dyn.fast_damping_rate),
-        "slow_damping_rate": _finite_or_none(dyn.slow_damping_rate),
+        'ball': release.ball,
+        'speed': m.speed,
+        'flight_path_angle': m.flight_path_angle,
+        'm_alpha': m.m_alpha,
+        'h1': m.h1,
+        'omega_fast': m.omega_fast,
+        'omega_slow': m.omega_slow,
+        'growth_rate': m.growth_rate,
+        'stable': m.stable,
+        'gyroscopic_stability_factor': m.gyroscopic_stability_factor,
+        'critical_spin_rpm': m.critical_spin_rpm,
+        'equilibrium_sideslip': m.equilibrium_sideslip,
+        'c1': [m.c1.real, m.c1.imag],
+        'c2': [m.c2.real, m.c2.imag],
+        'model': release.model,
+        'dynamic_stability_factor': _finite_or_none(dyn.s_d),
+        'dynamically_stable': dyn.dynamically_stable if release.model == 'full' else None,
+        'fast_damping_rate': _finite_or_none(dyn.fast_damping_rate),
+        'slow_damping_rate': _finite_or_none(dyn.slow_damping_rate),
     }
 
 
@@ -68,42 +94,61 @@ def _finite_or_none(value: float) -> float | None:
 
 def _print_modes(report: dict) -> None:
     rows = [
-        ("ball", report["ball"], ""),
-        ("speed V", f"{report['speed']:.3f}", "m/s"),
-        ("flight-path angle Phi", f"{math.degrees(report['flight_path_angle']):.2f}", "deg"),
-        ("M_alpha", f"{report['m_alpha']:.3f}", "1/s^2"),
-        ("h1 = (I_s/I_t) p", f"{report['h1']:.3f}", "rad/s"),
-        ("omega_fast (nutation)", f"{report['omega_fast']:.4f}",
-         f"rad/s ({report['omega_fast'] / (2 * math.pi):.3f} Hz)"),
-        ("omega_slow (precession)", f"{report['omega_slow']:.4f}",
-         f"rad/s ({report['omega_slow'] / (2 * math.pi):.3f} Hz)"),
-        ("gyroscopically stable", "yes" if report["stable"] else
-         f"NO (grows at {report['growth_rate']:.3f} 1/s)", "h1^2 > 4 M_alpha"),
-        ("S_g = h1^2 / (4 M_alpha)", f"{report['gyroscopic_stability_factor']:.3f}", ""),
-        ("critical spin", f"{report['critical_spin_rpm']:.1f}", "rpm"),
-        ("S_d = 2T/H (McCoy)", _fmt(report["dynamic_stability_factor"], ".3f"),
-         "full model only" if report["model"] != "full" else
-         ("dynamically stable" if report["dynamically_stable"] else "dynamically UNSTABLE")),
-        ("fast-mode damping rate", _fmt(report["fast_damping_rate"], "+.4f"), "1/s (< 0 decays)"),
-        ("slow-mode damping rate", _fmt(report["slow_damping_rate"], "+.4f"), "1/s (< 0 decays)"),
-        ("equilibrium sideslip s3p", f"{report['equilibrium_sideslip']:.5f}",
-         f"rad ({math.degrees(report['equilibrium_sideslip']):.3f} deg, > 0 nose right)"),
-        ("C1 (fast mode)", f"{report['c1'][0]:+.5f} {report['c1'][1]:+.5f}i", "rad"),
-        ("C2 (slow mode)", f"{report['c2'][0]:+.5f} {report['c2'][1]:+.5f}i", "rad"),
+        ('ball', report['ball'], ''),
+        ('speed V', f'{report["speed"]:.3f}', 'm/s'),
+        ('flight-path angle Phi', f'{math.degrees(report["flight_path_angle"]):.2f}', 'deg'),
+        ('M_alpha', f'{report["m_alpha"]:.3f}', '1/s^2'),
+        ('h1 = (I_s/I_t) p', f'{report["h1"]:.3f}', 'rad/s'),
+        (
+            'omega_fast (nutation)',
+            f'{report["omega_fast"]:.4f}',
+            f'rad/s ({report["omega_fast"] / (2 * math.pi):.3f} Hz)',
+        ),
+        (
+            'omega_slow (precession)',
+            f'{report["omega_slow"]:.4f}',
+            f'rad/s ({report["omega_slow"] / (2 * math.pi):.3f} Hz)',
+        ),
+        (
+            'gyroscopically stable',
+            'yes' if report['stable'] else f'NO (grows at {report["growth_rate"]:.3f} 1/s)',
+            'h1^2 > 4 M_alpha',
+        ),
+        ('S_g = h1^2 / (4 M_alpha)', f'{report["gyroscopic_stability_factor"]:.3f}', ''),
+        ('critical spin', f'{report["critical_spin_rpm"]:.1f}', 'rpm'),
+        (
+            'S_d = 2T/H (McCoy)',
+            _fmt(report['dynamic_stability_factor'], '.3f'),
+            'full model only'
+            if report['model'] != 'full'
+            else (
+                'dynamically stable' if report['dynamically_stable'] else 'dynamically UNSTABLE'
+            ),
+        ),
+        ('fast-mode damping rate', _fmt(report['fast_damping_rate'], '+.4f'), '1/s (< 0 decays)'),
+        ('slow-mode damping rate', _fmt(report['slow_damping_rate'], '+.4f'), '1/s (< 0 decays)'),
+        (
+            'equilibrium sideslip s3p',
+            f'{report["equilibrium_sideslip"]:.5f}',
+            f'rad ({math.degrees(report["equilibrium_sideslip"]):.3f} deg, > 0 nose right)',
+        ),
+        ('C1 (fast mode)', f'{report["c1"][0]:+.5f} {report["c1"][1]:+.5f}i', 'rad'),
+        ('C2 (slow mode)', f'{report["c2"][0]:+.5f} {report["c2"][1]:+.5f}i', 'rad'),
     ]
     width = max(len(r[0]) for r in rows)
     for name, value, unit in rows:
-        print(f"{name:<{width}}  {value:>22}  {unit}")
+        print(f'{name:<{width}}  {value:>22}  {unit}')
 
 
 def _fmt(value, spec: str) -> str:
-    return "n/a" if value is None else format(value, spec)
+    return 'n/a' if value is None else format(value, spec)
 
 
 def _cmd_modes(args: argparse.Namespace) -> int:
     report = modes_report(release_from_args(args))
     if args.json:
         import json
+
         print(json.dumps(report, indent=2))
     else:
         _print_modes(report)
@@ -115,33 +160,51 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
 
     release = release_from_args(args)
     if not (0.0 < args.duration <= 600.0):
-        raise UsageError(f"--duration must be in (0, 600] s, got {args.duration}")
+        raise UsageError(f'--duration must be in (0, 600] s, got {args.duration}')
     if not (0.0 < args.rate <= 100000.0):
-        raise UsageError(f"--rate must be in (0, 100000] Hz, got {args.rate}")
+        raise UsageError(f'--rate must be in (0, 100000] Hz, got {args.rate}')
     if not (0.0 < args.step <= 0.05):
-        raise UsageError(f"--step must be in (0, 0.05] s, got {args.step}")
+        raise UsageError(f'--step must be in (0, 0.05] s, got {args.step}')
     from .physics import Flight
-    check_output_file(args.out, "--out")
+
+    check_output_file(args.out, '--out')
     flight = Flight.from_release(release, step=args.step)
     trajectory = flight.simulate(rate=args.rate, duration=args.duration)
     warnings = simulate_warnings(release, flight, trajectory)
     trajectory.write_csv(args.out)
-    sidecar = write_sidecar(args.out, release, flight.ball, flight.aero, {
-        "step": args.step, "rate": args.rate, "duration": args.duration,
-        "landed": bool(trajectory.landed), "end_time": float(trajectory.times[-1]),
-        "warnings": warnings})
+    sidecar = write_sidecar(
+        args.out,
+        release,
+        flight.ball,
+        flight.aero,
+        {
+            'step': args.step,
+            'rate': args.rate,
+            'duration': args.duration,
+            'landed': bool(trajectory.landed),
+            'end_time': float(trajectory.times[-1]),
+            'warnings': warnings,
+        },
+    )
     for text in warnings:
-        print(f"football-ros: warning: {text}", file=sys.stderr)
-    end = "landed" if trajectory.landed else "stopped at the duration"
-    print(f"{len(trajectory.times)} rows to {args.out} (what they are: {sidecar}); {end} at "
-          f"t = {trajectory.times[-1]:.4f} s, x = {trajectory.positions[-1, 0]:.3f} m, "
-          f"y = {trajectory.positions[-1, 1]:.3f} m", file=sys.stderr)
+        print(f'football-ros: warning: {text}', file=sys.stderr)
+    end = 'landed' if trajectory.landed else 'stopped at the duration'
+    print(
+        f'{len(trajectory.times)} rows to {args.out} (what they are: {sidecar}); {end} at '
+        f't = {trajectory.times[-1]:.4f} s, x = {trajectory.positions[-1, 0]:.3f} m, '
+        f'y = {trajectory.positions[-1, 1]:.3f} m',
+        file=sys.stderr,
+    )
     return 0
 
 
-def simulate_warnings(release: Release, flight: "Flight", trajectory) -> list[str]:
-    """Sentences about a simulated flight the user must know: a gyroscopically unstable
-    release, and the model forms whose data range the flight's total angle left."""
+def simulate_warnings(release: Release, flight: 'Flight', trajectory) -> list[str]:
+    """
+    Sentences about a simulated flight the user must know.
+
+    A gyroscopically unstable release, and the model forms whose data range the flight's total
+    angle left.
+    """
     import numpy as np
 
     from .physics.aero import max_valid_delta, out_of_validity
@@ -149,22 +212,26 @@ def simulate_warnings(release: Release, flight: "Flight", trajectory) -> list[st
     out = []
     modes = flight.modes
     if not modes.stable:
-        out.append(f"the release is gyroscopically UNSTABLE: spin {release.spin_rpm:g} rpm is "
-                   f"below the critical {modes.critical_spin_rpm:.0f} rpm "
-                   f"(S_g = {modes.gyroscopic_stability_factor:.2f} < 1); the ball tumbles and "
-                   f"the linear theory does not apply")
+        out.append(
+            f'the release is gyroscopically UNSTABLE: spin {release.spin_rpm:g} rpm is '
+            f'below the critical {modes.critical_spin_rpm:.0f} rpm '
+            f'(S_g = {modes.gyroscopic_stability_factor:.2f} < 1); the ball tumbles and '
+            f'the linear theory does not apply'
+        )
     delta = trajectory.aero_angles[:, 2]
     if delta.size:
         worst = int(np.argmax(delta))
         worst_delta = float(delta[worst])
         texts = out_of_validity(worst_delta, release.model, release.moment, flight.aero)
         for text in texts:
-            out.append(f"{text}; largest at t = {trajectory.times[worst]:.2f} s")
+            out.append(f'{text}; largest at t = {trajectory.times[worst]:.2f} s')
         limit = max_valid_delta(release.model, release.moment, flight.aero)
         beyond = np.flatnonzero(delta > limit)
         if texts and beyond.size:
-            out.append(f"the flight first leaves the data range ({math.degrees(limit):g} deg) "
-                       f"at t = {trajectory.times[beyond[0]]:.2f} s")
+            out.append(
+                f'the flight first leaves the data range ({math.degrees(limit):g} deg) '
+                f'at t = {trajectory.times[beyond[0]]:.2f} s'
+            )
     return out
 
 
@@ -172,37 +239,43 @@ def check_output_file(path: str, option: str) -> None:
     """Raise UsageError now (before any work) if ``path`` cannot be written as a file."""
     folder = os.path.dirname(os.path.abspath(path))
     if os.path.isdir(path):
-        raise UsageError(f"{option} {path}: is a folder, not a file")
+        raise UsageError(f'{option} {path}: is a folder, not a file')
     if not os.path.isdir(folder):
-        raise UsageError(f"{option} {path}: folder {folder} does not exist")
-    if not os.access(folder, os.W_OK | os.X_OK) or (os.path.exists(path)
-                                                    and not os.access(path, os.W_OK)):
-        raise UsageError(f"{option} {path}: not writable")
+        raise UsageError(f'{option} {path}: folder {folder} does not exist')
+    if not os.access(folder, os.W_OK | os.X_OK) or (
+        os.path.exists(path) and not os.access(path, os.W_OK)
+    ):
+        raise UsageError(f'{option} {path}: not writable')
 
 
 def _cmd_montecarlo(args: argparse.Namespace) -> int:
     import time
+
     start = time.perf_counter()
     release = release_from_args(args)
     if not 1 <= args.n <= 10_000_000:
-        raise UsageError(f"--n must be in [1, 10000000], got {args.n}")
+        raise UsageError(f'--n must be in [1, 10000000], got {args.n}')
     from .tools import montecarlo as mc
+
     try:
         spread = mc.parse_spread(args.spread)
         out, figure = mc.output_paths(args.out, args.figure)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
-    check_output_file(str(out), "--out")
+    check_output_file(str(out), '--out')
     if figure is not None:
-        check_output_file(str(figure), "--out (figure)")
+        check_output_file(str(figure), '--out (figure)')
     drawing = None
     if figure is not None:  # a child process imports matplotlib meanwhile
         drawing = mc.FigureProcess(
-            figure, f"{args.n} releases around {release.ball} {release.speed:g} m/s, "
-            f"{release.elevation_deg:g} deg, {release.spin_rpm:g} rpm ({release.model} model)")
+            figure,
+            f'{args.n} releases around {release.ball} {release.speed:g} m/s, '
+            f'{release.elevation_deg:g} deg, {release.spin_rpm:g} rpm ({release.model} model)',
+        )
     try:
-        samples, result, seconds = mc.run(release, args.n, spread, args.seed,
-                                          progress=not args.quiet)
+        samples, result, seconds = mc.run(
+            release, args.n, spread, args.seed, progress=not args.quiet
+        )
         if drawing is not None:
             drawing.draw(result)
         mc.write(out, samples, result)
@@ -211,29 +284,35 @@ def _cmd_montecarlo(args: argparse.Namespace) -> int:
         drew = drawing is None or drawing.finish()
     if not drew:
         return 1
-    print(f"per-ball results: {out}" + (f"\nfigure: {figure}" if figure else "")
-          + f"\ntotal {time.perf_counter() - start:.2f} s")
+    print(
+        f'per-ball results: {out}'
+        + (f'\nfigure: {figure}' if figure else '')
+        + f'\ntotal {time.perf_counter() - start:.2f} s'
+    )
     return 0
 
 
 def _cmd_compile(args: argparse.Namespace) -> int:
     from . import numba_cache_dir
     from .physics.precompile import compile_ahead
-    where = numba_cache_dir() or "beside the sources (__pycache__)"
-    print(f"football-ros compile: numba kernels; cache: {where}", flush=True)
+
+    where = numba_cache_dir() or 'beside the sources (__pycache__)'
+    print(f'football-ros compile: numba kernels; cache: {where}', flush=True)
     steps = compile_ahead(lambda line: print(line, flush=True) if not args.quiet else None)
     from .tools.fastcsv import warm_up
+
     steps.append(warm_up())  # the Monte Carlo CSV writer
     if not args.quiet:
-        print(f"[+] {steps[-1].name}: {steps[-1].seconds:.1f} s", flush=True)
+        print(f'[+] {steps[-1].name}: {steps[-1].seconds:.1f} s', flush=True)
     total = sum(step.seconds for step in steps)
     compiled = sum(step.compiled for step in steps)
-    print(f"ready: {compiled} kernel(s) compiled, the rest loaded, in {total:.1f} s", flush=True)
+    print(f'ready: {compiled} kernel(s) compiled, the rest loaded, in {total:.1f} s', flush=True)
     return 0
 
 
 def _cmd_plot(args: argparse.Namespace) -> int:
     from .tools.figures import plot_source
+
     for path in plot_source(args.source, args.out, args.ball, args.spin_rpm):
         print(path)
     return 0
@@ -241,65 +320,92 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 
 def _cmd_paper(args: argparse.Namespace) -> int:
     from .tools import paper
+
     for path in paper.run(args.out):
         print(path)
     return 0
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = Parser(prog="football-ros", description=DESCRIPTION,
-                     epilog="'football-ros COMMAND --help' describes each command.")
-    sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser,
-                                metavar="COMMAND")
+    parser = Parser(
+        prog='football-ros',
+        description=DESCRIPTION,
+        epilog="'football-ros COMMAND --help' describes each command.",
+    )
+    sub = parser.add_subparsers(
+        dest='command', required=True, parser_class=Parser, metavar='COMMAND'
+    )
 
     def add(name: str, text: str) -> argparse.ArgumentParser:
-        return sub.add_parser(name, help=text, description=text[0].upper() + text[1:] + ".")
+        return sub.add_parser(name, help=text, description=text[0].upper() + text[1:] + '.')
 
-    p = add("modes", "linear-theory modes, stability and equilibrium of a release")
+    p = add('modes', 'linear-theory modes, stability and equilibrium of a release')
     add_release_options(p)
-    p.add_argument("--json", action="store_true", help="print JSON instead of a table")
+    p.add_argument('--json', action='store_true', help='print JSON instead of a table')
     p.set_defaults(func=_cmd_modes)
-    p = add("simulate", "integrate a flight headless and write a CSV")
+    p = add('simulate', 'integrate a flight headless and write a CSV')
     add_release_options(p)
-    p.add_argument("--duration", type=float, default=10.0, help="max simulated time [s]")
-    p.add_argument("--rate", type=float, default=100.0, help="output rows per second [Hz]")
-    p.add_argument("--step", type=float, default=1e-3, help="integration step [s]")
-    p.add_argument("--out", required=True,
-                   help="CSV file to write (and <out>.json beside it: the release, ball, "
-                        "model)")
+    p.add_argument('--duration', type=float, default=10.0, help='max simulated time [s]')
+    p.add_argument('--rate', type=float, default=100.0, help='output rows per second [Hz]')
+    p.add_argument('--step', type=float, default=1e-3, help='integration step [s]')
+    p.add_argument(
+        '--out',
+        required=True,
+        help='CSV file to write (and <out>.json beside it: the release, ball, model)',
+    )
     p.set_defaults(func=_cmd_simulate)
-    p = add("montecarlo", "landing dispersion and wobble statistics of release errors")
+    p = add('montecarlo', 'landing dispersion and wobble statistics of release errors')
     add_release_options(p)
-    p.add_argument("--n", type=int, default=10000, help="number of balls")
-    p.add_argument("--spread", action="append", default=[], metavar="KEY=SIGMA[,KEY=SIGMA]",
-                   help="standard deviation of a release error, e.g. speed=0.5,spin_rpm=30 "
-                        "(defaults: speed 0.5 m/s, angles 1 deg, spin 30 rpm, rates 10 deg/s)")
-    p.add_argument("--seed", type=int, default=0, help="random seed")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.add_argument("--out", required=True,
-                   help="per-ball results: FILE.csv (text) or FILE.npz (numpy arrays, loads "
-                        "10^6 balls in a fraction of the CSV's time)")
-    p.add_argument("--figure", default="auto",
-                   help="PNG file, 'auto' = the --out name with .png, 'none' = no figure")
+    p.add_argument('--n', type=int, default=10000, help='number of balls')
+    p.add_argument(
+        '--spread',
+        action='append',
+        default=[],
+        metavar='KEY=SIGMA[,KEY=SIGMA]',
+        help='standard deviation of a release error, e.g. speed=0.5,spin_rpm=30 '
+        '(defaults: speed 0.5 m/s, angles 1 deg, spin 30 rpm, rates 10 deg/s)',
+    )
+    p.add_argument('--seed', type=int, default=0, help='random seed')
+    p.add_argument('--quiet', action='store_true', help='no progress bar')
+    p.add_argument(
+        '--out',
+        required=True,
+        help='per-ball results: FILE.csv (text) or FILE.npz (numpy arrays, loads '
+        "10^6 balls in a fraction of the CSV's time)",
+    )
+    p.add_argument(
+        '--figure',
+        default='auto',
+        help="PNG file, 'auto' = the --out name with .png, 'none' = no figure",
+    )
     p.set_defaults(func=_cmd_montecarlo)
-    p = add("compile", "compile (first time) or load every numba kernel ahead of use")
-    p.add_argument("--quiet", action="store_true", help="only the final line")
+    p = add('compile', 'compile (first time) or load every numba kernel ahead of use')
+    p.add_argument('--quiet', action='store_true', help='only the final line')
     p.set_defaults(func=_cmd_compile)
-    p = add("plot", "figures (PNG) from a recorded bag or a simulate CSV")
-    p.add_argument("source", help="bag folder / .mcap file, or CSV from 'simulate'")
-    p.add_argument("--out", required=True, help="folder for the PNG files")
-    p.add_argument("--ball", choices=list(PRESETS),
-                   help="the ball, when the file does not say (a CSV without its .csv.json "
-                        "sidecar, a bag without football/flight/order)")
-    p.add_argument("--spin-rpm", type=float,
-                   help="spin for the equilibrium curve (default: recorded, else the release's)")
+    p = add('plot', 'figures (PNG) from a recorded bag or a simulate CSV')
+    p.add_argument('source', help="bag folder / .mcap file, or CSV from 'simulate'")
+    p.add_argument('--out', required=True, help='folder for the PNG files')
+    p.add_argument(
+        '--ball',
+        choices=list(PRESETS),
+        help='the ball, when the file does not say (a CSV without its .csv.json '
+        'sidecar, a bag without football/flight/order)',
+    )
+    p.add_argument(
+        '--spin-rpm',
+        type=float,
+        help="spin for the equilibrium curve (default: recorded, else the release's)",
+    )
     p.set_defaults(func=_cmd_plot)
-    p = sub.add_parser("paper", help="the paper's Figure 3-8 cases (PNG) and report.md: its "
-                                     "numbers against this package's")
-    p.add_argument("--out", required=True, help="folder for the PNG files and report.md")
+    p = sub.add_parser(
+        'paper',
+        help="the paper's Figure 3-8 cases (PNG) and report.md: its "
+        "numbers against this package's",
+    )
+    p.add_argument('--out', required=True, help='folder for the PNG files and report.md')
     p.set_defaults(func=_cmd_paper)
     for name in NODE_COMMANDS:
-        sub.add_parser(name, help=f"{name} (ROS; see football-ros {name} --help)", add_help=False)
+        sub.add_parser(name, help=f'{name} (ROS; see football-ros {name} --help)', add_help=False)
     return parser
 
 
@@ -320,30 +426,33 @@ def _main(argv: Sequence[str] | None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv and argv[0] in NODE_COMMANDS:
         import importlib
+
         module_name, function = NODE_COMMANDS[argv[0]]
-        own = argv[1:argv.index("--ros-args")] if "--ros-args" in argv else argv[1:]
-        if argv[0] in ("simulator", "release", "tracker") and ({"-h", "--help"} & set(own)):
-            print(f"usage: football-ros {argv[0]} [--ros-args -p NAME:=VALUE ...]\n")
+        own = argv[1:argv.index('--ros-args')] if '--ros-args' in argv else argv[1:]
+        if argv[0] in ('simulator', 'release', 'tracker') and ({'-h', '--help'} & set(own)):
+            print(f'usage: football-ros {argv[0]} [--ros-args -p NAME:=VALUE ...]\n')
             print(plain(importlib.import_module(module_name).__doc__))
-            print("Parameters, topics and QoS: config/football.yaml and msg_docs/.")
+            print('Parameters, topics and QoS: config/football.yaml and msg_docs/.')
             return 0
         return getattr(importlib.import_module(module_name), function)(argv[1:]) or 0
     try:
         args = build_parser().parse_args(argv)
         return args.func(args)
     except (UsageError, ReleaseError) as exc:
-        print(f"football-ros: error: {exc}", file=sys.stderr)
+        print(f'football-ros: error: {exc}', file=sys.stderr)
         return EXIT_USAGE
     except ValueError as exc:  # unreadable plot source
-        print(f"football-ros: error: {exc}", file=sys.stderr)
+        print(f'football-ros: error: {exc}', file=sys.stderr)
         return EXIT_USAGE
     except OSError as exc:
         if isinstance(exc, BrokenPipeError):
             raise
-        print(f"football-ros: error: {exc.strerror or exc}: {exc.filename or ''}".rstrip(": "),
-              file=sys.stderr)
+        print(
+            f'football-ros: error: {exc.strerror or exc}: {exc.filename or ""}'.rstrip(': '),
+            file=sys.stderr,
+        )
         return EXIT_USAGE
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     sys.exit(main())

@@ -1,4 +1,19 @@
-"""Release requests (text in) and flight orders (release node -> simulator), no ROS needed.
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Release requests (text in) and flight orders (release node -> simulator), no ROS needed.
 
 The request language is strict: the JSON-compatible subset of YAML. A request is one mapping of
 the release keys (``Release.FIELDS``) plus ``id``; values are plain scalars, flow or block
@@ -18,17 +33,17 @@ Odometry take one path; :meth:`FlightOrder.from_json` is the one validation both
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
 import itertools
 import json
 import math
 import re
-from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 import yaml
 
-from .physics import BallPreset, Flight, InitialState, Release, get_preset
+from .physics import BallPreset, Flight, get_preset, InitialState, Release
 from .physics.aero import AeroModel
 from .physics.release import MODELS, MOMENT_CURVES
 
@@ -44,10 +59,21 @@ MAX_DIGITS = 40
 """Digits a number may have (longer ones are refused before any conversion)."""
 MAX_REASON = 400
 """Characters of a rejection reason (a safety net over every echo of user text)."""
-ORDER_KEYS = ("id", "order", "ball", "ball_params", "model", "moment", "aero", "position",
-              "velocity", "orientation", "angular_velocity")
+ORDER_KEYS = (
+    'id',
+    'order',
+    'ball',
+    'ball_params',
+    'model',
+    'moment',
+    'aero',
+    'position',
+    'velocity',
+    'orientation',
+    'angular_velocity',
+)
 _counter = itertools.count(1)
-_Parser = getattr(yaml, "CSafeLoader", yaml.SafeLoader)  # libyaml when available
+_Parser = getattr(yaml, 'CSafeLoader', yaml.SafeLoader)  # libyaml when available
 
 
 class RequestError(ValueError):
@@ -60,7 +86,7 @@ class RequestError(ValueError):
 
 def capped(text: str, limit: int = MAX_REASON) -> str:
     """Return ``text`` cut to ``limit`` characters (marked with '...')."""
-    return text if len(text) <= limit else text[:limit - 3] + '...'
+    return text if len(text) <= limit else text[: limit - 3] + '...'
 
 
 def made_up_id(prefix: str = 'req') -> str:
@@ -70,8 +96,8 @@ def made_up_id(prefix: str = 'req') -> str:
 
 def brief(value: Any, limit: int = MAX_ECHO) -> str:
     """Return repr of a value cut to ``limit`` characters, for error messages."""
-    text = repr(value) if not isinstance(value, str) else repr(value[:limit + 1])
-    return text if len(text) <= limit else text[:limit - 3] + '...'
+    text = repr(value) if not isinstance(value, str) else repr(value[: limit + 1])
+    return text if len(text) <= limit else text[: limit - 3] + '...'
 
 
 def check_id(raw: Any) -> str:
@@ -109,7 +135,7 @@ def _scalar(event: yaml.ScalarEvent) -> Any:
 
 
 def _plain(event: yaml.ScalarEvent) -> bool:
-    """True for a plain (unquoted) scalar; libyaml reports its style as '' and PyYAML as None."""
+    """Tell a plain (unquoted) scalar; libyaml reports its style as '' and PyYAML as None."""
     return not event.style
 
 
@@ -149,8 +175,12 @@ def _add(stack: list, value: Any, event) -> None:
 
 
 class StrictParseError(ValueError):
-    """A request text outside the strict language; ``partial`` holds the top-level mapping read
-    before the problem (so that the request's id can still be answered)."""
+    """
+    A request text outside the strict language.
+
+    ``partial`` holds the top-level mapping read before the problem (so that the request's id
+    can still be answered).
+    """
 
     def __init__(self, reason: str, partial: dict) -> None:
         super().__init__(reason)
@@ -171,7 +201,8 @@ def _path(stack: list) -> str:
 
 
 def load_strict(text: str) -> Any:
-    """Parse ``text`` in the strict request language (module docstring).
+    """
+    Parse ``text`` in the strict request language (module docstring).
 
     Returns plain data (dict, list, str, int, float, bool, None); an empty text gives ``{}``.
     Raises :class:`StrictParseError` (a ValueError) naming where and what; the parse stops at the
@@ -186,7 +217,9 @@ def load_strict(text: str) -> Any:
     documents = 0
     try:
         for event in yaml.parse(text, Loader=_Parser):
-            if isinstance(event, (yaml.StreamStartEvent, yaml.StreamEndEvent, yaml.DocumentEndEvent)):
+            if isinstance(
+                event, (yaml.StreamStartEvent, yaml.StreamEndEvent, yaml.DocumentEndEvent)
+            ):
                 continue
             if isinstance(event, yaml.DocumentStartEvent):
                 documents += 1
@@ -199,12 +232,17 @@ def load_strict(text: str) -> Any:
                 done = stack.pop()
                 value = done.data if isinstance(done, _Map) else done
             elif event.tag is not None and not (
-                    isinstance(event, yaml.CollectionStartEvent) and event.implicit):
-                raise ValueError(f'YAML tags such as {brief(event.tag)} are not accepted{_where(event)}')
+                isinstance(event, yaml.CollectionStartEvent) and event.implicit
+            ):
+                raise ValueError(
+                    f'YAML tags such as {brief(event.tag)} are not accepted{_where(event)}'
+                )
             elif isinstance(event, yaml.ScalarEvent):
                 value = _scalar(event)
             elif len(stack) >= MAX_DEPTH:
-                raise ValueError(f'the request is nested more than {MAX_DEPTH} levels deep{_where(event)}')
+                raise ValueError(
+                    f'the request is nested more than {MAX_DEPTH} levels deep{_where(event)}'
+                )
             else:
                 stack.append(_Map() if isinstance(event, yaml.MappingStartEvent) else [])
                 continue
@@ -228,7 +266,8 @@ def load_strict(text: str) -> Any:
 
 
 def read_request(text: str, max_bytes: int = MAX_REQUEST_BYTES) -> tuple[str, dict]:
-    """Read a request's text (size, strict language, mapping, id): the cheap first step.
+    """
+    Read a request's text (size, strict language, mapping, id): the cheap first step.
 
     Returns (id, the other keys as plain data) or raises RequestError. Costs tens of
     microseconds for a usual request and is bounded by ``max_bytes`` for any text.
@@ -237,14 +276,18 @@ def read_request(text: str, max_bytes: int = MAX_REQUEST_BYTES) -> tuple[str, di
         raise RequestError(made_up_id(), 'the request must be text')
     size = len(text.encode('utf-8', errors='replace'))
     if size > max_bytes:
-        raise RequestError(made_up_id(), f'the request is {size} bytes, more than the {max_bytes} accepted')
+        raise RequestError(
+            made_up_id(), f'the request is {size} bytes, more than the {max_bytes} accepted'
+        )
     try:
         data = load_strict(text)
     except StrictParseError as exc:
         raise RequestError(_recovered_id(exc.partial), str(exc)) from None
     if not isinstance(data, dict):
-        raise RequestError(made_up_id(), 'the request must be a mapping of release keys, '
-                                         f'got {type(data).__name__}')
+        raise RequestError(
+            made_up_id(),
+            f'the request must be a mapping of release keys, got {type(data).__name__}',
+        )
     try:
         request_id = check_id(data.pop('id')) if 'id' in data else made_up_id()
     except ValueError as exc:
@@ -253,7 +296,11 @@ def read_request(text: str, max_bytes: int = MAX_REQUEST_BYTES) -> tuple[str, di
 
 
 def release_from_request(request_id: str, data: dict) -> Release:
-    """The second step: the Release a request's keys mean, or RequestError naming the field."""
+    """
+    Second step: return the Release a request's keys mean.
+
+    Else raise RequestError naming the field.
+    """
     try:
         return Release.from_mapping(data)
     except (TypeError, ValueError) as exc:  # ReleaseError, or a wrongly typed entry
@@ -289,24 +336,35 @@ def _json_constant(_name: str) -> None:
 def _within_limits(value: Any, depth: int = 0) -> bool:
     if isinstance(value, (dict, list)):
         items = value.values() if isinstance(value, dict) else value
-        return depth < MAX_DEPTH and len(value) <= MAX_ITEMS and all(
-            _within_limits(v, depth + 1) for v in items)
+        return (
+            depth < MAX_DEPTH
+            and len(value) <= MAX_ITEMS
+            and all(_within_limits(v, depth + 1) for v in items)
+        )
     return True
 
 
 def _load_json(text: str) -> Any:
-    """Strict JSON, or None when the text is not JSON within the language's limits (the YAML
-    path then reads it, or says precisely what is wrong)."""
+    """
+    Parse strict JSON; None when the text is not JSON within the language's limits.
+
+    The YAML path then reads it, or says precisely what is wrong.
+    """
     try:
-        value = json.loads(text, object_pairs_hook=_json_pairs, parse_int=_json_number,
-                           parse_float=_json_number, parse_constant=_json_constant)
+        value = json.loads(
+            text,
+            object_pairs_hook=_json_pairs,
+            parse_int=_json_number,
+            parse_float=_json_number,
+            parse_constant=_json_constant,
+        )
     except (_NotStrict, ValueError, RecursionError):
         return None
     return value if _within_limits(value) and value is not None else None
 
 
 def _recovered_id(partial: dict) -> str:
-    """The id of a request that could not be read to its end, if its valid 'id' came first."""
+    """Return the id of a request not readable to its end, if its valid 'id' came first."""
     try:
         return check_id(partial['id'])
     except (KeyError, ValueError):
@@ -315,8 +373,11 @@ def _recovered_id(partial: dict) -> str:
 
 def _vector(data: dict, key: str, size: int) -> list[float]:
     value = data.get(key)
-    if (not isinstance(value, list) or len(value) != size
-            or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)):
+    if (
+        not isinstance(value, list)
+        or len(value) != size
+        or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
+    ):
         raise ValueError(f"'{key}' must be a list of {size} numbers, got {brief(value)}")
     try:
         return [float(v) for v in value]
@@ -326,7 +387,8 @@ def _vector(data: dict, key: str, size: int) -> list[float]:
 
 @dataclass(frozen=True)
 class FlightOrder:
-    """What the simulator needs to fly a ball: ids, ball, model, moment and initial state.
+    """
+    What the simulator needs to fly a ball: ids, ball, model, moment and initial state.
 
     ``request_id`` is the client's id; ``order_id`` names this hand-off uniquely (the
     simulator's acknowledgement carries it), empty for orders that bring none.
@@ -345,7 +407,8 @@ class FlightOrder:
         return get_preset(self.ball_name, self.ball_params)
 
     def flight(self, step: float, model: str | None = None) -> Flight:
-        """Return the Flight this order means (``model`` overrides the ordered one).
+        """
+        Return the Flight this order means (``model`` overrides the ordered one).
 
         Raises ValueError (ReleaseError) when it cannot be flown with this ``step`` [s].
         """
@@ -355,16 +418,30 @@ class FlightOrder:
 
     @staticmethod
     def from_release(request_id: str, release: Release, order_id: str = '') -> 'FlightOrder':
-        return FlightOrder(request_id, release.ball, dict(release.ball_params), release.model,
-                           release.moment, release.initial_state(), dict(release.aero), order_id)
+        return FlightOrder(
+            request_id,
+            release.ball,
+            dict(release.ball_params),
+            release.model,
+            release.moment,
+            release.initial_state(),
+            dict(release.aero),
+            order_id,
+        )
 
     def to_json(self) -> str:
         st = self.initial
         data = {
-            'id': self.request_id, 'ball': self.ball_name, 'ball_params': self.ball_params,
-            'model': self.model, 'moment': self.moment, 'aero': self.aero,
-            'position': st.position.tolist(), 'velocity': st.velocity.tolist(),
-            'orientation': st.attitude.tolist(), 'angular_velocity': st.angular_velocity().tolist(),
+            'id': self.request_id,
+            'ball': self.ball_name,
+            'ball_params': self.ball_params,
+            'model': self.model,
+            'moment': self.moment,
+            'aero': self.aero,
+            'position': st.position.tolist(),
+            'velocity': st.velocity.tolist(),
+            'orientation': st.attitude.tolist(),
+            'angular_velocity': st.angular_velocity().tolist(),
         }
         if self.order_id:
             data['order'] = self.order_id
@@ -372,7 +449,8 @@ class FlightOrder:
 
     @staticmethod
     def from_json(text: str, max_bytes: int = MAX_REQUEST_BYTES) -> 'FlightOrder':
-        """Inverse of :meth:`to_json`: the one validation of a hand-off (raises ValueError).
+        """
+        Inverse of :meth:`to_json`: the one validation of a hand-off (raises ValueError).
 
         The release node applies it to the text it sends and the simulator to the text it
         receives, so both judge an order by the same rules.
@@ -384,11 +462,14 @@ class FlightOrder:
             raise ValueError('a flight order must be a JSON object')
         unknown = sorted(set(data) - set(ORDER_KEYS))
         if unknown:
-            raise ValueError(f"unknown flight-order key(s) {brief(', '.join(unknown))}")
-        missing = [k for k in ('id', 'position', 'velocity', 'orientation', 'angular_velocity')
-                   if k not in data]
+            raise ValueError(f'unknown flight-order key(s) {brief(", ".join(unknown))}')
+        missing = [
+            k
+            for k in ('id', 'position', 'velocity', 'orientation', 'angular_velocity')
+            if k not in data
+        ]
         if missing:
-            raise ValueError(f"the flight order lacks {', '.join(missing)}")
+            raise ValueError(f'the flight order lacks {", ".join(missing)}')
         request_id = check_id(data['id'])
         order_id = check_id(data['order']) if 'order' in data else ''
         ball = data.get('ball', 'american')
@@ -397,7 +478,9 @@ class FlightOrder:
         if model not in MODELS:
             raise ValueError(f"'model' must be one of {', '.join(MODELS)}, got {brief(model)}")
         if moment not in MOMENT_CURVES:
-            raise ValueError(f"'moment' must be one of {', '.join(MOMENT_CURVES)}, got {brief(moment)}")
+            raise ValueError(
+                f"'moment' must be one of {', '.join(MOMENT_CURVES)}, got {brief(moment)}"
+            )
         ball_params = data.get('ball_params') or {}
         aero = data.get('aero') or {}
         for key, value in (('ball_params', ball_params), ('aero', aero)):
@@ -407,15 +490,20 @@ class FlightOrder:
             raise ValueError("'aero' settings need model: full")
         get_preset(ball, ball_params)
         AeroModel.from_mapping(aero)
-        initial = InitialState.from_rigid_body(_vector(data, 'position', 3), _vector(data, 'velocity', 3),
-                                               _vector(data, 'orientation', 4),
-                                               _vector(data, 'angular_velocity', 3))
+        initial = InitialState.from_rigid_body(
+            _vector(data, 'position', 3),
+            _vector(data, 'velocity', 3),
+            _vector(data, 'orientation', 4),
+            _vector(data, 'angular_velocity', 3),
+        )
         return FlightOrder(request_id, ball, ball_params, model, moment, initial, aero, order_id)
 
 
 def flight_summary(times: np.ndarray, positions: np.ndarray, landed: bool) -> dict[str, float]:
-    """Return time_of_flight [s], range [m] (horizontal distance from the release), apex height [m]."""
+    """Return time_of_flight [s], range [m] (horizontal, from the release), apex height [m]."""
     horizontal = positions[-1, :2] - positions[0, :2]
-    return {'time_of_flight': float(times[-1]) if landed else math.nan,
-            'range': float(np.hypot(*horizontal)) if landed else math.nan,
-            'apex_height': float(np.max(positions[:, 2]))}
+    return {
+        'time_of_flight': float(times[-1]) if landed else math.nan,
+        'range': float(np.hypot(*horizontal)) if landed else math.nan,
+        'apex_height': float(np.max(positions[:, 2])),
+    }

@@ -1,4 +1,19 @@
-"""Simulator and release node; optionally the recorder and RViz; optionally in a namespace.
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Simulator and release node; optionally the recorder and RViz; optionally in a namespace.
 
     ros2 launch football_ros football.launch.py
     ros2 launch football_ros football.launch.py record:=true rviz:=true
@@ -32,7 +47,7 @@ DEFAULT_CAMERA_RATE = 60.0
 
 
 def _flag(context, name):
-    """A boolean launch argument, read as launch's conditions read them."""
+    """Read a boolean launch argument as launch's conditions read them."""
     text = LaunchConfiguration(name).perform(context).strip().lower()
     if text not in ('true', 'false', '1', '0'):
         raise ValueError(f"launch argument '{name}' must be true or false, got '{text}'")
@@ -40,7 +55,7 @@ def _flag(context, name):
 
 
 def _rate(context, name):
-    """A rate launch argument [Hz] as a float, or None when left empty."""
+    """Read a rate launch argument [Hz] as a float, or None when left empty."""
     text = LaunchConfiguration(name).perform(context).strip()
     if not text:
         return None
@@ -54,7 +69,7 @@ def _rate(context, name):
 
 
 def simulator_overrides(context):
-    """Simulator parameters set by launch arguments (on top of the params file)."""
+    """Return the simulator parameters set by launch arguments (on top of the params file)."""
     overrides = {}
     rate = _rate(context, 'publish_rate')
     if rate is not None:
@@ -72,47 +87,102 @@ def simulator_overrides(context):
 def _simulator(context, *args, **kwargs):
     overrides = simulator_overrides(context)
     parameters = [LaunchConfiguration('params_file')] + ([overrides] if overrides else [])
-    return [Node(package=PACKAGE, executable='simulator', name='football_simulator',
-                 output='screen', parameters=parameters)]
+    return [
+        Node(
+            package=PACKAGE,
+            executable='simulator',
+            name='football_simulator',
+            output='screen',
+            parameters=parameters,
+        )
+    ]
 
 
 def generate_launch_description():
     share = get_package_share_directory(PACKAGE)
     params_file = LaunchConfiguration('params_file')
-    sim_time = {'use_sim_time': ParameterValue(LaunchConfiguration('use_sim_time'), value_type=bool)}
-    return LaunchDescription([
-        DeclareLaunchArgument('params_file',
-                              default_value=os.path.join(share, 'config', 'football.yaml'),
-                              description="YAML with the nodes' parameters (/**/NODE_NAME keys)"),
-        DeclareLaunchArgument('namespace', default_value='',
-                              description='namespace of every node and relative topic'),
-        DeclareLaunchArgument('publish_rate', default_value='',
-                              description='simulator publish rate [Hz]; empty = params file'),
-        DeclareLaunchArgument('use_sim_time', default_value='false',
-                              description='simulator publishes /clock; the other nodes follow it'),
-        DeclareLaunchArgument('record', default_value='false', description='also run the recorder'),
-        DeclareLaunchArgument('tracker', default_value='false',
-                              description="also run the tracker (and the simulator's camera)"),
-        DeclareLaunchArgument('camera_rate', default_value='',
-                              description='simulated camera frames per second [Hz]; empty = '
-                                          'params file, or 60 with tracker:=true'),
-        DeclareLaunchArgument('rviz', default_value='false', description='also start rviz2'),
-        DeclareLaunchArgument('rviz_config',
-                              default_value=os.path.join(share, 'rviz', 'football.rviz'),
-                              description='RViz configuration'),
-        GroupAction([
-            PushRosNamespace(LaunchConfiguration('namespace')),
-            OpaqueFunction(function=_simulator),
-            Node(package=PACKAGE, executable='release', name='football_release',
-                 output='screen', parameters=[params_file, sim_time]),
-            Node(package=PACKAGE, executable='tracker', name='football_tracker',
-                 output='screen', parameters=[params_file, sim_time],
-                 condition=IfCondition(LaunchConfiguration('tracker'))),
-            Node(package=PACKAGE, executable='recorder', name='football_recorder',
-                 output='screen', parameters=[params_file, sim_time],
-                 condition=IfCondition(LaunchConfiguration('record'))),
-            Node(package='rviz2', executable='rviz2', name='rviz2', output='screen',
-                 arguments=['-d', LaunchConfiguration('rviz_config')], parameters=[sim_time],
-                 condition=IfCondition(LaunchConfiguration('rviz'))),
-        ]),
-    ])
+    sim_time = {
+        'use_sim_time': ParameterValue(LaunchConfiguration('use_sim_time'), value_type=bool)
+    }
+    return LaunchDescription(
+        [
+            DeclareLaunchArgument(
+                'params_file',
+                default_value=os.path.join(share, 'config', 'football.yaml'),
+                description="YAML with the nodes' parameters (/**/NODE_NAME keys)",
+            ),
+            DeclareLaunchArgument(
+                'namespace',
+                default_value='',
+                description='namespace of every node and relative topic',
+            ),
+            DeclareLaunchArgument(
+                'publish_rate',
+                default_value='',
+                description='simulator publish rate [Hz]; empty = params file',
+            ),
+            DeclareLaunchArgument(
+                'use_sim_time',
+                default_value='false',
+                description='simulator publishes /clock; the other nodes follow it',
+            ),
+            DeclareLaunchArgument(
+                'record', default_value='false', description='also run the recorder'
+            ),
+            DeclareLaunchArgument(
+                'tracker',
+                default_value='false',
+                description="also run the tracker (and the simulator's camera)",
+            ),
+            DeclareLaunchArgument(
+                'camera_rate',
+                default_value='',
+                description='simulated camera frames per second [Hz]; empty = '
+                'params file, or 60 with tracker:=true',
+            ),
+            DeclareLaunchArgument('rviz', default_value='false', description='also start rviz2'),
+            DeclareLaunchArgument(
+                'rviz_config',
+                default_value=os.path.join(share, 'rviz', 'football.rviz'),
+                description='RViz configuration',
+            ),
+            GroupAction(
+                [
+                    PushRosNamespace(LaunchConfiguration('namespace')),
+                    OpaqueFunction(function=_simulator),
+                    Node(
+                        package=PACKAGE,
+                        executable='release',
+                        name='football_release',
+                        output='screen',
+                        parameters=[params_file, sim_time],
+                    ),
+                    Node(
+                        package=PACKAGE,
+                        executable='tracker',
+                        name='football_tracker',
+                        output='screen',
+                        parameters=[params_file, sim_time],
+                        condition=IfCondition(LaunchConfiguration('tracker')),
+                    ),
+                    Node(
+                        package=PACKAGE,
+                        executable='recorder',
+                        name='football_recorder',
+                        output='screen',
+                        parameters=[params_file, sim_time],
+                        condition=IfCondition(LaunchConfiguration('record')),
+                    ),
+                    Node(
+                        package='rviz2',
+                        executable='rviz2',
+                        name='rviz2',
+                        output='screen',
+                        arguments=['-d', LaunchConfiguration('rviz_config')],
+                        parameters=[sim_time],
+                        condition=IfCondition(LaunchConfiguration('rviz')),
+                    ),
+                ]
+            ),
+        ]
+    )

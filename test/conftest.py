@@ -1,23 +1,39 @@
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """Shared fixtures: an isolated ROS domain, node subprocesses ended by PID, a message collector."""
 
 from __future__ import annotations
 
 import os
+from pathlib import Path
 import signal
 import subprocess
 import sys
 import threading
 import time
-from pathlib import Path
 
 import pytest
 
 # One ROS domain for this test session: FOOTBALL_ROS_TEST_DOMAIN if set (parallel checkouts give
 # each its own), else chosen from the PID so that parallel runs do not meet; discovery stays on
 # this machine. Set before rclpy is initialised anywhere in this process.
-os.environ["ROS_DOMAIN_ID"] = os.environ.get("FOOTBALL_ROS_TEST_DOMAIN") or str(100 + os.getpid() % 100)
-os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
-os.environ.setdefault("RCUTILS_LOGGING_BUFFERED_STREAM", "1")
+os.environ['ROS_DOMAIN_ID'] = os.environ.get('FOOTBALL_ROS_TEST_DOMAIN') or str(
+    100 + os.getpid() % 100
+)
+os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
+os.environ.setdefault('RCUTILS_LOGGING_BUFFERED_STREAM', '1')
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -26,10 +42,14 @@ class NodeProcess:
     """A football_ros node in a subprocess; ``stop()`` ends exactly that process by PID."""
 
     def __init__(self, command: str, *args: str, log_dir: Path) -> None:
-        self.log_path = log_dir / f"{command}-{time.monotonic_ns()}.log"
-        self._log = open(self.log_path, "w")
-        self.proc = subprocess.Popen([sys.executable, "-m", "football_ros.cli", command, *args],
-                                     stdout=self._log, stderr=subprocess.STDOUT, env=dict(os.environ))
+        self.log_path = log_dir / f'{command}-{time.monotonic_ns()}.log'
+        self._log = open(self.log_path, 'w')
+        self.proc = subprocess.Popen(
+            [sys.executable, '-m', 'football_ros.cli', command, *args],
+            stdout=self._log,
+            stderr=subprocess.STDOUT,
+            env=dict(os.environ),
+        )
         self.pid = self.proc.pid
 
     def stop(self, sig: int = signal.SIGINT, timeout: float = 10.0) -> int:
@@ -54,17 +74,17 @@ class NodeProcess:
             if text in self.log():
                 return
             if self.proc.poll() is not None:
-                raise AssertionError(f"node exited ({self.proc.returncode}):\n{self.log()}")
+                raise AssertionError(f'node exited ({self.proc.returncode}):\n{self.log()}')
             time.sleep(0.05)
         raise AssertionError(f"'{text}' not logged in {timeout} s:\n{self.log()}")
 
 
 @pytest.fixture
 def start_node(tmp_path):
-    """start_node('simulator', '--ros-args', ...) -> NodeProcess, waited until ready."""
+    """Start a node: ('simulator', '--ros-args', ...) -> NodeProcess, waited until ready."""
     started: list[NodeProcess] = []
 
-    def _start(command: str, *args: str, ready: str = "ready") -> NodeProcess:
+    def _start(command: str, *args: str, ready: str = 'ready') -> NodeProcess:
         node = NodeProcess(command, *args, log_dir=tmp_path)
         started.append(node)
         if ready:
@@ -85,7 +105,7 @@ class Collector:
 
         self.context = rclpy.Context()
         rclpy.init(context=self.context)
-        self.node = rclpy.create_node(f"test_collector_{os.getpid()}", context=self.context)
+        self.node = rclpy.create_node(f'test_collector_{os.getpid()}', context=self.context)
         self.executor = SingleThreadedExecutor(context=self.context)
         self.executor.add_node(self.node)
         self.messages: dict[str, list] = {}
@@ -130,16 +150,16 @@ class Collector:
                 self.messages[topic].clear()
                 self.arrivals[topic].clear()
 
-    def wait_for(self, predicate, timeout: float = 20.0, what: str = "condition") -> None:
+    def wait_for(self, predicate, timeout: float = 20.0, what: str = 'condition') -> None:
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
             if predicate():
                 return
             time.sleep(0.02)
-        raise AssertionError(f"timed out after {timeout} s waiting for {what}")
+        raise AssertionError(f'timed out after {timeout} s waiting for {what}')
 
     def wait_for_subscribers(self, publisher, count: int = 1, timeout: float = 20.0) -> None:
-        self.wait_for(lambda: publisher.get_subscription_count() >= count, timeout, "a subscriber")
+        self.wait_for(lambda: publisher.get_subscription_count() >= count, timeout, 'a subscriber')
 
     def close(self) -> None:
         self.executor.shutdown(timeout_sec=1.0)

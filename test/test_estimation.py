@@ -1,29 +1,46 @@
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """Pure estimation: the simulated camera and the flight tracker, against full-model flights."""
 
 import math
 
-import numpy as np
-import pytest
+from football_ros.estimation import Camera, CameraSettings, FlightTracker, TrackerSettings
+from football_ros.estimation.tracker import X_H, X_KD, X_KL, X_S
+from football_ros.physics import dynamics as dyn
+from football_ros.physics import Flight, Release
+from football_ros.physics.aero import AeroModel
 from hypothesis import given, settings
 from hypothesis import strategies as st
+import numpy as np
+import pytest
 
-from football_ros.estimation import Camera, CameraSettings, FlightTracker, TrackerSettings
-from football_ros.estimation.tracker import X_KD, X_KL, X_H, X_S
-from football_ros.physics import Flight, Release
-from football_ros.physics import dynamics as dyn
-from football_ros.physics.aero import AeroModel
-
-RELEASE = Release(model="full", position=(0.0, 0.0, 1.8))
+RELEASE = Release(model='full', position=(0.0, 0.0, 1.8))
 
 
 def fixes(release, seed=1, **camera):
-    """Camera fixes of a flight (60 Hz, 2 cm, no latency unless given), captured before the
-    landing; returns (fixes, landing time, landing x y)."""
+    """
+    Camera fixes of a flight (60 Hz, 2 cm, no latency unless given), captured before the landing.
+
+    Returns (fixes, landing time, landing x y).
+    """
     truth = Flight.from_release(release).simulate(rate=1000.0)
     t_land = float(truth.times[-1])
     flight = Flight.from_release(release)
-    cam = Camera(CameraSettings(**{"rate": 60.0, "noise": 0.02, "latency": 0.0, "seed": seed,
-                                   **camera}))
+    cam = Camera(
+        CameraSettings(**{'rate': 60.0, 'noise': 0.02, 'latency': 0.0, 'seed': seed, **camera})
+    )
     obs = [o for o in cam.step(t_land + 1.0, lambda t: flight.state_at(t)[:3]) if o.stamp < t_land]
     return obs, t_land, truth.positions[-1, :2]
 
@@ -37,8 +54,15 @@ def run(tracker, obs, t_until):
 
 # --- camera ----------------------------------------------------------------------------------
 def test_camera_noise_dropout_latency_and_outliers_have_the_asked_statistics():
-    s = CameraSettings(rate=100.0, noise=0.05, latency=0.03, dropout=0.2, outlier_rate=0.1,
-                       outlier_size=4.0, seed=5)
+    s = CameraSettings(
+        rate=100.0,
+        noise=0.05,
+        latency=0.03,
+        dropout=0.2,
+        outlier_rate=0.1,
+        outlier_size=4.0,
+        seed=5,
+    )
     cam = Camera(s)
     got = [o for k in range(1, 2001) for o in cam.step(k * 0.1, lambda t: np.array([t, 0.0, 1.0]))]
     # Frames k / 100 s up to 200 s; 20 % dropped; delivered 30 ms after capture.
@@ -58,13 +82,19 @@ def test_camera_noise_dropout_latency_and_outliers_have_the_asked_statistics():
     assert all(o.delivery <= 2.0 + 1e-12 for o in again)
     # The queue is bounded: a long stall keeps the newest QUEUE_DEPTH fixes.
     from football_ros.estimation.sensor import QUEUE_DEPTH
+
     stalled = Camera(s).step(100.0, lambda t: np.zeros(3))
     assert len(stalled) <= QUEUE_DEPTH and stalled[0].stamp > 95.0 and stalled[-1].stamp > 99.9
 
 
 def test_camera_settings_are_validated():
-    for bad in ({"rate": -1.0}, {"noise": float("nan")}, {"dropout": 1.5}, {"seed": 1.5},
-                {"latency": True}):
+    for bad in (
+        {'rate': -1.0},
+        {'noise': float('nan')},
+        {'dropout': 1.5},
+        {'seed': 1.5},
+        {'latency': True},
+    ):
         with pytest.raises(ValueError):
             CameraSettings(**bad)
 
@@ -96,7 +126,7 @@ def test_converges_on_a_full_model_flight():
 
 
 def test_coefficients_30_percent_off_are_estimated():
-    aero = {"c_d0": 0.055 * 1.3, "c_d2": 0.30 * 1.3, "c_l_alpha": 0.40 * 0.7}
+    aero = {'c_d0': 0.055 * 1.3, 'c_d2': 0.30 * 1.3, 'c_l_alpha': 0.40 * 0.7}
     release = RELEASE.replace(aero=aero, spin_rpm=-600.0)  # left-handed this time
     obs, t_land, xy = fixes(release, seed=4)
     tracker = FlightTracker()
@@ -115,14 +145,26 @@ def test_coefficients_30_percent_off_are_estimated():
 
 
 def test_a_lob_with_more_lift_is_not_locked_on_a_wrong_spin():
-    """A 44 deg lob, 720 rpm left-handed, axis 1.7 deg off the velocity at release, 30 % less
-    drag and 30 % more lift than the filter's defaults. With a prior that did not correlate h
-    with the axis the filter settled on a wrong spin and lift scale and missed by 37 to 146 cm
-    at 1 s lead with a landing NEES of 30 to 55 (seeds 1 to 3): its covariance lied. Now it
-    misses by 6.3 cm at 1 s, 3.1 cm at 0.5 s, and the error is inside its own covariance."""
-    aero = {"c_d0": 0.055 * 0.7, "c_d2": 0.30 * 0.7, "c_l_alpha": 0.40 * 1.3}
-    lob = Release(model="full", speed=25.0, elevation_deg=44.0, spin_rpm=-720.0,
-                  alpha0_deg=1.0, beta0_deg=1.4, position=(0.0, 0.0, 1.8), aero=aero)
+    """
+    A 44 deg lob, 720 rpm left-handed, axis 1.7 deg off the velocity at release.
+
+    With 30 % less drag and 30 % more lift than the filter's defaults. With a prior that did
+    not correlate h with the axis the filter settled on a wrong spin and lift scale and missed
+    by 37 to 146 cm at 1 s lead with a landing NEES of 30 to 55 (seeds 1 to 3): its covariance
+    lied. Now it misses by 6.3 cm at 1 s, 3.1 cm at 0.5 s, and the error is inside its own
+    covariance.
+    """
+    aero = {'c_d0': 0.055 * 0.7, 'c_d2': 0.30 * 0.7, 'c_l_alpha': 0.40 * 1.3}
+    lob = Release(
+        model='full',
+        speed=25.0,
+        elevation_deg=44.0,
+        spin_rpm=-720.0,
+        alpha0_deg=1.0,
+        beta0_deg=1.4,
+        position=(0.0, 0.0, 1.8),
+        aero=aero,
+    )
     obs, t_land, xy = fixes(lob, seed=1)
     tracker = FlightTracker()
     at_1s = run(tracker, obs, t_land - 1.0)
@@ -146,37 +188,43 @@ def test_outliers_nan_and_late_fixes_do_not_poison_it():
     for k, o in enumerate([o for o in obs if o.stamp <= t_land - 0.5]):
         stream.append((o.stamp, o.position))
         if k % 10 == 5:
-            stream.append((o.stamp + 0.001, o.position + [0.0, 5.0, 0.0]))   # outlier
-            stream.append((o.stamp + 0.002, [math.nan, 0.0, 0.0]))           # NaN
-            stream.append((math.inf, o.position))                            # bad stamp
+            stream.append((o.stamp + 0.001, o.position + [0.0, 5.0, 0.0]))  # outlier
+            stream.append((o.stamp + 0.002, [math.nan, 0.0, 0.0]))  # NaN
+            stream.append((math.inf, o.position))  # bad stamp
     # Deliver out of order: swap neighbours (each fix up to one frame late).
     for k in range(1, len(stream) - 1, 3):
         stream[k], stream[k + 1] = stream[k + 1], stream[k]
     statuses = [tracker.update(t, z).status for t, z in stream]
     pred = tracker.predict_landing()
     n_bad = sum(1 for k, o in enumerate(obs) if o.stamp <= t_land - 0.5 and k % 10 == 5)
-    assert statuses.count("invalid") == 2 * n_bad
-    assert statuses.count("outlier") >= n_bad - 1
+    assert statuses.count('invalid') == 2 * n_bad
+    assert statuses.count('outlier') >= n_bad - 1
     assert tracker.throws == 1
     assert np.linalg.norm(pred.position[:2] - clean.position[:2]) < 0.05
     assert np.linalg.norm(pred.position[:2] - xy) < 0.1
     # A fix older than max_lag is refused; with ``now`` one from the future is refused.
-    assert tracker.update(t_land - 2.0, obs[5].position).status == "late"
-    assert tracker.update(t_land + 10.0, obs[5].position, now=t_land - 0.5).status == "future"
+    assert tracker.update(t_land - 2.0, obs[5].position).status == 'late'
+    assert tracker.update(t_land + 10.0, obs[5].position, now=t_land - 0.5).status == 'future'
     # Without ``now``, wild stamps (far future, far past) cannot hijack the track's clock: the
     # next good fixes are still accepted and no throw is started.
-    assert tracker.update(1e9, obs[5].position).status == "candidate"
-    assert tracker.update(-1e9, obs[5].position).status == "late"
+    assert tracker.update(1e9, obs[5].position).status == 'candidate'
+    assert tracker.update(-1e9, obs[5].position).status == 'late'
     rest = [o for o in obs if t_land - 0.5 < o.stamp <= t_land - 0.3]
-    assert [tracker.update(o.stamp, o.position).status for o in rest] == ["accepted"] * len(rest)
+    assert [tracker.update(o.stamp, o.position).status for o in rest] == ['accepted'] * len(rest)
     assert tracker.throws == 1
     del rng
 
 
 def test_a_new_throw_is_detected_after_a_landing_and_mid_air():
     first, t1, _ = fixes(RELEASE, seed=5)
-    second_release = Release(model="full", speed=20.0, elevation_deg=40.0, spin_rpm=-500.0,
-                             azimuth_deg=30.0, position=(10.0, 5.0, 1.5))
+    second_release = Release(
+        model='full',
+        speed=20.0,
+        elevation_deg=40.0,
+        spin_rpm=-500.0,
+        azimuth_deg=30.0,
+        position=(10.0, 5.0, 1.5),
+    )
     second, t2, xy2 = fixes(second_release, seed=6)
     tracker = FlightTracker()
     for o in first:
@@ -209,8 +257,13 @@ def test_a_new_throw_is_detected_after_a_landing_and_mid_air():
 
 
 def test_settings_are_validated():
-    for bad in ({"noise": 0.0}, {"gate": float("nan")}, {"ball": "soccer"}, {"min_points": 1},
-                {"spin_rpm": 1.0}):
+    for bad in (
+        {'noise': 0.0},
+        {'gate': float('nan')},
+        {'ball': 'soccer'},
+        {'min_points': 1},
+        {'spin_rpm': 1.0},
+    ):
         with pytest.raises(ValueError):
             TrackerSettings(**bad)
 
@@ -219,10 +272,16 @@ finite = st.floats(allow_nan=True, allow_infinity=True, width=64)
 
 
 @settings(max_examples=150, deadline=None)
-@given(st.lists(st.tuples(st.one_of(finite, st.floats(0.0, 3.0)),
-                          st.lists(st.one_of(finite, st.floats(-50.0, 50.0)), min_size=0,
-                                   max_size=4)), max_size=40),
-       st.one_of(st.none(), finite))
+@given(
+    st.lists(
+        st.tuples(
+            st.one_of(finite, st.floats(0.0, 3.0)),
+            st.lists(st.one_of(finite, st.floats(-50.0, 50.0)), min_size=0, max_size=4),
+        ),
+        max_size=40,
+    ),
+    st.one_of(st.none(), finite),
+)
 def test_fuzz_update_never_raises_and_outputs_stay_finite(stream, now):
     tracker = FlightTracker()
     # A real throw first, so that the fuzzed fixes hit a live track too.
@@ -231,8 +290,16 @@ def test_fuzz_update_never_raises_and_outputs_stay_finite(stream, now):
         tracker.update(o.stamp, o.position)
     for stamp, pos in stream:
         result = tracker.update(stamp, pos, now)
-        assert result.status in ("accepted", "started", "candidate", "outlier", "late", "future",
-                                 "duplicate", "invalid")
+        assert result.status in (
+            'accepted',
+            'started',
+            'candidate',
+            'outlier',
+            'late',
+            'future',
+            'duplicate',
+            'invalid',
+        )
     est = tracker.estimate
     if est is not None:
         assert np.all(np.isfinite(est[1])) and np.all(np.isfinite(est[2]))

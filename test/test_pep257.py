@@ -16,7 +16,6 @@ from ament_pep257.main import main
 import pytest
 
 
-@pytest.mark.skip(reason='lint pass pending')
 @pytest.mark.linter
 @pytest.mark.pep257
 def test_pep257():

@@ -1,3 +1,17 @@
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """Node start-up and shutdown (nodes/runner.py): repeated signals at any moment, --help."""
 
 import os
@@ -6,18 +20,21 @@ import subprocess
 import sys
 import time
 
-import pytest
-from geometry_msgs.msg import PoseStamped
-
 from football_ros.nodes import qos
 from football_ros.physics import Release
+from geometry_msgs.msg import PoseStamped
+import pytest
 from rosutil import order_flight
 
 
 def _spawn(command, *args):
-    return subprocess.Popen([sys.executable, "-m", "football_ros.cli", command, *args],
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                            env=dict(os.environ))
+    return subprocess.Popen(
+        [sys.executable, '-m', 'football_ros.cli', command, *args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        env=dict(os.environ),
+    )
 
 
 def _two_sigints(proc, gap=0.02):
@@ -30,51 +47,55 @@ def _two_sigints(proc, gap=0.02):
     except subprocess.TimeoutExpired:
         os.kill(proc.pid, signal.SIGKILL)
         out, _ = proc.communicate()
-        raise AssertionError(f"did not exit after two SIGINTs:\n{out}")
+        raise AssertionError(f'did not exit after two SIGINTs:\n{out}')
     return proc.returncode, out
 
 
 # Delays after the spawn cover the interpreter start, the imports, rclpy.init, the node's
 # construction and its warm-up (the simulator is ready after about 1-2 s here).
-@pytest.mark.parametrize("command", ["simulator", "release"])
-@pytest.mark.parametrize("delay", [0.1, 0.3, 0.6, 0.9, 1.2, 1.6])
+@pytest.mark.parametrize('command', ['simulator', 'release'])
+@pytest.mark.parametrize('delay', [0.1, 0.3, 0.6, 0.9, 1.2, 1.6])
 def test_two_sigints_during_start_up_exit_cleanly(command, delay):
     proc = _spawn(command)
     time.sleep(delay)
     code, out = _two_sigints(proc)
     assert code == 0, out
-    assert "Traceback" not in out, out
+    assert 'Traceback' not in out, out
 
 
-@pytest.mark.parametrize("gap", [0.0, 0.005, 0.05, 0.3])
+@pytest.mark.parametrize('gap', [0.0, 0.005, 0.05, 0.3])
 def test_two_sigints_mid_flight_and_during_clean_up(start_node, collector, gap):
-    node = start_node("simulator", "--ros-args", "-p", "publish_rate:=1000.0")
+    node = start_node('simulator', '--ros-args', '-p', 'publish_rate:=1000.0')
     collector.subscribe(PoseStamped, qos.POSE, qos.STATE)
-    order_flight(collector, Release(), f"sig-{gap}")
-    collector.wait_for(lambda: len(collector.get(qos.POSE)) > 50, 10.0, "poses")
+    order_flight(collector, Release(), f'sig-{gap}')
+    collector.wait_for(lambda: len(collector.get(qos.POSE)) > 50, 10.0, 'poses')
     os.kill(node.pid, signal.SIGINT)
     time.sleep(gap)  # the second one lands while the node is stopping its pacer / destroying
     if node.proc.poll() is None:
         os.kill(node.pid, signal.SIGINT)
     node.proc.wait(timeout=20)
     assert node.stop() == 0
-    assert "Traceback" not in node.log(), node.log()
+    assert 'Traceback' not in node.log(), node.log()
 
 
 def test_release_node_two_sigints_when_ready(start_node):
-    node = start_node("release")
+    node = start_node('release')
     os.kill(node.pid, signal.SIGINT)
     os.kill(node.pid, signal.SIGINT)
     node.proc.wait(timeout=20)
-    assert node.stop() == 0 and "Traceback" not in node.log(), node.log()
+    assert node.stop() == 0 and 'Traceback' not in node.log(), node.log()
 
 
-@pytest.mark.parametrize("program", ["simulator", "release"])
+@pytest.mark.parametrize('program', ['simulator', 'release'])
 def test_help_prints_parameters_and_exits_without_starting(program):
-    proc = subprocess.run([sys.executable, "-m", f"football_ros.nodes.{program}", "--help"],
-                          capture_output=True, text=True, timeout=60)
-    assert proc.returncode == 0 and "usage:" in proc.stdout
-    assert "ready" not in proc.stdout + proc.stderr  # the node never started
-    if program == "simulator":
-        assert "publish_rate (default 100.0 [1 .. 2000])" in proc.stdout
-        assert "trail_length (default 500 [0 .. 100000])" in proc.stdout
+    proc = subprocess.run(
+        [sys.executable, '-m', f'football_ros.nodes.{program}', '--help'],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert proc.returncode == 0 and 'usage:' in proc.stdout
+    assert 'ready' not in proc.stdout + proc.stderr  # the node never started
+    if program == 'simulator':
+        assert 'publish_rate (default 100.0 [1 .. 2000])' in proc.stdout
+        assert 'trail_length (default 500 [0 .. 100000])' in proc.stdout

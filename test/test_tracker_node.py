@@ -1,15 +1,31 @@
-"""Tracker node across processes: simulator camera -> tracker -> landing prediction, and hostile
-fixes."""
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Tracker node across processes.
+
+simulator camera -> tracker -> landing prediction, and hostile fixes.
+"""
 
 import math
 import time
 
-import numpy as np
-from geometry_msgs.msg import PointStamped, PoseStamped, PoseWithCovarianceStamped
-from nav_msgs.msg import Odometry, Path
-
 from football_ros.nodes import qos
 from football_ros.physics import Flight, Release
+from geometry_msgs.msg import PointStamped, PoseStamped, PoseWithCovarianceStamped
+from nav_msgs.msg import Odometry, Path
+import numpy as np
 from rosutil import order_flight
 
 
@@ -27,7 +43,7 @@ def landed_values(collector):
     for arr in collector.get(qos.DIAGNOSTICS):
         for st in arr.status:
             values = {kv.key: kv.value for kv in st.values}
-            if values.get("event") == "landed":
+            if values.get('event') == 'landed':
                 out.append(values)
     return out
 
@@ -49,39 +65,77 @@ def assert_all_finite(collector):
         assert all(math.isfinite(c) for c in (p.x, p.y, p.z))
         assert np.all(np.isfinite(land.pose.covariance))
     for path in collector.get(qos.PREDICTED_PATH):
-        assert all(math.isfinite(ps.pose.position.x) and math.isfinite(ps.pose.position.z)
-                   for ps in path.poses)
+        assert all(
+            math.isfinite(ps.pose.position.x) and math.isfinite(ps.pose.position.z)
+            for ps in path.poses
+        )
 
 
 def test_prediction_converges_to_the_simulators_landing(start_node, collector):
-    """Two throws (right- then left-handed, the second after the first landed), camera at 60 Hz
-    with 2 cm noise, 20 ms latency, 10 % dropouts and 2 % outliers."""
-    start_node("simulator", "--ros-args", "-p", "model:=full", "-p", "publish_rate:=200.0",
-               "-p", "observation_rate:=60.0", "-p", "observation_noise:=0.02",
-               "-p", "observation_latency:=0.02", "-p", "observation_dropout:=0.1",
-               "-p", "observation_outlier_rate:=0.02", "-p", "observation_outlier_size:=3.0",
-               "-p", "observation_seed:=7", "-p", "hold_rate:=0.0")
-    tracker = start_node("tracker", "--ros-args", "-p", "prediction_rate:=1000.0")
+    """
+    Two throws (right- then left-handed, the second after the first landed).
+
+    Camera at 60 Hz with 2 cm noise, 20 ms latency, 10 % dropouts and 2 % outliers.
+    """
+    start_node(
+        'simulator',
+        '--ros-args',
+        '-p',
+        'model:=full',
+        '-p',
+        'publish_rate:=200.0',
+        '-p',
+        'observation_rate:=60.0',
+        '-p',
+        'observation_noise:=0.02',
+        '-p',
+        'observation_latency:=0.02',
+        '-p',
+        'observation_dropout:=0.1',
+        '-p',
+        'observation_outlier_rate:=0.02',
+        '-p',
+        'observation_outlier_size:=3.0',
+        '-p',
+        'observation_seed:=7',
+        '-p',
+        'hold_rate:=0.0',
+    )
+    tracker = start_node('tracker', '--ros-args', '-p', 'prediction_rate:=1000.0')
     subscribe_outputs(collector)
     collector.subscribe(PointStamped, qos.OBSERVATION, qos.STATE)
     collector.subscribe(PoseStamped, qos.POSE, qos.STATE)
     # The tracker must see the throws from their release: wait until discovery has matched it.
-    collector.wait_for(lambda: collector.node.count_subscribers("/" + qos.OBSERVATION) >= 2
-                       and collector.node.count_publishers("/" + qos.OBSERVATION) >= 1,
-                       20.0, "the tracker and the camera")
+    collector.wait_for(
+        lambda: (
+            collector.node.count_subscribers('/' + qos.OBSERVATION) >= 2
+            and collector.node.count_publishers('/' + qos.OBSERVATION) >= 1
+        ),
+        20.0,
+        'the tracker and the camera',
+    )
     time.sleep(1.0)
-    for k, release in enumerate([Release(position=(0.0, 0.0, 1.8)),
-                                 Release(speed=24.0, elevation_deg=35.0, spin_rpm=-650.0,
-                                         azimuth_deg=10.0, position=(5.0, 2.0, 1.8))]):
+    for k, release in enumerate(
+        [
+            Release(position=(0.0, 0.0, 1.8)),
+            Release(
+                speed=24.0,
+                elevation_deg=35.0,
+                spin_rpm=-650.0,
+                azimuth_deg=10.0,
+                position=(5.0, 2.0, 1.8),
+            ),
+        ]
+    ):
         collector.clear()
-        order_flight(collector, release, f"track-{k}")
-        collector.wait_for(lambda: len(landed_values(collector)) >= 1, 15.0, "the landing")
+        order_flight(collector, release, f'track-{k}')
+        collector.wait_for(lambda: len(landed_values(collector)) >= 1, 15.0, 'the landing')
         time.sleep(0.5)
         landed = landed_values(collector)[0]
-        x_land, y_land = float(landed["landing_x"]), float(landed["landing_y"])
-        t_flight = float(landed["time_of_flight"])
+        x_land, y_land = float(landed['landing_x']), float(landed['landing_y'])
+        t_flight = float(landed['time_of_flight'])
         # The simulator's landing is the full model's (independent check of the event).
-        expected = Flight.from_release(release.replace(model="full")).simulate(rate=200.0)
+        expected = Flight.from_release(release.replace(model='full')).simulate(rate=200.0)
         x_exp, y_exp = expected.positions[-1, :2]
         assert math.hypot(x_land - x_exp, y_land - y_exp) < 1e-6
         release_stamp = stamp_s(collector.get(qos.POSE)[0])
@@ -98,8 +152,10 @@ def test_prediction_converges_to_the_simulators_landing(start_node, collector):
         n_est = len(collector.get(qos.ESTIMATE))
         est_arrivals = np.array(collector.arrivals[qos.ESTIMATE][:n_est])
         est_stamps = np.array([stamp_s(m) for m in collector.get(qos.ESTIMATE)])
-        made_at = [est_stamps[np.searchsorted(est_arrivals, a) - 1] - release_stamp
-                   for a in collector.arrivals[qos.LANDING][:len(landings)]]
+        made_at = [
+            est_stamps[np.searchsorted(est_arrivals, a) - 1] - release_stamp
+            for a in collector.arrivals[qos.LANDING][: len(landings)]
+        ]
         t_land = release_stamp + t_flight
 
         def error(m):
@@ -117,11 +173,11 @@ def test_prediction_converges_to_the_simulators_landing(start_node, collector):
         path = collector.get(qos.PREDICTED_PATH)[-1]
         assert path.poses and path.poses[-1].pose.position.z == 0.0
         assert_all_finite(collector)
-    assert tracker.log().count("new throw") == 2, tracker.log()
-    assert "Traceback" not in tracker.log()
+    assert tracker.log().count('new throw') == 2, tracker.log()
+    assert 'Traceback' not in tracker.log()
 
 
-def point(stamp_s_, xyz, frame="field"):
+def point(stamp_s_, xyz, frame='field'):
     msg = PointStamped()
     msg.header.frame_id = frame
     sec = int(math.floor(stamp_s_))
@@ -131,29 +187,31 @@ def point(stamp_s_, xyz, frame="field"):
 
 
 def test_hostile_fixes_never_crash_or_poison_the_tracker(start_node, collector):
-    tracker = start_node("tracker")
+    tracker = start_node('tracker')
     subscribe_outputs(collector)
     pub = collector.publisher(PointStamped, qos.OBSERVATION, qos.STATE)
     collector.wait_for_subscribers(pub)
-    release = Release(model="full", position=(0.0, 0.0, 1.8))
+    release = Release(model='full', position=(0.0, 0.0, 1.8))
     truth = Flight.from_release(release).simulate(rate=60.0)
     rng = np.random.default_rng(3)
     base = time.time() - 5.0  # a throw captured in the recent past (not "from the future")
-    nan, inf = float("nan"), float("inf")
+    nan, inf = float('nan'), float('inf')
     sent = 0
     for k, (t, p) in enumerate(zip(truth.times[:-1], truth.positions[:-1])):
         fix = p + rng.normal(0.0, 0.02, 3)
         pub.publish(point(base + t, fix))
         sent += 1
         if k % 7 == 3:  # hostile fixes between the good ones
-            for bad in (point(base + t + 0.001, (nan, 0.0, 1.0)),
-                        point(base + t + 0.002, (1.0, inf, 1.0)),
-                        point(base + t + 0.003, (1e30, -1e30, 1e30)),
-                        point(base + t + 0.004, p + np.array([40.0, -30.0, 20.0])),
-                        point(1.0, p),                       # far in the past
-                        point(base + 1e6, p),                # far in the future
-                        point(base + t + 0.005, p, "camera"),  # wrong frame
-                        point(base + t, fix)):               # duplicate stamp
+            for bad in (
+                point(base + t + 0.001, (nan, 0.0, 1.0)),
+                point(base + t + 0.002, (1.0, inf, 1.0)),
+                point(base + t + 0.003, (1e30, -1e30, 1e30)),
+                point(base + t + 0.004, p + np.array([40.0, -30.0, 20.0])),
+                point(1.0, p),  # far in the past
+                point(base + 1e6, p),  # far in the future
+                point(base + t + 0.005, p, 'camera'),  # wrong frame
+                point(base + t, fix),
+            ):  # duplicate stamp
                 pub.publish(bad)
         if k % 11 == 5 and k > 20:  # a late but valid fix, 25 ms older than the newest
             pub.publish(point(base + t - 0.025, truth.positions[k - 1] + rng.normal(0.0, 0.02, 3)))
@@ -162,10 +220,10 @@ def test_hostile_fixes_never_crash_or_poison_the_tracker(start_node, collector):
     time.sleep(2.0)
     assert len(collector.get(qos.LANDING)) > 5, tracker.log()
     assert tracker.proc.poll() is None, tracker.log()
-    assert "Traceback" not in tracker.log() and "internal error" not in tracker.log()
-    assert "fix refused" in tracker.log()
+    assert 'Traceback' not in tracker.log() and 'internal error' not in tracker.log()
+    assert 'fix refused' in tracker.log()
     assert_all_finite(collector)
     final = collector.get(qos.LANDING)[-1].pose.pose.position
     x_land, y_land = truth.positions[-1, :2]
     assert math.hypot(final.x - x_land, final.y - y_land) < 0.15
-    assert tracker.log().count("new throw") == 1  # the outliers never started a throw
+    assert tracker.log().count('new throw') == 1  # the outliers never started a throw

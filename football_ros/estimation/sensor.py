@@ -1,4 +1,19 @@
-"""A simulated camera: what a ball detector would report, seeded so that runs repeat.
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+A simulated camera: what a ball detector would report, seeded so that runs repeat.
 
 Captures the ball's position at ``rate`` [Hz] (capture times k / rate after the release),
 adds Gaussian noise (``noise`` [m], 1 sigma per axis), drops a capture with probability
@@ -11,8 +26,8 @@ positions are (3,) [m] in ``field``.
 from __future__ import annotations
 
 import collections
-import math
 from dataclasses import dataclass
+import math
 from typing import Callable
 
 import numpy as np
@@ -20,14 +35,24 @@ import numpy as np
 QUEUE_DEPTH = 256
 """Observations waiting for their delivery time at most (oldest dropped beyond)."""
 
-LIMITS = {"rate": (0.0, 1000.0), "noise": (0.0, 10.0), "latency": (0.0, 5.0),
-          "dropout": (0.0, 1.0), "outlier_rate": (0.0, 1.0), "outlier_size": (0.0, 1000.0)}
+LIMITS = {
+    'rate': (0.0, 1000.0),
+    'noise': (0.0, 10.0),
+    'latency': (0.0, 5.0),
+    'dropout': (0.0, 1.0),
+    'outlier_rate': (0.0, 1.0),
+    'outlier_size': (0.0, 1000.0),
+}
 
 
 @dataclass(frozen=True)
 class CameraSettings:
-    """rate [Hz] (0 = off), noise [m], latency [s], dropout and outlier_rate [probability per
-    capture], outlier_size [m], seed (int). Validated against :data:`LIMITS`."""
+    """
+    Camera settings, validated against :data:`LIMITS`.
+
+    rate [Hz] (0 = off), noise [m], latency [s], dropout and outlier_rate [probability per
+    capture], outlier_size [m], seed (int). Validated against :data:`LIMITS`.
+    """
 
     rate: float = 0.0
     noise: float = 0.02
@@ -40,18 +65,27 @@ class CameraSettings:
     def __post_init__(self) -> None:
         for name, (lo, hi) in LIMITS.items():
             value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, float)) \
-                    or not math.isfinite(value) or not lo <= value <= hi:
-                raise ValueError(f"camera '{name}' must be a number in [{lo:g}, {hi:g}], "
-                                 f"got {value!r}")
+            if (
+                isinstance(value, bool)
+                or not isinstance(value, (int, float))
+                or not math.isfinite(value)
+                or not lo <= value <= hi
+            ):
+                raise ValueError(
+                    f"camera '{name}' must be a number in [{lo:g}, {hi:g}], got {value!r}"
+                )
         if isinstance(self.seed, bool) or not isinstance(self.seed, int):
             raise ValueError(f"camera 'seed' must be an integer, got {self.seed!r}")
 
 
 @dataclass(frozen=True)
 class Observation:
-    """One detection: capture time ``stamp`` [s], ``position`` (3,) [m] in ``field``, the
-    time it is delivered [s] (``stamp`` + latency) and whether it is an injected outlier."""
+    """
+    One detection.
+
+    Capture time ``stamp`` [s], ``position`` (3,) [m] in ``field``, the time it is delivered
+    [s] (``stamp`` + latency) and whether it is an injected outlier.
+    """
 
     stamp: float
     position: np.ndarray
@@ -69,14 +103,20 @@ class Camera:
         self.restart(0.0)
 
     def restart(self, release_time: float) -> None:
-        """A new flight released at ``release_time`` [s]: captures at release_time + k / rate.
-        Observations still waiting are kept (they were captured)."""
+        """
+        Start a new flight released at ``release_time`` [s]: captures at release_time + k / rate.
+
+        Observations still waiting are kept (they were captured).
+        """
         self._release = float(release_time)
         self._next_k = 0
 
     def capture(self, stamp: float, position: np.ndarray) -> Observation | None:
-        """The detection of the ball at ``position`` [m] captured at ``stamp`` [s] (None when
-        dropped)."""
+        """
+        Return the detection of the ball at ``position`` [m] captured at ``stamp`` [s].
+
+        None when dropped.
+        """
         s = self.settings
         draws = self._rng.random(2)
         noise = self._rng.normal(0.0, s.noise, 3)
@@ -90,9 +130,12 @@ class Camera:
         return Observation(stamp, measured, stamp + s.latency, outlier)
 
     def step(self, now: float, position_at: Callable[[float], np.ndarray]) -> list[Observation]:
-        """Capture every frame due up to ``now`` [s] (``position_at(t)`` gives the ball at
-        capture time t, called with non-decreasing t) and return the observations whose
-        delivery time has come, oldest first."""
+        """
+        Capture every frame due up to ``now`` [s] and return the observations now delivered.
+
+        ``position_at(t)`` gives the ball at capture time t, called with non-decreasing t.
+        The observations returned are those whose delivery time has come, oldest first.
+        """
         rate = self.settings.rate
         if rate > 0.0:
             while True:

@@ -1,4 +1,19 @@
-"""Track a thrown ball from noisy position fixes and predict where and when it lands.
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Track a thrown ball from noisy position fixes and predict where and when it lands.
 
 Filter: an unscented Kalman filter (scaled sigma points x +/- alpha sqrt(n) L_i, alpha =
 ``spread``, beta = 2). Why not an EKF: the motion model is the package's compiled full model
@@ -65,11 +80,11 @@ from __future__ import annotations
 
 import bisect
 import collections
-import math
 from dataclasses import dataclass, field
+import math
 
-import numpy as np
 from numba import njit
+import numpy as np
 
 from ..physics import dynamics as dyn
 from ..physics.aero import AeroModel, resolve
@@ -90,8 +105,9 @@ def _deriv(y, p, out):
     sx, sy, sz = y[6] / ns, y[7] / ns, y[8] / ns
     hx, hy, hz = y[9], y[10], y[11]
     h1 = hx * sx + hy * sy + hz * sz
-    ax, ay, az, dhx, dhy, dhz, _dh1 = dyn.loads((y[3], y[4], y[5]), (sx, sy, sz),
-                                               (hx, hy, hz), h1, p)
+    ax, ay, az, dhx, dhy, dhz, _dh1 = dyn.loads(
+        (y[3], y[4], y[5]), (sx, sy, sz), (hx, hy, hz), h1, p
+    )
     out[0], out[1], out[2] = y[3], y[4], y[5]
     out[3], out[4], out[5] = ax, ay, az
     out[6], out[7], out[8] = hy * sz - hz * sy, hz * sx - hx * sz, hx * sy - hy * sx
@@ -135,8 +151,13 @@ def propagate_points(points, dt, params, step):
     n = max(1, int(math.ceil(dt / step - 1e-9)))
     h = dt / n
     y = np.empty(N_DYN)
-    k1, k2, k3, k4, tmp = (np.empty(N_DYN), np.empty(N_DYN), np.empty(N_DYN), np.empty(N_DYN),
-                           np.empty(N_DYN))
+    k1, k2, k3, k4, tmp = (
+        np.empty(N_DYN),
+        np.empty(N_DYN),
+        np.empty(N_DYN),
+        np.empty(N_DYN),
+        np.empty(N_DYN),
+    )
     for i in range(points.shape[0]):
         p = _scaled(params, points[i, X_KD], points[i, X_KL])
         for j in range(N_DYN):
@@ -164,14 +185,23 @@ def _ground_time(y, dt, p, ground, k1, k2, k3, k4, tmp):
 
 @njit(cache=True)
 def land_points(points, params, step, ground, horizon):
-    """Landing of each row of ``points`` (m, N_X): (m, 4) rows of time from now [s], x, y [m]
-    and 1.0 if it lands within ``horizon`` [s] (else NaN, NaN, NaN, 0.0)."""
+    """
+    Landing of each row of ``points`` (m, N_X).
+
+    (m, 4) rows of time from now [s], x, y [m] and 1.0 if it lands within ``horizon`` [s] (else
+    NaN, NaN, NaN, 0.0).
+    """
     out = np.full((points.shape[0], 4), np.nan)
     out[:, 3] = 0.0
     y = np.empty(N_DYN)
     nxt = np.empty(N_DYN)
-    k1, k2, k3, k4, tmp = (np.empty(N_DYN), np.empty(N_DYN), np.empty(N_DYN), np.empty(N_DYN),
-                           np.empty(N_DYN))
+    k1, k2, k3, k4, tmp = (
+        np.empty(N_DYN),
+        np.empty(N_DYN),
+        np.empty(N_DYN),
+        np.empty(N_DYN),
+        np.empty(N_DYN),
+    )
     n_max = int(math.ceil(horizon / step))
     for i in range(points.shape[0]):
         p = _scaled(params, points[i, X_KD], points[i, X_KL])
@@ -194,16 +224,25 @@ def land_points(points, params, step, ground, horizon):
 
 @njit(cache=True)
 def path_of(x, params, sample_dt, step, ground, horizon):
-    """Positions (m, 3) [m] of the state ``x`` every ``sample_dt`` [s] from now until the
-    ground (the last row is on it) or ``horizon`` [s]; times (m,) [s] from now."""
+    """
+    Return positions (m, 3) [m] and times (m,) [s] from now of the state ``x``'s path.
+
+    Positions every ``sample_dt`` [s] from now until the ground (the last row is on it) or
+    ``horizon`` [s]; times (m,) [s] from now.
+    """
     n_max = int(math.ceil(horizon / sample_dt)) + 1
     times = np.empty(n_max)
     pos = np.empty((n_max, 3))
     p = _scaled(params, x[X_KD], x[X_KL])
     y = x[:N_DYN].copy()
     nxt = np.empty(N_DYN)
-    k1, k2, k3, k4, tmp = (np.empty(N_DYN), np.empty(N_DYN), np.empty(N_DYN), np.empty(N_DYN),
-                           np.empty(N_DYN))
+    k1, k2, k3, k4, tmp = (
+        np.empty(N_DYN),
+        np.empty(N_DYN),
+        np.empty(N_DYN),
+        np.empty(N_DYN),
+        np.empty(N_DYN),
+    )
     times[0] = 0.0
     pos[0] = y[:3]
     sub = max(1, int(math.ceil(sample_dt / step - 1e-9)))
@@ -218,7 +257,7 @@ def path_of(x, params, sample_dt, step, ground, horizon):
                 times[k] = t + tau
                 pos[k] = nxt[:3]
                 pos[k, 2] = ground
-                return times[:k + 1], pos[:k + 1]
+                return times[: k + 1], pos[: k + 1]
             y[:] = nxt
             t += h
         times[k] = t
@@ -229,7 +268,8 @@ def path_of(x, params, sample_dt, step, ground, horizon):
 # --- settings and results -----------------------------------------------------------------------
 @dataclass(frozen=True)
 class TrackerSettings:
-    """Filter settings (SI).
+    """
+    Filter settings (SI).
 
     ``noise`` [m] 1-sigma per axis of the fixes; ``accel_noise`` [m/s^2/sqrt(Hz)] white
     model-error acceleration; ``axis_noise`` [rad/sqrt(s)] and ``rate_noise``
@@ -271,38 +311,66 @@ class TrackerSettings:
     landing_step: float = 0.01
     horizon: float = 15.0
     ground: float = 0.0
-    ball: str = "american"
+    ball: str = 'american'
     aero: AeroModel | None = None
 
-    LIMITS = {"noise": (1e-4, 10.0), "accel_noise": (0.0, 100.0), "axis_noise": (0.0, 10.0),
-              "rate_noise": (0.0, 100.0), "scale_rate": (0.0, 10.0), "axis_sigma": (1e-4, 1.0),
-              "rate_sigma": (1e-4, 100.0), "spin_sigma": (1e-3, 1.0), "scale_sigma": (1e-3, 2.0),
-              "spread": (0.1, 1.0),
-              "hand_odds": (1.0, 1e300), "gate": (1.0, 1e4), "max_lag": (0.0, 10.0),
-              "max_future": (0.0, 100.0), "max_gap": (0.01, 100.0), "min_points": (3, 100),
-              "init_window": (0.01, 10.0), "min_speed": (0.0, 100.0), "reinit_after": (1, 1000),
-              "step": (1e-4, 0.02), "landing_step": (1e-4, 0.05), "horizon": (0.1, 120.0),
-              "ground": (-100.0, 100.0)}
+    LIMITS = {
+        'noise': (1e-4, 10.0),
+        'accel_noise': (0.0, 100.0),
+        'axis_noise': (0.0, 10.0),
+        'rate_noise': (0.0, 100.0),
+        'scale_rate': (0.0, 10.0),
+        'axis_sigma': (1e-4, 1.0),
+        'rate_sigma': (1e-4, 100.0),
+        'spin_sigma': (1e-3, 1.0),
+        'scale_sigma': (1e-3, 2.0),
+        'spread': (0.1, 1.0),
+        'hand_odds': (1.0, 1e300),
+        'gate': (1.0, 1e4),
+        'max_lag': (0.0, 10.0),
+        'max_future': (0.0, 100.0),
+        'max_gap': (0.01, 100.0),
+        'min_points': (3, 100),
+        'init_window': (0.01, 10.0),
+        'min_speed': (0.0, 100.0),
+        'reinit_after': (1, 1000),
+        'step': (1e-4, 0.02),
+        'landing_step': (1e-4, 0.05),
+        'horizon': (0.1, 120.0),
+        'ground': (-100.0, 100.0),
+    }
 
     def __post_init__(self) -> None:
         for name, (lo, hi) in self.LIMITS.items():
             value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, float)) \
-                    or not math.isfinite(value) or not lo <= value <= hi:
-                raise ValueError(f"tracker '{name}' must be a number in [{lo:g}, {hi:g}], "
-                                 f"got {value!r}")
-        if self.spin_rpm is not None and (isinstance(self.spin_rpm, bool) or not isinstance(
-                self.spin_rpm, (int, float)) or not 10.0 <= abs(self.spin_rpm) <= 3000.0):
-            raise ValueError(f"tracker 'spin_rpm' must be None or |.| in [10, 3000], "
-                             f"got {self.spin_rpm!r}")
+            if (
+                isinstance(value, bool)
+                or not isinstance(value, (int, float))
+                or not math.isfinite(value)
+                or not lo <= value <= hi
+            ):
+                raise ValueError(
+                    f"tracker '{name}' must be a number in [{lo:g}, {hi:g}], got {value!r}"
+                )
+        if self.spin_rpm is not None and (
+            isinstance(self.spin_rpm, bool)
+            or not isinstance(self.spin_rpm, (int, float))
+            or not 10.0 <= abs(self.spin_rpm) <= 3000.0
+        ):
+            raise ValueError(
+                f"tracker 'spin_rpm' must be None or |.| in [10, 3000], got {self.spin_rpm!r}"
+            )
         get_preset(self.ball)  # raises ValueError for an unknown ball
 
 
 @dataclass(frozen=True)
 class LandingPrediction:
-    """Predicted landing on z = ground: ``time`` [s] on the observations' clock and its
-    variance [s^2], ``position`` (3,) [m] (z = ground) and ``covariance`` (2, 2) [m^2] of x, y,
-    made from the estimate at ``made_at`` [s]."""
+    """
+    Predicted landing on z = ground.
+
+    ``time`` [s] on the observations' clock and its variance [s^2], ``position`` (3,) [m] (z =
+    ground) and ``covariance`` (2, 2) [m^2] of x, y, made from the estimate at ``made_at`` [s].
+    """
 
     time: float
     time_variance: float
@@ -313,18 +381,21 @@ class LandingPrediction:
 
 @dataclass(frozen=True)
 class UpdateResult:
-    """What :meth:`FlightTracker.update` did: ``status`` is one of 'accepted', 'started'
-    (a new throw), 'candidate' (kept for a possible new throw), 'outlier', 'late', 'future',
-    'duplicate', 'invalid'; ``reason`` says why for a refusal; ``landed`` is True on the fix
-    that ended the throw."""
+    """
+    What :meth:`FlightTracker.update` did.
+
+    ``status`` is one of 'accepted', 'started' (a new throw), 'candidate' (kept for a possible
+    new throw), 'outlier', 'late', 'future', 'duplicate', 'invalid'; ``reason`` says why for a
+    refusal; ``landed`` is True on the fix that ended the throw.
+    """
 
     status: str
-    reason: str = ""
+    reason: str = ''
     landed: bool = False
 
     @property
     def used(self) -> bool:
-        return self.status in ("accepted", "started")
+        return self.status in ('accepted', 'started')
 
 
 @dataclass
@@ -333,7 +404,7 @@ class _Hypothesis:
     P: np.ndarray
     loglik: float = 0.0
 
-    def copy(self) -> "_Hypothesis":
+    def copy(self) -> '_Hypothesis':
         return _Hypothesis(self.x.copy(), self.P.copy(), self.loglik)
 
 
@@ -341,8 +412,8 @@ class _Hypothesis:
 class _Entry:
     stamp: float
     z: np.ndarray
-    hyps: list      # hypotheses after this fix (accepted or not)
-    t: float        # time of their state
+    hyps: list  # hypotheses after this fix (accepted or not)
+    t: float  # time of their state
     rejected_in_row: int
 
 
@@ -361,7 +432,8 @@ class _Track:
 
 # --- the tracker --------------------------------------------------------------------------------
 class FlightTracker:
-    """Unscented Kalman filter on the full model, with track start/end and landing prediction.
+    """
+    Unscented Kalman filter on the full model, with track start/end and landing prediction.
 
     Feed fixes with :meth:`update` (any order); read :attr:`estimate`, :meth:`predict_landing`
     and :meth:`predict_path`. Every output is finite (or None).
@@ -370,9 +442,9 @@ class FlightTracker:
     def __init__(self, settings: TrackerSettings | None = None) -> None:
         self.settings = s = settings or TrackerSettings()
         preset = get_preset(s.ball)
-        ball, aero = resolve(preset, "full", s.aero)
+        ball, aero = resolve(preset, 'full', s.aero)
         self.ball = ball
-        self.params = dyn.make_params(ball, "linear", aero)
+        self.params = dyn.make_params(ball, 'linear', aero)
         spin = abs(preset.spin_rpm if s.spin_rpm is None else s.spin_rpm) * RPM
         self.nominal_h1 = ball.inertia_ratio * spin  # [rad/s]
         self.track: _Track | None = None
@@ -383,16 +455,23 @@ class FlightTracker:
 
     # --- public API -----------------------------------------------------------------------
     def update(self, stamp: float, position, now: float | None = None) -> UpdateResult:
-        """Process one fix: capture time ``stamp`` [s], ``position`` (3,) [m] in ``field``;
-        ``now`` [s] (optional, same clock) refuses fixes from the future."""
+        """
+        Process one fix.
+
+        Capture time ``stamp`` [s], ``position`` (3,) [m] in ``field``; ``now`` [s]
+        (optional, same clock) refuses fixes from the future.
+        """
         result = self._update(stamp, position, now)
         self.counts[result.status] += 1
         return result
 
     @property
     def estimate(self) -> tuple[float, np.ndarray, np.ndarray] | None:
-        """(time [s], state (N_X,), covariance (N_X, N_X)) of the current throw's most likely
-        hand, or None."""
+        """
+        Return (time [s], state (N_X,), covariance (N_X, N_X)) of the current throw.
+
+        The estimate of the current throw's most likely hand, or None.
+        """
         if self.track is None:
             return None
         best = self.track.best
@@ -403,10 +482,13 @@ class FlightTracker:
         return self.track is not None and self.track.landed
 
     def predict_landing(self) -> LandingPrediction | None:
-        """Landing of the current throw from the sigma points of the estimate (None without a
-        throw or if it does not land within ``horizon``). While both hands are alive the
-        prediction is their mixture, weighted by likelihood. Model error adds
-        accel_noise^2 T^3 / 3 to the x and y variances."""
+        """
+        Predict the landing of the current throw from the sigma points of the estimate.
+
+        None without a throw or if it does not land within ``horizon``. While both hands
+        are alive the prediction is their mixture, weighted by likelihood. Model error adds
+        accel_noise^2 T^3 / 3 to the x and y variances.
+        """
         tr = self.track
         if tr is None:
             return None
@@ -429,24 +511,30 @@ class FlightTracker:
         mean = sum(w * m for w, m in means) / wsum
         cov = sum(w * (c + np.outer(m - mean, m - mean)) for (w, m), c in zip(means, covs)) / wsum
         t_land = float(mean[0])
-        extra = s.accel_noise ** 2 * max(t_land, 0.0) ** 3 / 3.0
+        extra = s.accel_noise**2 * max(t_land, 0.0) ** 3 / 3.0
         cov_xy = cov[1:, 1:] + extra * np.eye(2)
         var_t = float(cov[0, 0])
         position = np.array([mean[1], mean[2], s.ground])
-        if not (np.all(np.isfinite(position)) and np.all(np.isfinite(cov_xy))
-                and math.isfinite(var_t)):
+        if not (
+            np.all(np.isfinite(position)) and np.all(np.isfinite(cov_xy)) and math.isfinite(var_t)
+        ):
             return None
         return LandingPrediction(tr.t + t_land, var_t, position, cov_xy, tr.t)
 
     def predict_path(self, sample_dt: float = 0.05) -> tuple[np.ndarray, np.ndarray] | None:
-        """Remaining path of the mean estimate: times (m,) [s] on the observations' clock and
-        positions (m, 3) [m], every ``sample_dt`` [s] until the ground."""
+        """
+        Remaining path of the mean estimate.
+
+        Times (m,) [s] on the observations' clock and positions (m, 3) [m], every
+        ``sample_dt`` [s] until the ground.
+        """
         tr = self.track
         if tr is None or not (0.001 <= sample_dt <= 10.0):
             return None
         s = self.settings
-        times, pos = path_of(tr.best.x, self.params, sample_dt, s.landing_step, s.ground,
-                             s.horizon)
+        times, pos = path_of(
+            tr.best.x, self.params, sample_dt, s.landing_step, s.ground, s.horizon
+        )
         if not np.all(np.isfinite(pos)):
             return None
         return tr.t + times, pos
@@ -458,17 +546,17 @@ class FlightTracker:
             t = float(stamp)
             z = np.asarray(position, dtype=float).reshape(-1)
         except (TypeError, ValueError):
-            return UpdateResult("invalid", "stamp and position must be numbers")
+            return UpdateResult('invalid', 'stamp and position must be numbers')
         if z.size != 3:
-            return UpdateResult("invalid", f"position must have 3 components, got {z.size}")
+            return UpdateResult('invalid', f'position must have 3 components, got {z.size}')
         if not math.isfinite(t) or not np.all(np.isfinite(z)):
-            return UpdateResult("invalid", "non-finite stamp or position")
+            return UpdateResult('invalid', 'non-finite stamp or position')
         if np.any(np.abs(z) > 1e5) or abs(t) > 1e12:
-            return UpdateResult("invalid", "position beyond 100 km or absurd stamp")
+            return UpdateResult('invalid', 'position beyond 100 km or absurd stamp')
         if now is not None and math.isfinite(now) and t > now + s.max_future:
-            return UpdateResult("future", f"stamp {t - now:.3f} s ahead of now")
+            return UpdateResult('future', f'stamp {t - now:.3f} s ahead of now')
         if t < self._newest - s.max_lag:
-            return UpdateResult("late", f"stamp {self._newest - t:.3f} s behind the newest fix")
+            return UpdateResult('late', f'stamp {self._newest - t:.3f} s behind the newest fix')
         tr = self.track
         if tr is None or tr.landed or abs(t - tr.t) > s.max_gap:
             # No live throw, or a fix far from it in time (the ball lost for a while, or a
@@ -477,7 +565,7 @@ class FlightTracker:
         elif t < tr.t or (tr.history and t < tr.history[-1].stamp):
             result = self._late(tr, t, z)
         elif tr.history and abs(tr.history[-1].stamp - t) < 1e-9:
-            result = UpdateResult("duplicate", "a fix with this stamp was already processed")
+            result = UpdateResult('duplicate', 'a fix with this stamp was already processed')
         else:
             result = self._filter(tr, t, z, record=True)
         if result.used:  # only fixes the filter took move the "newest" (no wild stamp can)
@@ -486,7 +574,7 @@ class FlightTracker:
 
     def _filter(self, tr: _Track, t: float, z: np.ndarray, record: bool) -> UpdateResult:
         s = self.settings
-        R = s.noise ** 2 * np.eye(3)
+        R = s.noise**2 * np.eye(3)
         new_hyps, accepted = [], False
         best = tr.best
         for hyp in tr.hyps:
@@ -505,7 +593,7 @@ class FlightTracker:
                     x = x + K @ nu
                     ikh = np.eye(N_X)
                     ikh[:, :3] -= K
-                    P = ikh @ P @ ikh.T + s.noise ** 2 * K @ K.T
+                    P = ikh @ P @ ikh.T + s.noise**2 * K @ K.T
                     P = 0.5 * (P + P.T)
                     x[X_S:X_S + 3] /= np.linalg.norm(x[X_S:X_S + 3])
                     if np.all(np.isfinite(x)) and np.all(np.isfinite(P)):
@@ -518,17 +606,16 @@ class FlightTracker:
             tr.rejected_in_row = 0
             self._candidates.clear()
             self._prune(tr)
-            result = UpdateResult("accepted")
+            result = UpdateResult('accepted')
         else:
             tr.rejected_in_row += 1
-            result = UpdateResult("outlier", "innovation beyond the Mahalanobis gate")
+            result = UpdateResult('outlier', 'innovation beyond the Mahalanobis gate')
         if record:
-            tr.history.append(_Entry(t, z, [h.copy() for h in tr.hyps], tr.t,
-                                     tr.rejected_in_row))
+            tr.history.append(_Entry(t, z, [h.copy() for h in tr.hyps], tr.t, tr.rejected_in_row))
         if not accepted:
             if record and tr.rejected_in_row >= s.reinit_after:
                 restart = self._candidate(t, z)
-                if restart.status == "started":
+                if restart.status == 'started':
                     return restart
             elif record:
                 self._candidates.append((t, z))
@@ -546,7 +633,7 @@ class FlightTracker:
                 tr.hyps = [tr.best]
 
     def _below_ground_soon(self, tr: _Track) -> bool:
-        """True when the mean reaches the ground within 10 ms (before the next frame)."""
+        """Tell whether the mean reaches the ground within 10 ms (before the next frame)."""
         x = tr.best.x
         if x[5] >= 0.0:
             return False
@@ -559,9 +646,9 @@ class FlightTracker:
         stamps = [e.stamp for e in tr.history]
         j = bisect.bisect_right(stamps, t)
         if j == 0:
-            return UpdateResult("late", "older than the kept history of the throw")
+            return UpdateResult('late', 'older than the kept history of the throw')
         if abs(stamps[j - 1] - t) < 1e-9:
-            return UpdateResult("duplicate", "a fix with this stamp was already processed")
+            return UpdateResult('duplicate', 'a fix with this stamp was already processed')
         later = list(tr.history)[j:]
         base = tr.history[j - 1]
         for _ in range(len(later)):
@@ -582,16 +669,16 @@ class FlightTracker:
         pts, wm, wc = _sigma_points(x, P, s.spread)
         propagate_points(pts, dt, self.params, s.step)
         xm, Pm = _moments(pts, wm, wc)
-        q = s.accel_noise ** 2
+        q = s.accel_noise**2
         for i in range(3):
-            Pm[i, i] += q * dt ** 3 / 3.0
-            Pm[i, 3 + i] += q * dt ** 2 / 2.0
-            Pm[3 + i, i] += q * dt ** 2 / 2.0
+            Pm[i, i] += q * dt**3 / 3.0
+            Pm[i, 3 + i] += q * dt**2 / 2.0
+            Pm[3 + i, i] += q * dt**2 / 2.0
             Pm[3 + i, 3 + i] += q * dt
-            Pm[X_S + i, X_S + i] += s.axis_noise ** 2 * dt
-            Pm[X_H + i, X_H + i] += s.rate_noise ** 2 * dt
-        Pm[X_KD, X_KD] += s.scale_rate ** 2 * dt
-        Pm[X_KL, X_KL] += s.scale_rate ** 2 * dt
+            Pm[X_S + i, X_S + i] += s.axis_noise**2 * dt
+            Pm[X_H + i, X_H + i] += s.rate_noise**2 * dt
+        Pm[X_KD, X_KD] += s.scale_rate**2 * dt
+        Pm[X_KL, X_KL] += s.scale_rate**2 * dt
         xm[X_S:X_S + 3] /= np.linalg.norm(xm[X_S:X_S + 3])
         ok = bool(np.all(np.isfinite(xm)) and np.all(np.isfinite(Pm)))
         return xm, 0.5 * (Pm + Pm.T), ok
@@ -600,11 +687,12 @@ class FlightTracker:
         """Keep the fix; start a throw when the recent ones fit a ballistic arc."""
         s = self.settings
         self._candidates.append((t, z))
-        recent = sorted((c for c in self._candidates if abs(c[0] - t) <= s.init_window),
-                        key=lambda c: c[0])
+        recent = sorted(
+            (c for c in self._candidates if abs(c[0] - t) <= s.init_window), key=lambda c: c[0]
+        )
         self._candidates = collections.deque(recent, maxlen=self._candidates.maxlen)
         if len(recent) < s.min_points:
-            return UpdateResult("candidate", "waiting for enough fixes to start a throw")
+            return UpdateResult('candidate', 'waiting for enough fixes to start a throw')
         times = np.array([c[0] for c in recent])
         zs = np.array([c[1] for c in recent])
         for _ in range(3):  # drop the worst fix at most a few times (outliers among them)
@@ -615,12 +703,12 @@ class FlightTracker:
             worst = int(np.argmax(resid))
             if resid[worst] <= 4.0 * s.noise + 0.01:
                 if np.linalg.norm(x0[3:6]) < s.min_speed:
-                    return UpdateResult("candidate", "the fixes do not move like a throw")
+                    return UpdateResult('candidate', 'the fixes do not move like a throw')
                 return self._start(times[-1], zs[-1], x0, cov, times[-1] - times[0])
             if len(times) - 1 < s.min_points:
                 break
             times, zs = np.delete(times, worst), np.delete(zs, worst, axis=0)
-        return UpdateResult("candidate", "the recent fixes do not fit a ballistic arc yet")
+        return UpdateResult('candidate', 'the recent fixes do not fit a ballistic arc yet')
 
     def _ballistic_fit(self, times, zs):
         """r(t) = r1 + v1 (t - t1) - g/2 (t - t1)^2 z_hat, least squares per axis (t1 = last)."""
@@ -629,15 +717,19 @@ class FlightTracker:
             return None
         A = np.column_stack([np.ones_like(tau), tau])
         target = zs.copy()
-        target[:, 2] += 0.5 * self.params[dyn.P_GRAVITY] * tau ** 2
+        target[:, 2] += 0.5 * self.params[dyn.P_GRAVITY] * tau**2
         coef, *_ = np.linalg.lstsq(A, target, rcond=None)
         resid = np.linalg.norm(A @ coef - target, axis=1)
-        cov2 = np.linalg.inv(A.T @ A) * self.settings.noise ** 2
+        cov2 = np.linalg.inv(A.T @ A) * self.settings.noise**2
         x0 = np.concatenate([coef[0], coef[1]])
         cov = np.zeros((6, 6))
         for i in range(3):
             cov[i, i], cov[i, 3 + i], cov[3 + i, i], cov[3 + i, 3 + i] = (
-                cov2[0, 0], cov2[0, 1], cov2[1, 0], cov2[1, 1])
+                cov2[0, 0],
+                cov2[0, 1],
+                cov2[1, 0],
+                cov2[1, 1],
+            )
         return x0, cov, resid
 
     def _start(self, t, z_last, x0, cov6, t_span=0.0) -> UpdateResult:
@@ -654,11 +746,12 @@ class FlightTracker:
         for i in range(3):
             P[3 + i, 3 + i] += (0.01 * speed) ** 2
             P[i, i] += 1e-4
-        P[X_S:X_S + 3, X_S:X_S + 3] = s.axis_sigma ** 2 * perp + 1e-8 * np.eye(3)
+        P[X_S:X_S + 3, X_S:X_S + 3] = s.axis_sigma**2 * perp + 1e-8 * np.eye(3)
         h1_sigma = s.spin_sigma * self.nominal_h1
-        P[X_H:X_H + 3, X_H:X_H + 3] = (h1_sigma ** 2 * np.outer(axis, axis)
-                                       + s.rate_sigma ** 2 * perp)
-        P[X_KD, X_KD] = P[X_KL, X_KL] = s.scale_sigma ** 2
+        P[X_H:X_H + 3, X_H:X_H + 3] = (
+            h1_sigma**2 * np.outer(axis, axis) + s.rate_sigma**2 * perp
+        )
+        P[X_KD, X_KD] = P[X_KL, X_KL] = s.scale_sigma**2
         hyps = []
         for hand in (1.0, -1.0):
             x = np.zeros(N_X)
@@ -677,16 +770,26 @@ class FlightTracker:
             Ph[X_H:X_H + 3, X_H:X_H + 3] += hand * self.nominal_h1 * c
             hyps.append(_Hypothesis(x, Ph))
         self.track = _Track(hyps, float(t))
-        self.track.history.append(_Entry(float(t), np.asarray(z_last, dtype=float).copy(),
-                                         [h.copy() for h in hyps], float(t), 0))
+        self.track.history.append(
+            _Entry(
+                float(t),
+                np.asarray(z_last, dtype=float).copy(),
+                [h.copy() for h in hyps],
+                float(t),
+                0,
+            )
+        )
         self._candidates.clear()
         self.throws += 1
-        return UpdateResult("started")
+        return UpdateResult('started')
 
 
 def _sigma_points(x: np.ndarray, P: np.ndarray, spread: float):
-    """Scaled unscented points (2n + 1, n) (row 0 the mean, then x +/- spread sqrt(n) columns
-    of chol(P)) and the weights of the mean and the covariance (beta = 2)."""
+    """
+    Return scaled unscented points (2n + 1, n) and the weights of mean and covariance.
+
+    Row 0 is the mean, then x +/- spread sqrt(n) columns of chol(P); weights with beta = 2.
+    """
     n = x.size
     try:
         L = np.linalg.cholesky(P)
@@ -698,10 +801,10 @@ def _sigma_points(x: np.ndarray, P: np.ndarray, spread: float):
     pts[0] = x
     pts[1:n + 1] = x + scale * L.T
     pts[n + 1:] = x - scale * L.T
-    wm = np.full(2 * n + 1, 1.0 / (2.0 * spread ** 2 * n))
-    wm[0] = 1.0 - 1.0 / spread ** 2
+    wm = np.full(2 * n + 1, 1.0 / (2.0 * spread**2 * n))
+    wm[0] = 1.0 - 1.0 / spread**2
     wc = wm.copy()
-    wc[0] += 3.0 - spread ** 2
+    wc[0] += 3.0 - spread**2
     return pts, wm, wc
 
 

@@ -1,5 +1,23 @@
-"""``football-ros echo`` and ``football-ros throw``: topic echo and a one-line pass for machines
-without the ``ros2`` command (pip-installed ROS). Same output style as ``ros2 topic echo``."""
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+``football-ros echo`` and ``football-ros throw``.
+
+Topic echo and a one-line pass for machines without the ``ros2`` command (pip-installed ROS). Same
+output style as ``ros2 topic echo``.
+"""
 
 from __future__ import annotations
 
@@ -11,15 +29,18 @@ from typing import Sequence
 
 import yaml
 
-from ..command_line import HelpFormatter, UsageError, add_release_options, release_from_args
-from ..physics import ReleaseError
 from . import messages as mb
 from .recorder import TOPICS
+from ..command_line import add_release_options, HelpFormatter, release_from_args, UsageError
+from ..physics import ReleaseError
 
 
 def wait_for_answer(rclpy, node, answers: list, request_id: str, deadline: float):
-    """Spin ``node`` until ``answers`` holds the response named ``request_id`` or the monotonic
-    ``deadline`` passes; returns that response or None."""
+    """
+    Spin ``node`` until ``answers`` holds the response named ``request_id``.
+
+    Stops when the monotonic ``deadline`` passes; returns that response or None.
+    """
     while True:
         answer = next((a for a in answers if a.name == request_id), None)
         if answer is not None or time.monotonic() >= deadline:
@@ -41,34 +62,43 @@ def settle_matching(rclpy, node, seconds: float = MATCH_SETTLE_S) -> None:
 
 def _init(node_name: str):
     import rclpy
+
     rclpy.init()
     return rclpy, rclpy.create_node(node_name)
 
 
 def echo(argv: Sequence[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="football-ros echo",
-                                     description="Print messages of a topic as YAML.",
-                                     formatter_class=argparse.ArgumentDefaultsHelpFormatter)
-    parser.add_argument("topic", help=f"one of: {', '.join(TOPICS)} (relative names resolve to /...)")
-    parser.add_argument("--count", type=int, default=0, help="exit after N messages (0 = never)")
-    parser.add_argument("--timeout", type=float, default=0.0,
-                        help="exit after S seconds (0 = never); no message by then: exit code 1")
+    parser = argparse.ArgumentParser(
+        prog='football-ros echo',
+        description='Print messages of a topic as YAML.',
+        formatter_class=argparse.ArgumentDefaultsHelpFormatter,
+    )
+    parser.add_argument(
+        'topic', help=f'one of: {", ".join(TOPICS)} (relative names resolve to /...)'
+    )
+    parser.add_argument('--count', type=int, default=0, help='exit after N messages (0 = never)')
+    parser.add_argument(
+        '--timeout',
+        type=float,
+        default=0.0,
+        help='exit after S seconds (0 = never); no message by then: exit code 1',
+    )
     args = parser.parse_args(argv)
-    topic = args.topic if args.topic in TOPICS else args.topic.lstrip("/")
+    topic = args.topic if args.topic in TOPICS else args.topic.lstrip('/')
     if topic not in TOPICS:
         print(f"football-ros echo: error: unknown topic '{args.topic}'", file=sys.stderr)
         return 2
     msg_type, profile = TOPICS[topic]
-    rclpy, node = _init("football_echo")
+    rclpy, node = _init('football_echo')
     seen = [0]
 
     def show(msg) -> None:
         print(yaml.safe_dump(mb.to_plain(msg), sort_keys=False, width=120).rstrip())
-        print("---", flush=True)
+        print('---', flush=True)
         seen[0] += 1
 
     node.create_subscription(msg_type, topic, show, profile)
-    end = time.monotonic() + args.timeout if args.timeout > 0 else float("inf")
+    end = time.monotonic() + args.timeout if args.timeout > 0 else float('inf')
     publishers = 0
     try:
         while rclpy.ok() and time.monotonic() < end and not (args.count and seen[0] >= args.count):
@@ -80,55 +110,73 @@ def echo(argv: Sequence[str] | None = None) -> int:
         node.destroy_node()
         rclpy.try_shutdown()
     if args.timeout > 0 and seen[0] == 0:
-        name = topic if topic.startswith("/") else f"/{topic}"
-        why = ("no publisher" if publishers == 0
-               else f"no message from {publishers} publisher(s)")
-        print(f"football-ros echo: error: {why} on {name} within {args.timeout:g} s",
-              file=sys.stderr)
+        name = topic if topic.startswith('/') else f'/{topic}'
+        why = 'no publisher' if publishers == 0 else f'no message from {publishers} publisher(s)'
+        print(
+            f'football-ros echo: error: {why} on {name} within {args.timeout:g} s', file=sys.stderr
+        )
         return 1
     if args.count and seen[0] < args.count:
-        print(f"football-ros echo: error: {seen[0]} of {args.count} messages within "
-              f"{args.timeout:g} s", file=sys.stderr)
+        print(
+            f'football-ros echo: error: {seen[0]} of {args.count} messages within '
+            f'{args.timeout:g} s',
+            file=sys.stderr,
+        )
         return 1
     return 0
 
 
 def throw(argv: Sequence[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="football-ros throw", formatter_class=HelpFormatter,
-                                     description="send one release request and print the answer")
+    parser = argparse.ArgumentParser(
+        prog='football-ros throw',
+        formatter_class=HelpFormatter,
+        description='send one release request and print the answer',
+    )
     add_release_options(parser)
-    parser.add_argument("--id", default=f"throw-{int(time.time())}", help="correlation id")
-    parser.add_argument("--timeout", type=float, default=10.0, help="seconds to wait for the answer")
+    parser.add_argument('--id', default=f'throw-{int(time.time())}', help='correlation id')
+    parser.add_argument(
+        '--timeout', type=float, default=10.0, help='seconds to wait for the answer'
+    )
     try:
         args = parser.parse_args(argv)
         request = dict(release_from_args(args).to_mapping(), id=args.id)
     except (UsageError, ReleaseError) as exc:
-        print(f"football-ros throw: error: {exc}", file=sys.stderr)
+        print(f'football-ros throw: error: {exc}', file=sys.stderr)
         return 2
     from diagnostic_msgs.msg import DiagnosticStatus
     from std_msgs.msg import String
 
     from . import qos
-    rclpy, node = _init("football_throw")
+
+    rclpy, node = _init('football_throw')
     answers = []
-    responses = node.create_subscription(DiagnosticStatus, qos.RELEASE_RESPONSE, answers.append, qos.REQUEST)
+    responses = node.create_subscription(
+        DiagnosticStatus, qos.RELEASE_RESPONSE, answers.append, qos.REQUEST
+    )
     pub = node.create_publisher(String, qos.RELEASE_REQUEST, qos.REQUEST)
     end = time.monotonic() + args.timeout
     try:
-        while time.monotonic() < end and (pub.get_subscription_count() == 0 or responses.get_publisher_count() == 0):
+        while time.monotonic() < end and (
+            pub.get_subscription_count() == 0 or responses.get_publisher_count() == 0
+        ):
             rclpy.spin_once(node, timeout_sec=0.05)
         if pub.get_subscription_count() == 0 or responses.get_publisher_count() == 0:
-            print("football-ros throw: error: no release node is listening on "
-                  f"{node.resolve_topic_name(qos.RELEASE_REQUEST)}", file=sys.stderr)
+            print(
+                'football-ros throw: error: no release node is listening on '
+                f'{node.resolve_topic_name(qos.RELEASE_REQUEST)}',
+                file=sys.stderr,
+            )
             return 1
         settle_matching(rclpy, node)
         pub.publish(String(data=json.dumps(request)))
         answer = wait_for_answer(rclpy, node, answers, args.id, end)
         if answer is None:
-            print(f"football-ros throw: error: no answer within {args.timeout:g} s", file=sys.stderr)
+            print(
+                f'football-ros throw: error: no answer within {args.timeout:g} s', file=sys.stderr
+            )
             return 1
         print(yaml.safe_dump(mb.to_plain(answer), sort_keys=False, width=120).rstrip())
-        return 0 if mb.level_of(answer) != "ERROR" else 1
+        return 0 if mb.level_of(answer) != 'ERROR' else 1
     finally:
         node.destroy_node()
         rclpy.try_shutdown()

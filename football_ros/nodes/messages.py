@@ -1,4 +1,19 @@
-"""Message building: the one place where physics samples become ROS messages.
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Message building: the one place where physics samples become ROS messages.
 
 Frames: header.frame_id is the world frame (``field`` by default); Odometry.child_frame_id is
 the body frame (``football``). The aero angles are not a vector: their header.frame_id is empty
@@ -7,15 +22,14 @@ the body frame (``football``). The aero angles are not a vector: their header.fr
 
 from __future__ import annotations
 
+import math
 from typing import Iterable, Mapping, Sequence
 
-import math
-
-import numpy as np
 from builtin_interfaces.msg import Time
 from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
 from geometry_msgs.msg import Point, PoseStamped, Quaternion, Vector3, Vector3Stamped
 from nav_msgs.msg import Odometry
+import numpy as np
 from std_msgs.msg import ColorRGBA, Header
 from visualization_msgs.msg import Marker, MarkerArray
 
@@ -27,14 +41,18 @@ try:  # the real tf2_msgs on a Jazzy install; pip_ros/tf2_msgs built by setup.sh
 except ImportError:  # pragma: no cover - no TF without tf2_msgs
     TFMessage = None
 
-ANGLES_FRAME = ""
+ANGLES_FRAME = ''
 """header.frame_id of football/aero_angles(_linear): angles are no vector of any frame, and
 tf2 refuses an empty frame id ("frame_ids cannot be empty") instead of rotating them."""
 MAX_TRAIL_POINTS = 1000
 """Most points one trail marker carries; a longer trail is decimated (msg_docs/markers.md)."""
 
-LEVELS = {"OK": DiagnosticStatus.OK, "WARN": DiagnosticStatus.WARN, "ERROR": DiagnosticStatus.ERROR,
-          "STALE": DiagnosticStatus.STALE}
+LEVELS = {
+    'OK': DiagnosticStatus.OK,
+    'WARN': DiagnosticStatus.WARN,
+    'ERROR': DiagnosticStatus.ERROR,
+    'STALE': DiagnosticStatus.STALE,
+}
 
 
 def time_msg(nanoseconds: int) -> Time:
@@ -68,8 +86,12 @@ def pose_stamped(sample: BallSample, stamp: Time, frame_id: str) -> PoseStamped:
 
 
 def odometry(sample: BallSample, stamp: Time, frame_id: str, child_frame_id: str) -> Odometry:
-    """Pose in ``frame_id``; twist (linear and angular velocity) in the body frame
-    ``child_frame_id``, as nav_msgs/Odometry specifies. Covariances are zero (exact model)."""
+    """
+    Pose in ``frame_id``.
+
+    Twist (linear and angular velocity) in the body frame ``child_frame_id``, as
+    nav_msgs/Odometry specifies. Covariances are zero (exact model).
+    """
     msg = Odometry(header=header(stamp, frame_id), child_frame_id=child_frame_id)
     msg.pose.pose.position = _point(sample.position)
     msg.pose.pose.orientation = _quaternion(sample.orientation)
@@ -79,17 +101,28 @@ def odometry(sample: BallSample, stamp: Time, frame_id: str, child_frame_id: str
 
 
 def to_body_frame(q: Sequence[float], v: Sequence[float]) -> tuple[float, float, float]:
-    """Components in the body frame of a world vector ``v`` (R(q)^T v), with plain floats: this
-    runs for every Odometry message, where numpy's per-call overhead would dominate."""
+    """
+    Components in the body frame of a world vector ``v`` (R(q)^T v), with plain floats.
+
+    This runs for every Odometry message, where numpy's per-call overhead would dominate.
+    """
     x, y, z, w = (-float(q[0]), -float(q[1]), -float(q[2]), float(q[3]))  # conjugate
     vx, vy, vz = float(v[0]), float(v[1]), float(v[2])
     tx, ty, tz = 2.0 * (y * vz - z * vy), 2.0 * (z * vx - x * vz), 2.0 * (x * vy - y * vx)
-    return (vx + w * tx + y * tz - z * ty, vy + w * ty + z * tx - x * tz, vz + w * tz + x * ty - y * tx)
+    return (
+        vx + w * tx + y * tz - z * ty,
+        vy + w * ty + z * tx - x * tz,
+        vz + w * tz + x * ty - y * tx,
+    )
 
 
 def tf_message(sample: BallSample, stamp: Time, frame_id: str, child_frame_id: str):
-    """tf2_msgs/TFMessage with one transform: the body frame ``child_frame_id`` in the world
-    frame ``frame_id`` (translation = ball centre [m], rotation = orientation, as the pose)."""
+    """
+    tf2_msgs/TFMessage with one transform.
+
+    The body frame ``child_frame_id`` in the world frame ``frame_id`` (translation = ball
+    centre [m], rotation = orientation, as the pose).
+    """
     transform = TransformStamped(header=header(stamp, frame_id), child_frame_id=child_frame_id)
     transform.transform.translation = _vector(sample.position)
     transform.transform.rotation = _quaternion(sample.orientation)
@@ -101,11 +134,11 @@ def vector3_stamped(vec: Sequence[float], stamp: Time, frame_id: str) -> Vector3
 
 
 def key_values(values: Mapping[str, object]) -> list[KeyValue]:
-    """KeyValue list; floats with full precision (repr), bools as 'true'/'false'."""
+    """Build a KeyValue list; floats with full precision (repr), bools as 'true'/'false'."""
     out = []
     for key, value in values.items():
         if isinstance(value, bool):
-            text = "true" if value else "false"
+            text = 'true' if value else 'false'
         elif isinstance(value, float):
             text = repr(value)
         else:
@@ -114,10 +147,20 @@ def key_values(values: Mapping[str, object]) -> list[KeyValue]:
     return out
 
 
-def diagnostic_status(name: str, level: str, message: str, values: Mapping[str, object],
-                      hardware_id: str = "football_ros") -> DiagnosticStatus:
-    return DiagnosticStatus(level=LEVELS[level], name=name, message=message, hardware_id=hardware_id,
-                            values=key_values(values))
+def diagnostic_status(
+    name: str,
+    level: str,
+    message: str,
+    values: Mapping[str, object],
+    hardware_id: str = 'football_ros',
+) -> DiagnosticStatus:
+    return DiagnosticStatus(
+        level=LEVELS[level],
+        name=name,
+        message=message,
+        hardware_id=hardware_id,
+        values=key_values(values),
+    )
 
 
 def level_of(status: DiagnosticStatus) -> str:
@@ -131,10 +174,21 @@ def _color(r: float, g: float, b: float, a: float = 1.0) -> ColorRGBA:
     return ColorRGBA(r=r, g=g, b=b, a=a)
 
 
-def markers(sample: BallSample, trail: Iterable[Point], stamp: Time, frame_id: str,
-            ball_length: float, ball_diameter: float, namespace: str = "football") -> MarkerArray:
-    """RViz markers: ball (ellipsoid), spin-axis arrow (red), velocity arrow (green, 0.1 s of
-    flight long), trail (line strip of the given past positions, geometry_msgs/Point)."""
+def markers(
+    sample: BallSample,
+    trail: Iterable[Point],
+    stamp: Time,
+    frame_id: str,
+    ball_length: float,
+    ball_diameter: float,
+    namespace: str = 'football',
+) -> MarkerArray:
+    """
+    Build the RViz markers.
+
+    Ball (ellipsoid), spin-axis arrow (red), velocity arrow (green, 0.1 s of flight long),
+    trail (line strip of the given past positions, geometry_msgs/Point).
+    """
     hdr = header(stamp, frame_id)
     ball = Marker(header=hdr, ns=namespace, id=0, type=Marker.SPHERE, action=Marker.ADD)
     ball.pose.position = _point(sample.position)
@@ -164,7 +218,8 @@ def point(v: Sequence[float]) -> Point:
 
 
 def decimated(points: Sequence[Point], first_index: int, limit: int = MAX_TRAIL_POINTS) -> list:
-    """At most ``limit`` of ``points`` (oldest first), the newest always included.
+    """
+    At most ``limit`` of ``points`` (oldest first), the newest always included.
 
     ``first_index`` is the running index of ``points[0]``; points are kept by their running
     index (every k-th), so a growing trail keeps the same points from one message to the next.
@@ -180,8 +235,12 @@ def decimated(points: Sequence[Point], first_index: int, limit: int = MAX_TRAIL_
 
 
 class StateMessages:
-    """The state messages of a tick, built once and refilled in place (fewer allocations per
-    tick in the pacing thread; rclpy copies a message when it is published)."""
+    """
+    The state messages of a tick, built once and refilled in place.
+
+    Fewer allocations per tick in the pacing thread; rclpy copies a message when it is
+    published.
+    """
 
     def __init__(self) -> None:
         self.pose = PoseStamped()
@@ -191,9 +250,16 @@ class StateMessages:
         self.aero_angles_linear = Vector3Stamped()
         self.aero_angles_quasi_steady = Vector3Stamped()
 
-    def fill(self, sample: BallSample, stamp: Time, frame_id: str, child_frame_id: str,
-             at_rest: bool = False) -> None:
-        """Set every field from ``sample`` (stamp shared by the five messages).
+    def fill(
+        self,
+        sample: BallSample,
+        stamp: Time,
+        frame_id: str,
+        child_frame_id: str,
+        at_rest: bool = False,
+    ) -> None:
+        """
+        Set every field from ``sample`` (stamp shared by the five messages).
 
         pose and odom pose in ``frame_id``; odom twist in the body frame, zero when ``at_rest``
         (the landed state held after the landing: the ball lies on the ground); spin axis in
@@ -219,8 +285,10 @@ class StateMessages:
         twist.angular.x, twist.angular.y, twist.angular.z = wx, wy, wz
         _fill_vector(self.spin_axis, stamp, frame_id, sample.axis.tolist())
         _fill_vector(self.aero_angles, stamp, ANGLES_FRAME, sample.aero_angles.tolist())
-        for msg, angles in ((self.aero_angles_linear, sample.aero_angles_linear),
-                            (self.aero_angles_quasi_steady, sample.aero_angles_quasi_steady)):
+        for msg, angles in (
+            (self.aero_angles_linear, sample.aero_angles_linear),
+            (self.aero_angles_quasi_steady, sample.aero_angles_quasi_steady),
+        ):
             alpha, beta = angles.tolist()
             delta = math.acos(max(-1.0, min(1.0, math.cos(alpha) * math.cos(beta))))
             _fill_vector(msg, stamp, ANGLES_FRAME, (alpha, beta, delta))
@@ -233,17 +301,17 @@ def _fill_vector(msg: Vector3Stamped, stamp: Time, frame_id: str, v: Sequence[fl
 
 
 def vector_of(msg_vector) -> np.ndarray:
-    """numpy (3,) from a geometry_msgs Vector3/Point."""
+    """Numpy (3,) from a geometry_msgs Vector3/Point."""
     return np.array([msg_vector.x, msg_vector.y, msg_vector.z])
 
 
 def to_plain(msg):
-    """A message as plain data (dicts, lists, numbers, strings) for printing as YAML/JSON."""
-    if hasattr(msg, "get_fields_and_field_types"):
+    """Return a message as plain data (dicts, lists, numbers, strings), to print as YAML/JSON."""
+    if hasattr(msg, 'get_fields_and_field_types'):
         return {name: to_plain(getattr(msg, name)) for name in msg.get_fields_and_field_types()}
     if isinstance(msg, (bytes, bytearray)):
         return list(msg) if len(msg) != 1 else msg[0]
-    if hasattr(msg, "tolist"):  # numpy arrays and scalars, array.array
+    if hasattr(msg, 'tolist'):  # numpy arrays and scalars, array.array
         return msg.tolist()
     if isinstance(msg, (list, tuple)):
         return [to_plain(v) for v in msg]

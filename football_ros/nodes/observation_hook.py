@@ -1,4 +1,19 @@
-"""The simulator's simulated camera: parameters ``observation_*`` and ``football/observation``.
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The simulator's simulated camera: parameters ``observation_*`` and ``football/observation``.
 
 A thin adapter around :class:`football_ros.estimation.Camera` (the sensor model lives there).
 The simulator's pacing thread calls :meth:`ObservationHook.tick` once per tick, before it
@@ -13,23 +28,39 @@ from __future__ import annotations
 
 from geometry_msgs.msg import Point, PointStamped
 
-from ..estimation.sensor import LIMITS, Camera, CameraSettings
 from . import messages as mb
 from . import qos
 from .params import declare
+from ..estimation.sensor import Camera, CameraSettings, LIMITS
 
 PARAMETERS = (  # name, default, description, range
-    ("observation_rate", 0.0, "Simulated camera frames per second of flight time [Hz], 0 = off",
-     LIMITS["rate"]),
-    ("observation_noise", 0.02, "Camera position noise, 1 sigma per axis [m]", LIMITS["noise"]),
-    ("observation_latency", 0.02, "Delay from capture to publication [s]", LIMITS["latency"]),
-    ("observation_dropout", 0.0, "Probability that a frame is lost", LIMITS["dropout"]),
-    ("observation_outlier_rate", 0.0, "Probability that a frame is an outlier",
-     LIMITS["outlier_rate"]),
-    ("observation_outlier_size", 2.0, "Distance of an outlier from the ball [m]",
-     LIMITS["outlier_size"]),
-    ("observation_seed", 0, "Seed of the camera's noise (each flight restarts it)",
-     (0, 2**31 - 1)),
+    (
+        'observation_rate',
+        0.0,
+        'Simulated camera frames per second of flight time [Hz], 0 = off',
+        LIMITS['rate'],
+    ),
+    ('observation_noise', 0.02, 'Camera position noise, 1 sigma per axis [m]', LIMITS['noise']),
+    ('observation_latency', 0.02, 'Delay from capture to publication [s]', LIMITS['latency']),
+    ('observation_dropout', 0.0, 'Probability that a frame is lost', LIMITS['dropout']),
+    (
+        'observation_outlier_rate',
+        0.0,
+        'Probability that a frame is an outlier',
+        LIMITS['outlier_rate'],
+    ),
+    (
+        'observation_outlier_size',
+        2.0,
+        'Distance of an outlier from the ball [m]',
+        LIMITS['outlier_size'],
+    ),
+    (
+        'observation_seed',
+        0,
+        "Seed of the camera's noise (each flight restarts it)",
+        (0, 2**31 - 1),
+    ),
 )
 
 
@@ -48,17 +79,23 @@ class ObservationHook:
 
     def _settings(self) -> CameraSettings:
         n = self._node
-        return CameraSettings(rate=float(n.observation_rate), noise=float(n.observation_noise),
-                              latency=float(n.observation_latency),
-                              dropout=float(n.observation_dropout),
-                              outlier_rate=float(n.observation_outlier_rate),
-                              outlier_size=float(n.observation_outlier_size),
-                              seed=int(n.observation_seed) + self._flights)
+        return CameraSettings(
+            rate=float(n.observation_rate),
+            noise=float(n.observation_noise),
+            latency=float(n.observation_latency),
+            dropout=float(n.observation_dropout),
+            outlier_rate=float(n.observation_outlier_rate),
+            outlier_size=float(n.observation_outlier_size),
+            seed=int(n.observation_seed) + self._flights,
+        )
 
     def tick(self, run, stamp, now: float) -> None:
-        """Capture and publish what is due at this tick (``run``: the simulator's flight run,
-        ``stamp``: the tick's builtin_interfaces/Time, ``now``: the flight time [s] the tick
-        samples). Call before the tick samples the flight."""
+        """
+        Capture and publish what is due at this tick.
+
+        ``run``: the simulator's flight run, ``stamp``: the tick's builtin_interfaces/Time.
+        Call before the tick samples the flight. Call before the tick samples the flight.
+        """
         node = self._node
         stamp_ns = stamp.sec * 1_000_000_000 + stamp.nanosec
         if node.observation_rate <= 0.0 or run is None:
@@ -69,9 +106,15 @@ class ObservationHook:
         if new_flight:
             self._run = run
             self._flights += 1
-        key = (node.observation_rate, node.observation_noise, node.observation_latency,
-               node.observation_dropout, node.observation_outlier_rate,
-               node.observation_outlier_size, node.observation_seed)
+        key = (
+            node.observation_rate,
+            node.observation_noise,
+            node.observation_latency,
+            node.observation_dropout,
+            node.observation_outlier_rate,
+            node.observation_outlier_size,
+            node.observation_seed,
+        )
         if new_flight or key != self._key:  # a fresh camera (changed parameters: from now on)
             self._key = key
             self._camera = Camera(self._settings())
@@ -80,6 +123,7 @@ class ObservationHook:
         for obs in self._camera.step(now, lambda t: flight.state_at(t)[:3]):
             stamp = stamp_ns - int(round((now - obs.stamp) * scale * 1e9))
             x, y, z = (float(v) for v in obs.position)
-            msg = PointStamped(header=mb.header(mb.time_msg(stamp), node.frame_id),
-                               point=Point(x=x, y=y, z=z))
+            msg = PointStamped(
+                header=mb.header(mb.time_msg(stamp), node.frame_id), point=Point(x=x, y=y, z=z)
+            )
             self._pub.publish(msg)

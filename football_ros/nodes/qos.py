@@ -1,45 +1,79 @@
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """QoS profiles and topic names: the one place for them (see msg_docs/ for each topic)."""
 
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 # Topic names, relative so that a namespace (--ros-args -r __ns:=/ball2) applies.
-POSE = "football/pose"
-ODOM = "football/odom"
-SPIN_AXIS = "football/spin_axis"
-AERO_ANGLES = "football/aero_angles"
-AERO_ANGLES_LINEAR = "football/aero_angles_linear"
-AERO_ANGLES_QUASI_STEADY = "football/aero_angles_quasi_steady"
-MARKERS = "football/markers"
-DIAGNOSTICS = "/diagnostics"
-CLOCK = "/clock"
-TF = "/tf"  # absolute, as tf2_ros uses it: one TF tree per domain (see msg_docs/tf.md)
-RELEASE_REQUEST = "football/release/request"
-RELEASE_RESPONSE = "football/release/response"
-RELEASE_STATE = "football/release/state"
-FLIGHT_ORDER = "football/flight/order"
-FLIGHT_ACK = "football/flight/ack"
-RESET_SERVICE = "football/reset"
-PAUSE_SERVICE = "football/pause"
-OBSERVATION, ESTIMATE = "football/observation", "football/estimate"  # camera fixes, tracker
-LANDING, PREDICTED_PATH = "football/prediction/landing", "football/prediction/path"  # tracker
+POSE = 'football/pose'
+ODOM = 'football/odom'
+SPIN_AXIS = 'football/spin_axis'
+AERO_ANGLES = 'football/aero_angles'
+AERO_ANGLES_LINEAR = 'football/aero_angles_linear'
+AERO_ANGLES_QUASI_STEADY = 'football/aero_angles_quasi_steady'
+MARKERS = 'football/markers'
+DIAGNOSTICS = '/diagnostics'
+CLOCK = '/clock'
+TF = '/tf'  # absolute, as tf2_ros uses it: one TF tree per domain (see msg_docs/tf.md)
+RELEASE_REQUEST = 'football/release/request'
+RELEASE_RESPONSE = 'football/release/response'
+RELEASE_STATE = 'football/release/state'
+FLIGHT_ORDER = 'football/flight/order'
+FLIGHT_ACK = 'football/flight/ack'
+RESET_SERVICE = 'football/reset'
+PAUSE_SERVICE = 'football/pause'
+OBSERVATION, ESTIMATE = 'football/observation', 'football/estimate'  # camera fixes, tracker
+LANDING, PREDICTED_PATH = 'football/prediction/landing', 'football/prediction/path'  # tracker
 
 # Ball state at up to 1-2 kHz: reliable so a recorder loses nothing; 1000 deep (1 s at 1 kHz)
 # so a subscriber that stalls for a moment (GC, disk) catches up instead of losing samples.
-STATE = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000,
-                   reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
+STATE = QoSProfile(
+    history=HistoryPolicy.KEEP_LAST,
+    depth=1000,
+    reliability=ReliabilityPolicy.RELIABLE,
+    durability=DurabilityPolicy.VOLATILE,
+)
 # RViz markers and /diagnostics: reliable, shallow.
-MARKERS_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
-                         reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
+MARKERS_QOS = QoSProfile(
+    history=HistoryPolicy.KEEP_LAST,
+    depth=10,
+    reliability=ReliabilityPolicy.RELIABLE,
+    durability=DurabilityPolicy.VOLATILE,
+)
 DIAGNOSTICS_QOS = MARKERS_QOS
 # /clock as rclcpp::ClockQoS: best effort, latest only.
-CLOCK_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
-                       reliability=ReliabilityPolicy.BEST_EFFORT, durability=DurabilityPolicy.VOLATILE)
+CLOCK_QOS = QoSProfile(
+    history=HistoryPolicy.KEEP_LAST,
+    depth=1,
+    reliability=ReliabilityPolicy.BEST_EFFORT,
+    durability=DurabilityPolicy.VOLATILE,
+)
 # /tf as tf2_ros's DynamicBroadcasterQoS / DynamicListenerQoS: reliable, volatile, 100 deep.
-TF_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
-                    reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
+TF_QOS = QoSProfile(
+    history=HistoryPolicy.KEEP_LAST,
+    depth=100,
+    reliability=ReliabilityPolicy.RELIABLE,
+    durability=DurabilityPolicy.VOLATILE,
+)
 # Requests and responses: reliable and deep, so a burst of requests is answered one by one.
-REQUEST = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000,
-                     reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
+REQUEST = QoSProfile(
+    history=HistoryPolicy.KEEP_LAST,
+    depth=1000,
+    reliability=ReliabilityPolicy.RELIABLE,
+    durability=DurabilityPolicy.VOLATILE,
+)
 # Flight orders (release node -> simulator) and their acknowledgements (simulator -> release
 # node): reliable, volatile (a simulator that is not there when a release is accepted must not
 # fly it later), as deep as the requests so that a burst is not cut short in transit.

@@ -1,4 +1,19 @@
-"""Recorder node: the football_ros topics into a rosbag2 bag (mcap or sqlite3), with ``rosbags``.
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Recorder node: the football_ros topics into a rosbag2 bag (mcap or sqlite3), with ``rosbags``.
 
 Messages are taken serialized (CDR, no deserialisation) and written with their receive time
 from the node's clock, as ``ros2 bag record`` does: wall time, or /clock time when the node
@@ -22,17 +37,17 @@ full disk, the recorder keeps an 8 MiB reserve file in the bag folder while reco
 from __future__ import annotations
 
 import argparse
+from collections import defaultdict
 import datetime
+from io import BytesIO
 import os
+from pathlib import Path
 import signal
 import sqlite3
 import struct
 import sys
 import threading
 import time
-from collections import defaultdict
-from io import BytesIO
-from pathlib import Path
 from typing import Sequence
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
@@ -41,12 +56,25 @@ from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import ParameterDescriptor
 from rclpy.node import Node
 from rclpy.qos import QoSProfile
-from rosbags.interfaces import Qos, QosDurability, QosHistory, QosLiveliness, QosReliability, QosTime
+from rosbags.interfaces import (
+    Qos,
+    QosDurability,
+    QosHistory,
+    QosLiveliness,
+    QosReliability,
+    QosTime,
+)
 from rosbags.rosbag2 import StoragePlugin, Writer
 from rosbags.rosbag2.errors import WriterError
-from rosbags.rosbag2.storage_mcap import Channel, McapWriter, PendingChunk, write_channel, write_string
+from rosbags.rosbag2.storage_mcap import (
+    Channel,
+    McapWriter,
+    PendingChunk,
+    write_channel,
+    write_string,
+)
 from rosbags.rosbag2.storage_sqlite3 import Sqlite3Writer
-from rosbags.typesys import Stores, get_typestore
+from rosbags.typesys import get_typestore, Stores
 from rosgraph_msgs.msg import Clock
 from std_msgs.msg import String
 from visualization_msgs.msg import MarkerArray
@@ -60,21 +88,28 @@ try:  # tf2_msgs: the real package on a Jazzy install, a local build on the pip 
 except ImportError:  # pragma: no cover - without tf2_msgs /tf is simply not recordable
     TFMessage = None
 
-NODE_NAME = "football_recorder"
-DIAGNOSTIC_NAME = "football_ros: recorder"
+NODE_NAME = 'football_recorder'
+DIAGNOSTIC_NAME = 'football_ros: recorder'
 BAG_VERSION = 9  # rosbag2 metadata version written by Jazzy
-ROS_DISTRO = "jazzy"
-RESERVE_NAME = ".football_ros_reserve"
+ROS_DISTRO = 'jazzy'
+RESERVE_NAME = '.football_ros_reserve'
 RESERVE_BYTES = 8 << 20  # > one mcap chunk (1 MiB + one message) + summary + metadata.yaml
 SQLITE_COMMIT_S = 1.0  # sqlite3: commit at most this often (a write error loses at most this)
 EXIT_WRITE_ERROR = 1
 
 # topic -> (message class, QoS to subscribe with; matches what the football_ros nodes offer)
 TOPICS = {
-    **{topic: (cls, qos.STATE) for topic, cls in (
-        (qos.POSE, PoseStamped), (qos.ODOM, Odometry), (qos.SPIN_AXIS, Vector3Stamped),
-        (qos.AERO_ANGLES, Vector3Stamped), (qos.AERO_ANGLES_LINEAR, Vector3Stamped),
-        (qos.AERO_ANGLES_QUASI_STEADY, Vector3Stamped))},
+    **{
+        topic: (cls, qos.STATE)
+        for topic, cls in (
+            (qos.POSE, PoseStamped),
+            (qos.ODOM, Odometry),
+            (qos.SPIN_AXIS, Vector3Stamped),
+            (qos.AERO_ANGLES, Vector3Stamped),
+            (qos.AERO_ANGLES_LINEAR, Vector3Stamped),
+            (qos.AERO_ANGLES_QUASI_STEADY, Vector3Stamped),
+        )
+    },
     qos.MARKERS: (MarkerArray, qos.MARKERS_QOS),
     qos.DIAGNOSTICS: (DiagnosticArray, qos.DIAGNOSTICS_QOS),
     qos.CLOCK: (Clock, qos.CLOCK_QOS),
@@ -88,8 +123,8 @@ TOPICS = {
 
 def type_name(cls) -> str:
     """'geometry_msgs/msg/PoseStamped' for a generated message class."""
-    module = cls.__module__.split(".")
-    return f"{module[0]}/msg/{cls.__name__}"
+    module = cls.__module__.split('.')
+    return f'{module[0]}/msg/{cls.__name__}'
 
 
 def _bag_qos(profile: QoSProfile) -> Qos:
@@ -97,34 +132,41 @@ def _bag_qos(profile: QoSProfile) -> Qos:
         sec, nsec = divmod(int(d.nanoseconds), 1_000_000_000)
         return QosTime(sec=sec, nsec=nsec)
 
-    return Qos(history=QosHistory(int(profile.history)), depth=int(profile.depth),
-               reliability=QosReliability(int(profile.reliability)),
-               durability=QosDurability(int(profile.durability)),
-               deadline=duration(profile.deadline), lifespan=duration(profile.lifespan),
-               liveliness=QosLiveliness(int(profile.liveliness)),
-               liveliness_lease_duration=duration(profile.liveliness_lease_duration),
-               avoid_ros_namespace_conventions=bool(profile.avoid_ros_namespace_conventions))
+    return Qos(
+        history=QosHistory(int(profile.history)),
+        depth=int(profile.depth),
+        reliability=QosReliability(int(profile.reliability)),
+        durability=QosDurability(int(profile.durability)),
+        deadline=duration(profile.deadline),
+        lifespan=duration(profile.lifespan),
+        liveliness=QosLiveliness(int(profile.liveliness)),
+        liveliness_lease_duration=duration(profile.liveliness_lease_duration),
+        avoid_ros_namespace_conventions=bool(profile.avoid_ros_namespace_conventions),
+    )
 
 
 def default_bag_name() -> str:
-    return datetime.datetime.now().strftime("football_%Y%m%d_%H%M%S")
+    return datetime.datetime.now().strftime('football_%Y%m%d_%H%M%S')
 
 
 def _jazzy(metadata: str) -> str:
-    """rosbags writes ``ros_distro: rosbags``; the bag is a Jazzy one."""
-    return metadata.replace("ros_distro: rosbags", f"ros_distro: {ROS_DISTRO}")
+    """Rosbags writes ``ros_distro: rosbags``; the bag is a Jazzy one."""
+    return metadata.replace('ros_distro: rosbags', f'ros_distro: {ROS_DISTRO}')
 
 
 class _File:
-    """Unbuffered binary file that writes everything or raises (no silent short writes), so
-    that after a write error the file can be cut back to its last complete record."""
+    """
+    Unbuffered binary file that writes everything or raises (no silent short writes).
+
+    So that after a write error the file can be cut back to its last complete record.
+    """
 
     def __init__(self, path: Path, position: int) -> None:
         self._fd = os.open(path, os.O_WRONLY)
         self._pos = os.lseek(self._fd, position, os.SEEK_SET)
 
     def write(self, data) -> int:
-        view = memoryview(data).cast("B")
+        view = memoryview(data).cast('B')
         done = 0
         while done < len(view):
             done += os.write(self._fd, view[done:])
@@ -148,7 +190,8 @@ class _File:
 
 
 class _Mcap(McapWriter):
-    """rosbags' mcap writer with rosbag2 (jazzy) channel metadata and write-error recovery.
+    """
+    rosbags' mcap writer with rosbag2 (jazzy) channel metadata and write-error recovery.
 
     Chunks are flushed by ``checkpoint()`` (outside ``Writer.write``, so the writer's counts
     always match the messages it holds); a failed flush cuts the file back to its last
@@ -166,12 +209,21 @@ class _Mcap(McapWriter):
 
     def add_connection(self, connection, offered_qos_profiles: str) -> None:
         metadata = BytesIO()
-        for key, value in (("offered_qos_profiles", offered_qos_profiles),
-                           ("topic_type_hash", connection.digest)):
+        for key, value in (
+            ('offered_qos_profiles', offered_qos_profiles),
+            ('topic_type_hash', connection.digest),
+        ):
             write_string(metadata, key)
             write_string(metadata, value)
-        self.channels.append(Channel(connection.id, connection.msgtype, connection.topic,
-                                     connection.ext.serialization_format, metadata.getvalue()))
+        self.channels.append(
+            Channel(
+                connection.id,
+                connection.msgtype,
+                connection.topic,
+                connection.ext.serialization_format,
+                metadata.getvalue(),
+            )
+        )
         self.channel_stats[connection.id] = 0
         write_channel(self.chunk.bio, self.channels[-1], self.schemas)
 
@@ -206,7 +258,7 @@ class _Mcap(McapWriter):
             self.channel_stats[cid] -= count
         # Schema and channel records of the dropped chunk are in the summary written by close().
         self.chunk = PendingChunk(2**63 - 1, 0, BytesIO(), defaultdict(list))
-        ends = [struct.unpack_from("<QQ", rec.getbuffer())[1] for rec in self.chunks]
+        ends = [struct.unpack_from('<QQ', rec.getbuffer())[1] for rec in self.chunks]
         self.message_end_time = max(ends, default=0)
         if not ends:
             self.message_start_time = 2**63 - 1
@@ -225,8 +277,11 @@ class _Mcap(McapWriter):
 
 
 class _Sqlite3(Sqlite3Writer):
-    """rosbags' sqlite3 writer that commits every SQLITE_COMMIT_S (rosbags commits only at the
-    end: a failure would roll the whole recording back) and says ``ros_distro: jazzy``."""
+    """
+    rosbags' sqlite3 writer that commits every SQLITE_COMMIT_S and says ``ros_distro: jazzy``.
+
+    rosbags commits only at the end: a failure would roll the whole recording back.
+    """
 
     SQLITE_SCHEMA = Sqlite3Writer.SQLITE_SCHEMA.replace("(4, 'rosbags')", f"(4, '{ROS_DISTRO}')")
 
@@ -255,8 +310,12 @@ class _Sqlite3(Sqlite3Writer):
 
 
 class BagWriter(Writer):
-    """rosbags Writer whose bags match ``ros2 bag record`` (jazzy) in ros_distro, channel
-    metadata and type hashes, and that can close cleanly after a write error."""
+    """
+    rosbags Writer whose bags match ``ros2 bag record`` (jazzy).
+
+    They match in ros_distro, channel metadata and type hashes; the writer can close cleanly
+    after a write error.
+    """
 
     STORAGE_PLUGINS = {StoragePlugin.MCAP: _Mcap, StoragePlugin.SQLITE3: _Sqlite3}
 
@@ -271,8 +330,12 @@ class BagWriter(Writer):
         return sum(dropped.values())
 
     def close_after_error(self) -> tuple[int, Exception | None]:
-        """Close after a write error with what can be kept: the pending messages too if there
-        is room, else only what is on disk. Returns (messages lost, error if not closed)."""
+        """
+        Close after a write error with what can be kept.
+
+        The pending messages too if there is room, else only what is on disk. Returns
+        (messages lost, error if not closed).
+        """
         lost = 0
         try:
             if isinstance(self.storage, _Sqlite3):  # sqlite may have rolled back more
@@ -282,7 +345,7 @@ class BagWriter(Writer):
         except (OSError, sqlite3.Error):
             pass
         if self.storage is None:  # the storage is closed; metadata.yaml could not be written
-            return lost, OSError("metadata.yaml could not be written")
+            return lost, OSError('metadata.yaml could not be written')
         try:
             lost += self.drop_pending()
             self.close()
@@ -292,16 +355,19 @@ class BagWriter(Writer):
 
     def close(self) -> None:
         super().close()
-        text = self.metapath.read_text("utf8")
-        tmp = self.metapath.with_suffix(".yaml.tmp")
-        tmp.write_text(_jazzy(text), "utf8")
+        text = self.metapath.read_text('utf8')
+        tmp = self.metapath.with_suffix('.yaml.tmp')
+        tmp.write_text(_jazzy(text), 'utf8')
         tmp.replace(self.metapath)
 
 
 def _string_param(node: Node, name: str, default: str, description: str) -> str:
-    """A read-only string parameter; unset (null in a params file) means ``default``."""
-    value = node.declare_parameter(name, None, ParameterDescriptor(
-        description=description, read_only=True, dynamic_typing=True)).value
+    """Declare a read-only string parameter; unset (null in a params file) means ``default``."""
+    value = node.declare_parameter(
+        name,
+        None,
+        ParameterDescriptor(description=description, read_only=True, dynamic_typing=True),
+    ).value
     if value is None:
         return default
     if not isinstance(value, str):
@@ -311,9 +377,15 @@ def _string_param(node: Node, name: str, default: str, description: str) -> str:
 
 def _topics_param(node: Node) -> list[str]:
     """``topics``: a string array; unset, [] (which rcl reads as unset) or [""] = all."""
-    value = node.declare_parameter("topics", None, ParameterDescriptor(
-        description="Topics to record; unset, [] or [''] = every football_ros topic",
-        read_only=True, dynamic_typing=True)).value
+    value = node.declare_parameter(
+        'topics',
+        None,
+        ParameterDescriptor(
+            description="Topics to record; unset, [] or [''] = every football_ros topic",
+            read_only=True,
+            dynamic_typing=True,
+        ),
+    ).value
     if value is None:
         return []
     if isinstance(value, str):
@@ -326,19 +398,26 @@ def _topics_param(node: Node) -> list[str]:
 class RecorderNode(Node):
     """Subscribes (serialized) to the football_ros topics and writes a rosbag2 bag."""
 
-    def __init__(self, output: str | None = None, storage: str | None = None,
-                 topics: Sequence[str] | None = None, registry: list | None = None) -> None:
+    def __init__(
+        self,
+        output: str | None = None,
+        storage: str | None = None,
+        topics: Sequence[str] | None = None,
+        registry: list | None = None,
+    ) -> None:
         super().__init__(NODE_NAME)
         self._lock = threading.Lock()
         self._closed = True  # until the bag is open
         self.exit_code = 0
-        out = _string_param(self, "output", "", "Bag folder to create; '' = football_<date>_<time>")
-        store = _string_param(self, "storage", "mcap", "Storage plugin: mcap or sqlite3")
+        out = _string_param(
+            self, 'output', '', "Bag folder to create; '' = football_<date>_<time>"
+        )
+        store = _string_param(self, 'storage', 'mcap', 'Storage plugin: mcap or sqlite3')
         wanted = _topics_param(self)
         out = output or out or default_bag_name()
         store = storage or store
         wanted = [t for t in (topics or wanted) if t]
-        if store not in ("mcap", "sqlite3"):
+        if store not in ('mcap', 'sqlite3'):
             raise ValueError(f"parameter 'storage' must be 'mcap' or 'sqlite3', got '{store}'")
         resolved = {self.resolve_topic_name(t): t for t in TOPICS}
         selected = {}
@@ -348,16 +427,18 @@ class RecorderNode(Node):
             except Exception as exc:  # rclpy raises its own types for invalid names
                 raise ValueError(f"parameter 'topics': invalid topic name '{name[:200]}'") from exc
             if full not in resolved:
-                raise ValueError(f"parameter 'topics': unknown topic '{name[:200]}' "
-                                 f"(known: {', '.join(sorted(resolved))})")
+                raise ValueError(
+                    f"parameter 'topics': unknown topic '{name[:200]}' "
+                    f'(known: {", ".join(sorted(resolved))})'
+                )
             selected[full] = TOPICS[resolved[full]]
-        if "\0" in out or len(out) > 4096:
+        if '\0' in out or len(out) > 4096:
             raise ValueError("parameter 'output' must be a folder path (no NUL, < 4096 chars)")
         self.path = Path(out).resolve()
         if self.path.exists():
             raise ValueError(f"'{self.path}' exists already: rosbag2 needs a new folder")
         self._typestore = get_typestore(Stores.ROS2_JAZZY)
-        plugin = StoragePlugin.MCAP if store == "mcap" else StoragePlugin.SQLITE3
+        plugin = StoragePlugin.MCAP if store == 'mcap' else StoragePlugin.SQLITE3
         self._writer = BagWriter(self.path, version=BAG_VERSION, storage_plugin=plugin)
         self._reserve = self.path / RESERVE_NAME
         if registry is not None:  # main() closes the bag even if a signal cuts start-up short
@@ -369,18 +450,28 @@ class RecorderNode(Node):
         except (OSError, sqlite3.Error) as exc:
             raise ValueError(f"cannot create the bag '{self.path}': {_reason(exc)}") from None
         self._connections: dict[str, object] = {}
-        self._diag_pub = self.create_publisher(DiagnosticArray, qos.DIAGNOSTICS, qos.DIAGNOSTICS_QOS)
+        self._diag_pub = self.create_publisher(
+            DiagnosticArray, qos.DIAGNOSTICS, qos.DIAGNOSTICS_QOS
+        )
         for topic, (cls, profile) in selected.items():
             self.create_subscription(
-                cls, topic, lambda data, t=topic, c=cls, p=profile: self._write(t, c, p, data),
-                profile, raw=True)
-        self.get_logger().info(f"ready: recording {len(selected)} topics to {self.path} ({store})")
+                cls,
+                topic,
+                lambda data, t=topic, c=cls, p=profile: self._write(t, c, p, data),
+                profile,
+                raw=True,
+            )
+        self.get_logger().info(f'ready: recording {len(selected)} topics to {self.path} ({store})')
 
     def _connection(self, topic: str, cls, profile: QoSProfile):
         offered = [info.qos_profile for info in self.get_publishers_info_by_topic(topic)]
         conn = self._writer.add_connection(
-            topic, type_name(cls), typestore=self._typestore, serialization_format="cdr",
-            offered_qos_profiles=[_bag_qos(p) for p in offered or [profile]])
+            topic,
+            type_name(cls),
+            typestore=self._typestore,
+            serialization_format='cdr',
+            offered_qos_profiles=[_bag_qos(p) for p in offered or [profile]],
+        )
         self._connections[topic] = conn
         self.get_logger().info(f"recording '{topic}' (first message received)")
         return conn
@@ -403,20 +494,28 @@ class RecorderNode(Node):
         _remove(self._reserve)  # room to finish the bag on a full disk
         lost, error = self._writer.close_after_error()
         if error is not None:
-            kept = f"the bag could not be closed ({_reason(error)})"
+            kept = f'the bag could not be closed ({_reason(error)})'
         else:
-            kept = "the bag is closed and readable" + (
-                f" ({lost} messages not yet on disk lost)" if lost else "")
+            kept = 'the bag is closed and readable' + (
+                f' ({lost} messages not yet on disk lost)' if lost else ''
+            )
         total = sum(self._writer.counts.values())
-        text = (f"write error on '{self.path}': {_reason(exc)}; recording stopped after "
-                f"{total} messages, {kept}")
+        text = (
+            f"write error on '{self.path}': {_reason(exc)}; recording stopped after "
+            f'{total} messages, {kept}'
+        )
         self.get_logger().error(text)
         self.exit_code = EXIT_WRITE_ERROR
-        status = mb.diagnostic_status(DIAGNOSTIC_NAME, "ERROR", text, {
-            "bag": str(self.path), "messages": total, "error": _reason(exc)},
-            hardware_id=self.get_fully_qualified_name())
-        self._diag_pub.publish(DiagnosticArray(header=mb.header(self.get_clock().now().to_msg(), ""),
-                                               status=[status]))
+        status = mb.diagnostic_status(
+            DIAGNOSTIC_NAME,
+            'ERROR',
+            text,
+            {'bag': str(self.path), 'messages': total, 'error': _reason(exc)},
+            hardware_id=self.get_fully_qualified_name(),
+        )
+        self._diag_pub.publish(
+            DiagnosticArray(header=mb.header(self.get_clock().now().to_msg(), ''), status=[status])
+        )
         # Give DDS a moment to deliver the status, then end the node (main returns exit_code).
         self.create_timer(0.5, lambda: self.context.try_shutdown())
 
@@ -433,9 +532,12 @@ class RecorderNode(Node):
                 self.exit_code = EXIT_WRITE_ERROR
             _remove(self._reserve)
         counts = {c.topic: self._writer.counts[c.id] for c in self._writer.connections}
-        summary = ", ".join(f"{t} {n}" for t, n in sorted(counts.items())) or "no messages"
-        print(f"[recorder] wrote {sum(counts.values())} messages to {self.path}: {summary}",
-              file=sys.stderr, flush=True)
+        summary = ', '.join(f'{t} {n}' for t, n in sorted(counts.items())) or 'no messages'
+        print(
+            f'[recorder] wrote {sum(counts.values())} messages to {self.path}: {summary}',
+            file=sys.stderr,
+            flush=True,
+        )
 
 
 def _allocate(path: Path, size: int) -> None:
@@ -459,28 +561,34 @@ def _remove(path: Path) -> None:
 
 
 def _reason(exc: Exception) -> str:
-    return getattr(exc, "strerror", None) or str(exc) or type(exc).__name__
+    return getattr(exc, 'strerror', None) or str(exc) or type(exc).__name__
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
-    ros_args = argv[argv.index("--ros-args"):] if "--ros-args" in argv else []
-    own = argv[:len(argv) - len(ros_args)]
-    parser = argparse.ArgumentParser(prog="football-ros record",
-                                     description=__doc__.splitlines()[0].replace("``", ""))
-    parser.add_argument("--out", help="bag folder to create (default: football_<date>_<time>)")
-    parser.add_argument("--storage", choices=("mcap", "sqlite3"), help="storage plugin (default mcap)")
-    parser.add_argument("--topics", nargs="+", help="topics to record (default: all football_ros topics)")
+    ros_args = argv[argv.index('--ros-args'):] if '--ros-args' in argv else []
+    own = argv[: len(argv) - len(ros_args)]
+    parser = argparse.ArgumentParser(
+        prog='football-ros record', description=__doc__.splitlines()[0].replace('``', '')
+    )
+    parser.add_argument('--out', help='bag folder to create (default: football_<date>_<time>)')
+    parser.add_argument(
+        '--storage', choices=('mcap', 'sqlite3'), help='storage plugin (default mcap)'
+    )
+    parser.add_argument(
+        '--topics', nargs='+', help='topics to record (default: all football_ros topics)'
+    )
     args = parser.parse_args(own)
-    if hasattr(signal, "SIGXFSZ"):  # a file size limit gives EFBIG (handled) instead of a kill
+    if hasattr(signal, 'SIGXFSZ'):  # a file size limit gives EFBIG (handled) instead of a kill
         signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
     nodes: list[RecorderNode] = []
-    code = run_node(lambda: RecorderNode(args.out, args.storage, args.topics, nodes), ros_args,
-                    "recorder")
+    code = run_node(
+        lambda: RecorderNode(args.out, args.storage, args.topics, nodes), ros_args, 'recorder'
+    )
     for node in nodes:  # a signal between start-up and spin skips the runner's close()
         node.close()
     return code or max((node.exit_code for node in nodes), default=0)
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     raise SystemExit(main())

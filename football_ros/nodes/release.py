@@ -1,4 +1,19 @@
-"""Release node: release conditions in, one accept/reject answer out, flight order to the simulator.
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Release node: release conditions in, one accept/reject answer out, flight order to the simulator.
 
 Requests: ``football/release/request`` (std_msgs/String, strict YAML/JSON mapping) or
 ``football/release/state`` (nav_msgs/Odometry, the ball's rigid-body state). Every request gets
@@ -14,6 +29,7 @@ executor. A request that finds the queue full is answered "busy" at once. Contra
 
 from __future__ import annotations
 
+from dataclasses import dataclass, replace
 import math
 import os
 import queue
@@ -21,25 +37,31 @@ import sys
 import threading
 import time
 import traceback
-from dataclasses import dataclass, replace
-
-import numpy as np
 
 from diagnostic_msgs.msg import DiagnosticStatus
 from nav_msgs.msg import Odometry
+import numpy as np
 from rcl_interfaces.msg import SetParametersResult
 from rclpy.node import Node
 from std_msgs.msg import String
 
-from ..physics import Flight, InitialState, ReleaseError, compile_ahead, get_preset
-from ..physics.frames import BODY_FRAME, FIELD_FRAME, quaternion_to_matrix
-from ..physics.release import MODELS, MOMENT_CURVES
-from ..requests import (MAX_REQUEST_BYTES, FlightOrder, RequestError, brief, capped, flight_summary,
-                        read_request, release_from_request)
 from . import messages as mb
 from . import qos
 from .params import declare
 from .runner import run_node
+from ..physics import compile_ahead, Flight, get_preset, InitialState, ReleaseError
+from ..physics.frames import BODY_FRAME, FIELD_FRAME, quaternion_to_matrix
+from ..physics.release import MODELS, MOMENT_CURVES
+from ..requests import (
+    brief,
+    capped,
+    flight_summary,
+    FlightOrder,
+    MAX_REQUEST_BYTES,
+    read_request,
+    release_from_request,
+    RequestError,
+)
 
 NODE_NAME = 'football_release'
 HARDWARE_ID = 'football_ros/release'
@@ -53,14 +75,23 @@ def prediction(flight: Flight) -> dict[str, object]:
     m = flight.modes
     trajectory = flight.simulate(rate=100.0, duration=PREDICTION_HORIZON_S)
     values: dict[str, object] = {
-        'omega_fast': m.omega_fast, 'omega_slow': m.omega_slow, 'critical_spin_rpm': m.critical_spin_rpm,
-        'equilibrium_sideslip': m.equilibrium_sideslip, 'stable': m.stable, 'm_alpha': m.m_alpha,
-        'h1': m.h1, 'gyroscopic_stability_factor': m.gyroscopic_stability_factor,
+        'omega_fast': m.omega_fast,
+        'omega_slow': m.omega_slow,
+        'critical_spin_rpm': m.critical_spin_rpm,
+        'equilibrium_sideslip': m.equilibrium_sideslip,
+        'stable': m.stable,
+        'm_alpha': m.m_alpha,
+        'h1': m.h1,
+        'gyroscopic_stability_factor': m.gyroscopic_stability_factor,
     }
     values.update(flight_summary(trajectory.times, trajectory.positions, trajectory.landed))
     if trajectory.landed:
-        values.update({'landing_x': float(trajectory.positions[-1, 0]),
-                       'landing_y': float(trajectory.positions[-1, 1])})
+        values.update(
+            {
+                'landing_x': float(trajectory.positions[-1, 0]),
+                'landing_y': float(trajectory.positions[-1, 1]),
+            }
+        )
     return values
 
 
@@ -78,8 +109,8 @@ class _Pending:
     """An order sent to the simulator, waiting for its acknowledgement."""
 
     request_id: str
-    deadline: float          # time.monotonic() [s]
-    text: str                # the accepted answer's sentence
+    deadline: float  # time.monotonic() [s]
+    text: str  # the accepted answer's sentence
     stable: bool
     values: dict
 
@@ -89,49 +120,93 @@ class ReleaseNode(Node):
 
     def __init__(self) -> None:
         super().__init__(NODE_NAME)
-        self.max_request_bytes = declare(self, 'max_request_bytes', MAX_REQUEST_BYTES,
-                                         'Largest accepted request text [bytes]', (64, 1 << 20))
-        self.integration_step = declare(self, 'integration_step', 0.001,
-                                        'Integration step of the landing prediction [s]', (5e-4, 0.01))
-        self.ack_timeout = declare(self, 'ack_timeout', 1.0,
-                                   "Wall time to wait for the simulator's acknowledgement [s]", (0.1, 10.0))
-        self.queue_depth = declare(self, 'queue_depth', 64,
-                                   'Requests waiting for the worker at most; more are answered busy',
-                                   (1, 1000), read_only=True)
-        self.state_ball = declare(self, 'state_ball', 'american',
-                                  'Ball preset of releases given as an Odometry on football/release/state')
-        self.state_model = declare(self, 'state_model', 'paper', 'Model of Odometry releases: paper or full')
-        self.state_moment = declare(self, 'state_moment', 'linear',
-                                    'Moment curve of Odometry releases: linear or sin2delta')
-        self.body_frame_id = declare(self, 'body_frame_id', BODY_FRAME,
-                                     'Body frame an Odometry release may give its twist in')
-        for name, value in (('state_ball', self.state_ball), ('state_model', self.state_model),
-                            ('state_moment', self.state_moment)):
+        self.max_request_bytes = declare(
+            self,
+            'max_request_bytes',
+            MAX_REQUEST_BYTES,
+            'Largest accepted request text [bytes]',
+            (64, 1 << 20),
+        )
+        self.integration_step = declare(
+            self,
+            'integration_step',
+            0.001,
+            'Integration step of the landing prediction [s]',
+            (5e-4, 0.01),
+        )
+        self.ack_timeout = declare(
+            self,
+            'ack_timeout',
+            1.0,
+            "Wall time to wait for the simulator's acknowledgement [s]",
+            (0.1, 10.0),
+        )
+        self.queue_depth = declare(
+            self,
+            'queue_depth',
+            64,
+            'Requests waiting for the worker at most; more are answered busy',
+            (1, 1000),
+            read_only=True,
+        )
+        self.state_ball = declare(
+            self,
+            'state_ball',
+            'american',
+            'Ball preset of releases given as an Odometry on football/release/state',
+        )
+        self.state_model = declare(
+            self, 'state_model', 'paper', 'Model of Odometry releases: paper or full'
+        )
+        self.state_moment = declare(
+            self,
+            'state_moment',
+            'linear',
+            'Moment curve of Odometry releases: linear or sin2delta',
+        )
+        self.body_frame_id = declare(
+            self,
+            'body_frame_id',
+            BODY_FRAME,
+            'Body frame an Odometry release may give its twist in',
+        )
+        for name, value in (
+            ('state_ball', self.state_ball),
+            ('state_model', self.state_model),
+            ('state_moment', self.state_moment),
+        ):
             problem = self._check_choice(name, value)
             if problem:
                 raise ValueError(problem)
         self.add_on_set_parameters_callback(self._on_parameters)
-        self._token = os.urandom(3).hex()   # order ids unique across release nodes on a domain
+        self._token = os.urandom(3).hex()  # order ids unique across release nodes on a domain
         self._sequence = 0
-        self._lock = threading.Lock()       # pending orders and the response publisher
+        self._lock = threading.Lock()  # pending orders and the response publisher
         self._pending: dict[str, _Pending] = {}
         self._other_simulators: set[str] = set()
         self._work: queue.Queue[_Work] = queue.Queue(maxsize=self.queue_depth)
         self.counts = {'received': 0, 'accepted': 0, 'rejected': 0, 'busy': 0}
-        self._responses = self.create_publisher(DiagnosticStatus, qos.RELEASE_RESPONSE, qos.REQUEST)
+        self._responses = self.create_publisher(
+            DiagnosticStatus, qos.RELEASE_RESPONSE, qos.REQUEST
+        )
         self._orders = self.create_publisher(String, qos.FLIGHT_ORDER, qos.ORDER)
         compile_ahead()  # every kernel loaded (compiled on a cold cache) before 'ready'
         self.create_subscription(DiagnosticStatus, qos.FLIGHT_ACK, self._on_ack, qos.REQUEST)
         self.create_subscription(String, qos.RELEASE_REQUEST, self._on_request, qos.REQUEST)
         self.create_subscription(Odometry, qos.RELEASE_STATE, self._on_state, qos.REQUEST)
-        sys.setswitchinterval(5e-4)  # the executor takes the GIL back from the worker within 0.5 ms
+        sys.setswitchinterval(
+            5e-4
+        )  # the executor takes the GIL back from the worker within 0.5 ms
         self._stop = threading.Event()
-        self._worker = threading.Thread(target=self._serve, name='football-release-worker', daemon=True)
+        self._worker = threading.Thread(
+            target=self._serve, name='football-release-worker', daemon=True
+        )
         self._worker.start()
         self.get_logger().info(
             f"ready: requests on '{self.resolve_topic_name(qos.RELEASE_REQUEST)}' and "
             f"'{self.resolve_topic_name(qos.RELEASE_STATE)}', answers on "
-            f"'{self.resolve_topic_name(qos.RELEASE_RESPONSE)}'")
+            f"'{self.resolve_topic_name(qos.RELEASE_RESPONSE)}'"
+        )
 
     # --- parameters ------------------------------------------------------------------------
     @staticmethod
@@ -143,7 +218,7 @@ class ReleaseNode(Node):
             except ValueError as exc:
                 return f'{name}: {exc}'
         elif name in choices and value not in choices[name]:
-            return f"{name} must be one of {', '.join(choices[name])}, got {brief(value)}"
+            return f'{name} must be one of {", ".join(choices[name])}, got {brief(value)}'
         return None
 
     def _on_parameters(self, params) -> SetParametersResult:
@@ -186,33 +261,47 @@ class ReleaseNode(Node):
         self._enqueue(_Work(request_id, order=order))
 
     def _order_from_odometry(self, request_id: str, msg: Odometry) -> FlightOrder:
-        """The flight order an Odometry of the ball means (twist per the Odometry convention)."""
+        """Return the flight order an Odometry of the ball means (twist per its convention)."""
         frame, child = msg.header.frame_id, msg.child_frame_id
         if frame not in ('', FIELD_FRAME):
-            raise ReleaseError(f"header.frame_id must be '{FIELD_FRAME}' (or empty), got {brief(frame)}")
+            raise ReleaseError(
+                f"header.frame_id must be '{FIELD_FRAME}' (or empty), got {brief(frame)}"
+            )
         if child not in ('', self.body_frame_id, FIELD_FRAME):
-            raise ReleaseError(f"child_frame_id must be the ball's body frame '{self.body_frame_id}' "
-                               f"(twist in the body frame) or '{FIELD_FRAME}' (twist in the field), "
-                               f'got {brief(child)}')
+            raise ReleaseError(
+                f"child_frame_id must be the ball's body frame '{self.body_frame_id}' "
+                f"(twist in the body frame) or '{FIELD_FRAME}' (twist in the field), "
+                f'got {brief(child)}'
+            )
         pose, twist = msg.pose.pose, msg.twist.twist
-        quat = np.array([pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w])
+        quat = np.array(
+            [pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w]
+        )
         linear, angular = mb.vector_of(twist.linear), mb.vector_of(twist.angular)
         if child != FIELD_FRAME:  # the body frame's components: rotate into the field
             if not np.all(np.isfinite(quat)) or not np.linalg.norm(quat) > 0.0:
-                raise ReleaseError(f'orientation must be 4 finite numbers of a unit quaternion, got {list(quat)}')
+                raise ReleaseError(
+                    f'orientation must be 4 finite numbers of a unit quaternion, got {list(quat)}'
+                )
             rotation = quaternion_to_matrix(quat / np.linalg.norm(quat))
             linear, angular = rotation @ linear, rotation @ angular
         initial = InitialState.from_rigid_body(mb.vector_of(pose.position), linear, quat, angular)
-        return FlightOrder(request_id, self.state_ball, {}, self.state_model, self.state_moment, initial)
+        return FlightOrder(
+            request_id, self.state_ball, {}, self.state_model, self.state_moment, initial
+        )
 
     def _enqueue(self, work: _Work) -> None:
         try:
             self._work.put_nowait(work)
         except queue.Full:
             self.counts['busy'] += 1
-            self._respond(work.request_id, 'ERROR',
-                          f'busy: {self.queue_depth} requests are waiting; send it again later',
-                          {'busy': True}, log=False)
+            self._respond(
+                work.request_id,
+                'ERROR',
+                f'busy: {self.queue_depth} requests are waiting; send it again later',
+                {'busy': True},
+                log=False,
+            )
 
     # --- worker thread: predict, order, expire ---------------------------------------------
     def _serve(self) -> None:
@@ -236,8 +325,14 @@ class ReleaseNode(Node):
             busy = len(self._pending) >= MAX_PENDING
         if busy:
             self.counts['busy'] += 1
-            self._respond(work.request_id, 'ERROR', f'busy: {MAX_PENDING} flight orders await the '
-                          "simulator's acknowledgement; send it again later", {'busy': True}, log=False)
+            self._respond(
+                work.request_id,
+                'ERROR',
+                f'busy: {MAX_PENDING} flight orders await the '
+                "simulator's acknowledgement; send it again later",
+                {'busy': True},
+                log=False,
+            )
             return
         order = work.order
         try:
@@ -254,20 +349,34 @@ class ReleaseNode(Node):
             return
         values = prediction(flight)
         if self._orders.get_subscription_count() == 0:
-            self._reject(work.request_id, 'valid release, but no simulator is listening on '
-                         f"'{self.resolve_topic_name(qos.FLIGHT_ORDER)}' (start one: "
-                         "'ros2 run football_ros simulator' or 'football-ros simulator')", values)
+            self._reject(
+                work.request_id,
+                'valid release, but no simulator is listening on '
+                f"'{self.resolve_topic_name(qos.FLIGHT_ORDER)}' (start one: "
+                "'ros2 run football_ros simulator' or 'football-ros simulator')",
+                values,
+            )
             return
         tof = values['time_of_flight']
         stable = flight.modes.stable
-        sentence = (f'{order.ball_name} at {np.linalg.norm(order.initial.velocity):.2f} m/s; '
-                    + (f"lands at {values['range']:.2f} m after {tof:.3f} s" if not math.isnan(tof)
-                       else f'still flying after {PREDICTION_HORIZON_S:g} s')
-                    + ('' if stable else '; WARNING: gyroscopically unstable '
-                       f"(spin below {values['critical_spin_rpm']:.0f} rpm), the ball will tumble"))
+        sentence = (
+            f'{order.ball_name} at {np.linalg.norm(order.initial.velocity):.2f} m/s; '
+            + (
+                f'lands at {values["range"]:.2f} m after {tof:.3f} s'
+                if not math.isnan(tof)
+                else f'still flying after {PREDICTION_HORIZON_S:g} s'
+            )
+            + (
+                ''
+                if stable
+                else '; WARNING: gyroscopically unstable '
+                f'(spin below {values["critical_spin_rpm"]:.0f} rpm), the ball will tumble'
+            )
+        )
         with self._lock:
-            self._pending[order_id] = _Pending(work.request_id, time.monotonic() + self.ack_timeout,
-                                               sentence, stable, values)
+            self._pending[order_id] = _Pending(
+                work.request_id, time.monotonic() + self.ack_timeout, sentence, stable, values
+            )
         self._orders.publish(String(data=text))
 
     def _expire(self) -> None:
@@ -277,8 +386,12 @@ class ReleaseNode(Node):
             for oid, _ in late:
                 del self._pending[oid]
         for _, pending in late:
-            self._reject(pending.request_id, f'no simulator acknowledged the flight order within '
-                         f'{self.ack_timeout:g} s (is the simulator running?)', pending.values)
+            self._reject(
+                pending.request_id,
+                f'no simulator acknowledged the flight order within '
+                f'{self.ack_timeout:g} s (is the simulator running?)',
+                pending.values,
+            )
 
     # --- executor thread: acknowledgements ---------------------------------------------------
     def _on_ack(self, msg: DiagnosticStatus) -> None:
@@ -287,16 +400,23 @@ class ReleaseNode(Node):
                 pending = self._pending.pop(msg.name, None)
             simulator = msg.hardware_id[:120]
             if pending is None:
-                if msg.name.startswith(self._token + '-') and simulator not in self._other_simulators \
-                        and len(self._other_simulators) < 16:
+                if (
+                    msg.name.startswith(self._token + '-')
+                    and simulator not in self._other_simulators
+                    and len(self._other_simulators) < 16
+                ):
                     self._other_simulators.add(simulator)
                     self.get_logger().warning(
-                        f"flight order '{msg.name[:40]}' was acknowledged again, by '{simulator}': more "
-                        'than one simulator listens to the flight orders (or its answer came too late)')
+                        f"flight order '{msg.name[:40]}' was acknowledged again, by "
+                        f"'{simulator}': more than one simulator listens to the flight orders "
+                        '(or its answer came too late)'
+                    )
                 return
             values = dict(pending.values, simulator=simulator)
             if mb.level_of(msg) == 'ERROR':
-                self._reject(pending.request_id, f'the simulator refused the flight: {msg.message}', values)
+                self._reject(
+                    pending.request_id, f'the simulator refused the flight: {msg.message}', values
+                )
                 return
             level = 'OK' if pending.stable else 'WARN'
             self.counts['accepted'] += 1
@@ -310,10 +430,16 @@ class ReleaseNode(Node):
         self._respond(request_id, 'ERROR', f'rejected: {capped(reason)}', values or {})
 
     def _internal_error(self, request_id: str, exc: Exception) -> None:
-        self.get_logger().error(f"request '{request_id}': internal error\n{traceback.format_exc()}")
-        self._reject(request_id, f'internal error ({type(exc).__name__}); the node logged the details')
+        self.get_logger().error(
+            f"request '{request_id}': internal error\n{traceback.format_exc()}"
+        )
+        self._reject(
+            request_id, f'internal error ({type(exc).__name__}); the node logged the details'
+        )
 
-    def _respond(self, request_id: str, level: str, message: str, values: dict, log: bool = True) -> None:
+    def _respond(
+        self, request_id: str, level: str, message: str, values: dict, log: bool = True
+    ) -> None:
         if log and level == 'OK':
             self.get_logger().info(f"request '{request_id}' {message}")
         elif log:  # rclpy fixes one severity per call site
@@ -338,8 +464,12 @@ class ReleaseNode(Node):
         if self.context.ok():
             for request_id in left:
                 self._reject(request_id, 'the release node is shutting down')
-        print('[release] {received} requests received: {accepted} flown, {rejected} refused, '
-              '{busy} busy'.format(**self.counts), file=sys.stderr, flush=True)
+        print(
+            '[release] {received} requests received: {accepted} flown, {rejected} refused, '
+            '{busy} busy'.format(**self.counts),
+            file=sys.stderr,
+            flush=True,
+        )
 
 
 def main(argv=None) -> int:

@@ -1,4 +1,19 @@
-"""Start-up and clean shutdown shared by every node (the Jazzy demo_nodes_py pattern).
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Start-up and clean shutdown shared by every node (the Jazzy demo_nodes_py pattern).
 
 Signals: the first SIGINT or SIGTERM at any moment (while the program imports, see
 football_ros/_early_signals.py; while the node is being built or warms up; while spinning) ends
@@ -24,9 +39,9 @@ from typing import Callable, Sequence
 import rclpy
 from rclpy._rclpy_pybind11 import RCLError
 from rclpy.exceptions import InvalidParameterTypeException, ParameterException
-import rclpy.signals
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
+import rclpy.signals
 
 from .._early_signals import ignore_further_signals
 
@@ -40,8 +55,12 @@ class _Shutdown(BaseException):
 
 
 class _Signals:
-    """SIGINT/SIGTERM handling: the first signal raises :class:`_Shutdown` (unless the node is
-    already cleaning up); later signals are only counted."""
+    """
+    SIGINT/SIGTERM handling.
+
+    The first signal raises :class:`_Shutdown` (unless the node is already cleaning up); later
+    signals are only counted.
+    """
 
     def __init__(self) -> None:
         self.received = 0
@@ -71,32 +90,34 @@ class _Signals:
 
 def print_help(factory: Callable[[], Node], program: str, out=sys.stdout) -> None:
     """Usage, the node module's description and its parameters."""
-    module = sys.modules.get(getattr(factory, "__module__", ""), None)
-    doc = (getattr(module, "__doc__", None) or getattr(factory, "__doc__", None) or "").strip()
-    print(f"usage: {program} [-h] [--ros-args -p NAME:=VALUE ... | --params-file FILE]\n",
-          file=out)
+    module = sys.modules.get(getattr(factory, '__module__', ''), None)
+    doc = (getattr(module, '__doc__', None) or getattr(factory, '__doc__', None) or '').strip()
+    print(
+        f'usage: {program} [-h] [--ros-args -p NAME:=VALUE ... | --params-file FILE]\n', file=out
+    )
     if doc:
-        print(doc + "\n", file=out)
-    specs = getattr(factory, "PARAMETERS", None)
+        print(doc + '\n', file=out)
+    specs = getattr(factory, 'PARAMETERS', None)
     if specs:
-        print("parameters (name, default, range: description):", file=out)
+        print('parameters (name, default, range: description):', file=out)
         for spec in specs:
             print(spec.help_line(), file=out)
     else:
-        print("parameters: see config/football.yaml", file=out)
-    print("\ntopics, frames, units and QoS: msg_docs/ (installed in share/football_ros)", file=out)
+        print('parameters: see config/football.yaml', file=out)
+    print('\ntopics, frames, units and QoS: msg_docs/ (installed in share/football_ros)', file=out)
 
 
 def wants_help(args: Sequence[str]) -> bool:
-    """True when ``-h``/``--help`` comes before any ``--ros-args``."""
+    """Tell whether ``-h``/``--help`` comes before any ``--ros-args``."""
     own = list(args)
-    if "--ros-args" in own:
-        own = own[:own.index("--ros-args")]
-    return bool({"-h", "--help"} & set(own))
+    if '--ros-args' in own:
+        own = own[: own.index('--ros-args')]
+    return bool({'-h', '--help'} & set(own))
 
 
 def run_node(factory: Callable[[], Node], argv: Sequence[str] | None, program: str) -> int:
-    """Init rclpy with ``argv`` (ROS arguments included), spin the node, shut down cleanly.
+    """
+    Init rclpy with ``argv`` (ROS arguments included), spin the node, shut down cleanly.
 
     Returns the exit code: 0 after a signal or a normal end, 2 for a start-up error.
     """
@@ -132,6 +153,7 @@ def _start_and_spin(factory, argv, program: str, made: list, signals: _Signals) 
             sys.stdout.flush()
         except BrokenPipeError:  # `simulator --help | head`: the reader left, that is fine
             import os
+
             os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
     try:
@@ -142,7 +164,7 @@ def _start_and_spin(factory, argv, program: str, made: list, signals: _Signals) 
     except (ParameterException, InvalidParameterTypeException, ValueError) as exc:
         # A start-up error (a parameter override out of range, ...): one clear line.
         signals.clean_up_begins()
-        print(f"{program}: error: {exc}", file=sys.stderr)
+        print(f'{program}: error: {exc}', file=sys.stderr)
         return EXIT_USAGE
     executor = SingleThreadedExecutor()
     executor.add_node(made[0])
@@ -156,13 +178,14 @@ def _start_and_spin(factory, argv, program: str, made: list, signals: _Signals) 
             if not rclpy.ok():
                 break
             node.get_logger().error(
-                f"a callback failed (the node goes on):\n{traceback.format_exc()}")
+                f'a callback failed (the node goes on):\n{traceback.format_exc()}'
+            )
     return 0
 
 
 def _clean_up(node: Node | None) -> None:
     if node is not None:
-        close = getattr(node, "close", None)
+        close = getattr(node, 'close', None)
         if close is not None:
             close()
         try:

@@ -1,4 +1,19 @@
-"""Real-time simulator node: flies the ball ordered by the release node and publishes its state.
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Real-time simulator node: flies the ball ordered by the release node and publishes its state.
 
 Pacing: a dedicated thread wakes at absolute monotonic deadlines k / publish_rate. Each tick
 advances the flight by real_time_factor / publish_rate of simulated time (the integrator keeps
@@ -24,18 +39,18 @@ Topics, frames, units and QoS: msg_docs/.
 from __future__ import annotations
 
 import collections
+from dataclasses import dataclass, field
 import gc
 import math
 import sys
 import threading
 import time
 import traceback
-from dataclasses import dataclass, field
 
-import numpy as np
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from geometry_msgs.msg import PoseStamped, Vector3Stamped
 from nav_msgs.msg import Odometry
+import numpy as np
 from rcl_interfaces.msg import SetParametersResult
 from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
@@ -43,21 +58,20 @@ from std_msgs.msg import String
 from std_srvs.srv import SetBool, Trigger
 from visualization_msgs.msg import MarkerArray
 
-from ..physics import Release
-from ..physics import limits
-from ..physics.release import RPM
-from ..physics.flight import BallSample, Flight
-from ..physics.frames import BODY_FRAME, FIELD_FRAME
-from ..physics.aero import max_valid_delta, out_of_validity
-from ..requests import FlightOrder, capped, load_strict
 from . import messages as mb
 from . import qos
 from .observation_hook import ObservationHook
-from .params import ParamSpec, declare
+from .params import declare, ParamSpec
 from .runner import run_node
+from ..physics import limits, Release
+from ..physics.aero import max_valid_delta, out_of_validity
+from ..physics.flight import BallSample, Flight
+from ..physics.frames import BODY_FRAME, FIELD_FRAME
+from ..physics.release import RPM
+from ..requests import capped, FlightOrder, load_strict
 
-NODE_NAME = "football_simulator"
-MODEL_CHOICES = ("release", "paper", "full")
+NODE_NAME = 'football_simulator'
+MODEL_CHOICES = ('release', 'paper', 'full')
 MAX_CATCH_UP_S = 1.0
 """A stall longer than this is not replayed: its ticks are skipped (and counted)."""
 MAX_STEPS_PER_SECOND = 2.0e5
@@ -74,43 +88,77 @@ RUNAWAY_FACTOR = 10.0
 RIVAL_CHECK_PERIOD_S = 1.0
 
 PARAMETERS = (
-    ParamSpec("publish_rate", 100.0, "State messages per second of wall time [Hz]", (1.0, 2000.0)),
-    ParamSpec("integration_step", 0.001,
-              "Fixed RK4 step of the integrator [s] (next flight); real_time_factor / "
-              f"integration_step <= {MAX_STEPS_PER_SECOND:g}", (1e-5, 0.01)),
-    ParamSpec("real_time_factor", 1.0, "Simulated seconds per wall second; real_time_factor / "
-              f"integration_step <= {MAX_STEPS_PER_SECOND:g}", (0.01, 100.0)),
-    ParamSpec("publish_clock", False,
-              "Publish the global /clock (simulated time) and stamp every message with it"),
-    ParamSpec("frame_id", FIELD_FRAME, "World frame (REP-103: x downfield, z up)"),
-    ParamSpec("child_frame_id", BODY_FRAME,
-              "Body frame of the ball (x = spin axis toward the leading nose)"),
-    ParamSpec("marker_rate", 30.0, "RViz markers per second [Hz], 0 = off", (0.0, 200.0)),
-    ParamSpec("trail_length", 500, "Positions kept for the trail marker (one per marker); a "
-              f"marker carries at most {mb.MAX_TRAIL_POINTS} of them, evenly spaced", (0, 100000)),
-    ParamSpec("hold_rate", 1.0, "Rate at which the landed state is republished [Hz], 0 = never",
-              (0.0, 100.0)),
-    ParamSpec("diagnostics_rate", 1.0, "Periodic /diagnostics [Hz]", (0.1, 100.0)),
-    ParamSpec("model", "release",
-              "Equations of motion: 'release' (as each release asks), 'paper' or 'full'"),
+    ParamSpec('publish_rate', 100.0, 'State messages per second of wall time [Hz]', (1.0, 2000.0)),
+    ParamSpec(
+        'integration_step',
+        0.001,
+        'Fixed RK4 step of the integrator [s] (next flight); real_time_factor / '
+        f'integration_step <= {MAX_STEPS_PER_SECOND:g}',
+        (1e-5, 0.01),
+    ),
+    ParamSpec(
+        'real_time_factor',
+        1.0,
+        'Simulated seconds per wall second; real_time_factor / '
+        f'integration_step <= {MAX_STEPS_PER_SECOND:g}',
+        (0.01, 100.0),
+    ),
+    ParamSpec(
+        'publish_clock',
+        False,
+        'Publish the global /clock (simulated time) and stamp every message with it',
+    ),
+    ParamSpec('frame_id', FIELD_FRAME, 'World frame (REP-103: x downfield, z up)'),
+    ParamSpec(
+        'child_frame_id',
+        BODY_FRAME,
+        'Body frame of the ball (x = spin axis toward the leading nose)',
+    ),
+    ParamSpec('marker_rate', 30.0, 'RViz markers per second [Hz], 0 = off', (0.0, 200.0)),
+    ParamSpec(
+        'trail_length',
+        500,
+        'Positions kept for the trail marker (one per marker); a '
+        f'marker carries at most {mb.MAX_TRAIL_POINTS} of them, evenly spaced',
+        (0, 100000),
+    ),
+    ParamSpec(
+        'hold_rate',
+        1.0,
+        'Rate at which the landed state is republished [Hz], 0 = never',
+        (0.0, 100.0),
+    ),
+    ParamSpec('diagnostics_rate', 1.0, 'Periodic /diagnostics [Hz]', (0.1, 100.0)),
+    ParamSpec(
+        'model',
+        'release',
+        "Equations of motion: 'release' (as each release asks), 'paper' or 'full'",
+    ),
 )
 
 
 def check_parameters(values: dict, flight_step: float | None = None) -> str | None:
-    """The reason a combination of parameter values is refused, or None (ranges are enforced by
-    the descriptors). ``flight_step``: the step [s] of the flight in the air, if any."""
-    for name in ("frame_id", "child_frame_id"):
+    """
+    Return the reason a combination of parameter values is refused, or None.
+
+    Ranges are enforced by the descriptors. ``flight_step``: the step [s] of the flight in
+    the air, if any.
+    """
+    for name in ('frame_id', 'child_frame_id'):
         if not values[name]:
-            return f"{name} must not be empty"
-    if values["model"] not in MODEL_CHOICES:
-        return (f"model must be one of {', '.join(MODEL_CHOICES)}, "
-                f"got '{str(values['model'])[:40]}'")
-    step = min(values["integration_step"], flight_step or math.inf)
-    rate = values["real_time_factor"] / step
+            return f'{name} must not be empty'
+    if values['model'] not in MODEL_CHOICES:
+        return (
+            f"model must be one of {', '.join(MODEL_CHOICES)}, got '{str(values['model'])[:40]}'"
+        )
+    step = min(values['integration_step'], flight_step or math.inf)
+    rate = values['real_time_factor'] / step
     if rate > MAX_STEPS_PER_SECOND:
-        return (f"real_time_factor {values['real_time_factor']:g} with a {step:g} s step needs "
-                f"{rate:.3g} RK4 steps per second, more than the {MAX_STEPS_PER_SECOND:g} a "
-                "real-time tick allows: lower real_time_factor or raise integration_step")
+        return (
+            f'real_time_factor {values["real_time_factor"]:g} with a {step:g} s step needs '
+            f'{rate:.3g} RK4 steps per second, more than the {MAX_STEPS_PER_SECOND:g} a '
+            'real-time tick allows: lower real_time_factor or raise integration_step'
+        )
     return None
 
 
@@ -134,18 +182,18 @@ class _FlightRun:
     order: FlightOrder
     flight: Flight
     ticks: int = 0
-    tick_dt: float = 0.0            # simulated seconds per tick for this run
-    time_offset: float = 0.0        # simulated seconds flown before the last rate change
+    tick_dt: float = 0.0  # simulated seconds per tick for this run
+    time_offset: float = 0.0  # simulated seconds flown before the last rate change
     landed_reported: bool = False
     last_hold_ns: int = 0
     last_marker_ns: int | None = None
     trail: collections.deque = field(default_factory=lambda: collections.deque(maxlen=500))
-    trail_count: int = 0            # positions ever appended to the trail
-    ended: str | None = None        # why the guard ended the flight (ERROR), None while fine
-    linear_diverged: bool = False   # the linear prediction overflowed (unstable ball)
+    trail_count: int = 0  # positions ever appended to the trail
+    ended: str | None = None  # why the guard ended the flight (ERROR), None while fine
+    linear_diverged: bool = False  # the linear prediction overflowed (unstable ball)
     bounds: tuple[float, float] | None = None  # runaway speed [m/s] and rate [rad/s]
     valid_delta: float | None = None  # largest total angle inside the data ranges [rad]
-    validity_warned: bool = False     # the flight left a data range (warned once)
+    validity_warned: bool = False  # the flight left a data range (warned once)
 
     @property
     def time(self) -> float:
@@ -153,8 +201,12 @@ class _FlightRun:
 
 
 class SimulatorNode(Node):
-    """Publishes pose, odometry, spin axis, alpha/beta (and their linear prediction), markers
-    and diagnostics of the ball in flight, paced in real time."""
+    """
+    Simulator node: the ball in flight, paced in real time.
+
+    Publishes pose, odometry, spin axis, alpha/beta (and their linear prediction), markers and
+    diagnostics of the ball in flight, paced in real time.
+    """
 
     PARAMETERS = PARAMETERS
 
@@ -165,29 +217,41 @@ class SimulatorNode(Node):
         reason = check_parameters({spec.name: getattr(self, spec.name) for spec in PARAMETERS})
         if reason:
             raise ValueError(reason)
-        self._use_sim_time = bool(self.get_parameter("use_sim_time").value)
+        self._use_sim_time = bool(self.get_parameter('use_sim_time').value)
         # --- TF hook: the ball as the frame child_frame_id in frame_id on /tf ---
-        self.publish_tf = declare(self, "publish_tf", mb.TFMessage is not None,
-                                  "Publish the ball on /tf (frame_id -> child_frame_id)")
-        self._tf_pub = (None if mb.TFMessage is None
-                        else self.create_publisher(mb.TFMessage, qos.TF, qos.TF_QOS))
+        self.publish_tf = declare(
+            self,
+            'publish_tf',
+            mb.TFMessage is not None,
+            'Publish the ball on /tf (frame_id -> child_frame_id)',
+        )
+        self._tf_pub = (
+            None
+            if mb.TFMessage is None
+            else self.create_publisher(mb.TFMessage, qos.TF, qos.TF_QOS)
+        )
         self._tf_last = (None, -1)  # (publish_clock, stamp ns) of the last transform sent
         self._observation = ObservationHook(self)  # simulated camera: observation_* (tracker)
         self.add_on_set_parameters_callback(self._on_parameters)
-        self.diagnostic_name = f"football_ros: {self.get_fully_qualified_name()}"
-        self.hardware_id = f"football_ros{self.get_fully_qualified_name()}"
+        self.diagnostic_name = f'football_ros: {self.get_fully_qualified_name()}'
+        self.hardware_id = f'football_ros{self.get_fully_qualified_name()}'
 
         self._pubs = {
             qos.POSE: self.create_publisher(PoseStamped, qos.POSE, qos.STATE),
             qos.ODOM: self.create_publisher(Odometry, qos.ODOM, qos.STATE),
             qos.SPIN_AXIS: self.create_publisher(Vector3Stamped, qos.SPIN_AXIS, qos.STATE),
             qos.AERO_ANGLES: self.create_publisher(Vector3Stamped, qos.AERO_ANGLES, qos.STATE),
-            qos.AERO_ANGLES_LINEAR: self.create_publisher(Vector3Stamped, qos.AERO_ANGLES_LINEAR, qos.STATE),
-            qos.AERO_ANGLES_QUASI_STEADY: self.create_publisher(Vector3Stamped, qos.AERO_ANGLES_QUASI_STEADY,
-                                                                qos.STATE),
+            qos.AERO_ANGLES_LINEAR: self.create_publisher(
+                Vector3Stamped, qos.AERO_ANGLES_LINEAR, qos.STATE
+            ),
+            qos.AERO_ANGLES_QUASI_STEADY: self.create_publisher(
+                Vector3Stamped, qos.AERO_ANGLES_QUASI_STEADY, qos.STATE
+            ),
         }
         self._markers_pub = self.create_publisher(MarkerArray, qos.MARKERS, qos.MARKERS_QOS)
-        self._diag_pub = self.create_publisher(DiagnosticArray, qos.DIAGNOSTICS, qos.DIAGNOSTICS_QOS)
+        self._diag_pub = self.create_publisher(
+            DiagnosticArray, qos.DIAGNOSTICS, qos.DIAGNOSTICS_QOS
+        )
         self._clock_pub = self.create_publisher(Clock, qos.CLOCK, qos.CLOCK_QOS)
         self._ack_pub = self.create_publisher(DiagnosticStatus, qos.FLIGHT_ACK, qos.ORDER)
         self.create_subscription(String, qos.FLIGHT_ORDER, self._on_order, qos.ORDER)
@@ -201,8 +265,8 @@ class SimulatorNode(Node):
         self._last_order: FlightOrder | None = None
         self._paused = False
         self._sim_clock_ns = 0
-        self._events: _Events = _Events()   # (level, event, message) to report
-        self.stats = {"ticks": 0, "overruns": 0, "skipped": 0, "max_late_ms": 0.0}
+        self._events: _Events = _Events()  # (level, event, message) to report
+        self.stats = {'ticks': 0, 'overruns': 0, 'skipped': 0, 'max_late_ms': 0.0}
         self._overruns_reported = 0
         self._rivals: tuple[str, ...] = ()
         self._last_error_log = 0.0
@@ -211,11 +275,13 @@ class SimulatorNode(Node):
         gc.freeze()  # start-up objects leave the collector's generations: shorter GC pauses
         sys.setswitchinterval(1e-4)  # the pacer gets the GIL within 0.1 ms (default: 5 ms)
         self._stop = threading.Event()
-        self._thread = threading.Thread(target=self._pace, name="football-pacer", daemon=True)
+        self._thread = threading.Thread(target=self._pace, name='football-pacer', daemon=True)
         self._thread.start()
         self.get_logger().info(
-            f"ready: {self.publish_rate:g} Hz, step {self.integration_step:g} s, real-time factor "
-            f"{self.real_time_factor:g}; waiting for flights on '{self.resolve_topic_name(qos.FLIGHT_ORDER)}'")
+            f'ready: {self.publish_rate:g} Hz, step {self.integration_step:g} s, real-time factor '
+            f'{self.real_time_factor:g}; waiting for flights on '
+            f"'{self.resolve_topic_name(qos.FLIGHT_ORDER)}'"
+        )
 
     # --- parameters, services, orders (executor thread) --------------------------------------
     def _on_parameters(self, params) -> SetParametersResult:
@@ -230,7 +296,7 @@ class SimulatorNode(Node):
             return SetParametersResult(successful=False, reason=reason)
         with self._lock:
             for p in params:  # the hooks' parameters (publish_tf, observation_*) included
-                if p.name == "use_sim_time":
+                if p.name == 'use_sim_time':
                     self._use_sim_time = bool(p.value)
                 else:
                     setattr(self, p.name, p.value)
@@ -246,12 +312,13 @@ class SimulatorNode(Node):
             run.trail = collections.deque(run.trail, maxlen=max(self.trail_length, 1))
 
     def _on_order(self, msg: String) -> None:
-        """Fly a valid order and acknowledge it (OK), or refuse it with the reason (ERROR).
+        """
+        Fly a valid order and acknowledge it (OK), or refuse it with the reason (ERROR).
 
         Every order gets exactly one acknowledgement on football/flight/ack, named by the
         order's ``order`` id (else its ``id``): the release node answers its client from it.
         """
-        name = "unknown"
+        name = 'unknown'
         try:
             name = _order_name(msg.data)
             order = FlightOrder.from_json(msg.data)
@@ -259,35 +326,47 @@ class SimulatorNode(Node):
         except (ValueError, ArithmeticError, RecursionError) as exc:
             reason = capped(str(exc) or type(exc).__name__)
             self.get_logger().error(f"refused flight order '{name}': {reason}")
-            self._acknowledge(name, "ERROR", reason, {})
+            self._acknowledge(name, 'ERROR', reason, {})
             return
         except Exception as exc:  # never let one order take the simulator down
-            self.get_logger().error(f"flight order '{name}': internal error\n{traceback.format_exc()}")
-            self._acknowledge(name, "ERROR", f"internal error ({type(exc).__name__})", {})
+            self.get_logger().error(
+                f"flight order '{name}': internal error\n{traceback.format_exc()}"
+            )
+            self._acknowledge(name, 'ERROR', f'internal error ({type(exc).__name__})', {})
             return
         self._start(order, flight)
-        self._acknowledge(name, "OK", f"flying '{order.request_id}'",
-                          {"request_id": order.request_id, "model": flight.model})
+        self._acknowledge(
+            name,
+            'OK',
+            f"flying '{order.request_id}'",
+            {'request_id': order.request_id, 'model': flight.model},
+        )
 
     def _acknowledge(self, name: str, level: str, message: str, values: dict) -> None:
-        self._ack_pub.publish(mb.diagnostic_status(name, level, message, values,
-                                                   hardware_id=self.get_fully_qualified_name()))
+        self._ack_pub.publish(
+            mb.diagnostic_status(
+                name, level, message, values, hardware_id=self.get_fully_qualified_name()
+            )
+        )
 
     def _start(self, order: FlightOrder, flight: Flight) -> None:
         modes = flight.modes
         v = order.initial.velocity
-        text = (f"flight '{order.request_id}': {order.ball_name} released at {np.linalg.norm(v):.2f} m/s, "
-                f"{math.degrees(modes.flight_path_angle):.1f} deg, {order.initial.spin / RPM:.0f} rpm"
-                f" ({'stable' if modes.stable else 'gyroscopically UNSTABLE'}, equilibrium sideslip "
-                f"{math.degrees(modes.equilibrium_sideslip):.2f} deg)")
+        text = (
+            f"flight '{order.request_id}': {order.ball_name} released at "
+            f'{np.linalg.norm(v):.2f} m/s, '
+            f'{math.degrees(modes.flight_path_angle):.1f} deg, {order.initial.spin / RPM:.0f} rpm'
+            f' ({"stable" if modes.stable else "gyroscopically UNSTABLE"}, equilibrium sideslip '
+            f'{math.degrees(modes.equilibrium_sideslip):.2f} deg)'
+        )
         with self._lock:
             replaced = self._run is not None and self._run.flight.landing_time is None
             run = _FlightRun(order, flight)
             self._rebase(run)
             self._run, self._last_order = run, order
-            self._events.append(("OK" if modes.stable else "WARN", "released", text))
+            self._events.append(('OK' if modes.stable else 'WARN', 'released', text))
         if replaced:
-            self.get_logger().info("the flight in the air is replaced by a new release")
+            self.get_logger().info('the flight in the air is replaced by a new release')
         if modes.stable:
             self.get_logger().info(text)
         else:
@@ -297,7 +376,10 @@ class SimulatorNode(Node):
         with self._lock:
             order = self._last_order
         if order is None:
-            response.success, response.message = False, "no flight to reset: nothing was released yet"
+            response.success, response.message = (
+                False,
+                'no flight to reset: nothing was released yet',
+            )
             return response
         try:
             flight = order.flight(self.integration_step, self._model_override())
@@ -306,41 +388,50 @@ class SimulatorNode(Node):
             response.message = f"flight '{order.request_id}' cannot restart: {capped(str(exc))}"
             return response
         self._start(order, flight)
-        response.success, response.message = True, f"flight '{order.request_id}' restarted from its release"
+        response.success, response.message = (
+            True,
+            f"flight '{order.request_id}' restarted from its release",
+        )
         return response
 
     def _model_override(self) -> str | None:
-        return None if self.model == "release" else self.model
+        return None if self.model == 'release' else self.model
 
     def _on_pause(self, request, response):
         with self._lock:
             self._paused = bool(request.data)
         response.success = True
-        response.message = "paused" if request.data else "running"
-        self.get_logger().info(f"simulation {response.message}")
+        response.message = 'paused' if request.data else 'running'
+        self.get_logger().info(f'simulation {response.message}')
         return response
 
     def _check_rivals(self) -> None:
-        """Warn when another node publishes our state topics (or /clock, with publish_clock).
+        """
+        Warn when another node publishes our state topics (or /clock, with publish_clock).
 
-        Every publisher but one of our own name counts (two simulators may share a name)."""
+        Every publisher but one of our own name counts (two simulators may share a name).
+        """
         me = self.get_fully_qualified_name()
         topics = [self.resolve_topic_name(qos.POSE)] + ([qos.CLOCK] if self.publish_clock else [])
         others = set()
         for topic in topics:
-            names = [_qualified(i.node_namespace, i.node_name)
-                     for i in self.get_publishers_info_by_topic(topic)]
+            names = [
+                _qualified(i.node_namespace, i.node_name)
+                for i in self.get_publishers_info_by_topic(topic)
+            ]
             if me in names:
                 names.remove(me)
-            others.update(f"{name} ({topic})" for name in names)
+            others.update(f'{name} ({topic})' for name in names)
         rivals = tuple(sorted(others))
         with self._lock:
             before, self._rivals = self._rivals, rivals
         if rivals != before and rivals:
-            self.get_logger().warning("another node publishes the same topics, the streams will "
-                                      f"interleave: {', '.join(rivals)}")
+            self.get_logger().warning(
+                'another node publishes the same topics, the streams will '
+                f'interleave: {", ".join(rivals)}'
+            )
         elif rivals != before:
-            self.get_logger().info("no other node publishes the state topics any more")
+            self.get_logger().info('no other node publishes the state topics any more')
 
     # --- pacing thread -----------------------------------------------------------------------
     def _pace(self) -> None:
@@ -356,11 +447,11 @@ class SimulatorNode(Node):
                 continue
             late = now - next_due
             behind = late // period_ns
-            self.stats["max_late_ms"] = max(self.stats["max_late_ms"], late * 1e-6)
+            self.stats['max_late_ms'] = max(self.stats['max_late_ms'], late * 1e-6)
             if behind:
-                self.stats["overruns"] += int(behind)
+                self.stats['overruns'] += int(behind)
                 replay = min(int(behind), int(MAX_CATCH_UP_S * self.publish_rate))
-                self.stats["skipped"] += int(behind) - replay
+                self.stats['skipped'] += int(behind) - replay
                 next_due += (int(behind) - replay) * period_ns
             try:
                 while next_due <= now:
@@ -378,7 +469,8 @@ class SimulatorNode(Node):
                 if not self.context.ok():  # Ctrl-C / SIGTERM shut rclpy down under us: just stop
                     return
                 self._log_error_limited(
-                    f"pacing error (the pacer continues):\n{traceback.format_exc()}")
+                    f'pacing error (the pacer continues):\n{traceback.format_exc()}'
+                )
 
     def _guarded_tick(self, wall_stamp_ns: int, period_ns: int) -> None:
         """One tick; an exception ends the flight in the air (ERROR) and pacing goes on."""
@@ -389,12 +481,12 @@ class SimulatorNode(Node):
                 raise
             with self._lock:
                 run = self._run
-            text = f"{type(exc).__name__}: {exc}"[:300]
+            text = f'{type(exc).__name__}: {exc}'[:300]
             if run is not None and run.ended is None:
-                self._end_flight(run, f"internal error while flying ({text})")
+                self._end_flight(run, f'internal error while flying ({text})')
                 self.get_logger().error(traceback.format_exc())
             else:
-                self._log_error_limited(f"tick failed: {traceback.format_exc()}")
+                self._log_error_limited(f'tick failed: {traceback.format_exc()}')
 
     def _log_error_limited(self, text: str) -> None:
         now = time.monotonic()
@@ -403,8 +495,12 @@ class SimulatorNode(Node):
             self.get_logger().error(text)
 
     def _stamp_ns(self, wall_stamp_ns: int) -> int:
-        """Stamp of a tick: simulated time (publish_clock), the external /clock (use_sim_time),
-        else the wall-clock time the tick was due."""
+        """
+        Stamp of a tick.
+
+        simulated time (publish_clock), the external /clock (use_sim_time), else the
+        wall-clock time the tick was due.
+        """
         if self.publish_clock:
             return self._sim_clock_ns
         if self._use_sim_time:
@@ -413,7 +509,7 @@ class SimulatorNode(Node):
 
     def _tick(self, wall_stamp_ns: int, period_ns: int) -> None:
         with self._lock:
-            self.stats["ticks"] += 1
+            self.stats['ticks'] += 1
             if not self._paused:
                 self._sim_clock_ns += int(period_ns * self.real_time_factor)
             stamp_ns = self._stamp_ns(wall_stamp_ns)
@@ -428,7 +524,9 @@ class SimulatorNode(Node):
                 return
             run, t = run_t
             self._observation.tick(run, stamp, t)  # simulated camera (observation_hook.py)
-            sample = run.flight.sample(t)  # outside the lock: many steps at a high real-time factor
+            sample = run.flight.sample(
+                t
+            )  # outside the lock: many steps at a high real-time factor
             problem = self._runaway(run, sample)
             if problem:
                 self._end_flight(run, problem)
@@ -441,9 +539,10 @@ class SimulatorNode(Node):
                 at_rest = run.landed_reported  # a held landed state (the landing has the impact)
                 if sample.landed and not run.landed_reported:
                     run.landed_reported, run.last_hold_ns, landed_now = True, wall_stamp_ns, True
-                    text = (f"flight '{run.order.request_id}' "
-                            + _landed_text(sample.position, sample.t))
-                    self._events.append(("OK", "landed", text))
+                    text = f"flight '{run.order.request_id}' " + _landed_text(
+                        sample.position, sample.t
+                    )
+                    self._events.append(('OK', 'landed', text))
             break
         else:
             return
@@ -454,7 +553,7 @@ class SimulatorNode(Node):
         self._maybe_publish_markers(run, sample, stamp, wall_stamp_ns, force=landed_now)
 
     def _select_run(self, wall_stamp_ns: int) -> tuple[_FlightRun, float] | None:
-        """The run to publish this tick and its time [s] (caller holds the lock), or None."""
+        """Return the run to publish this tick and its time [s], or None (lock held by caller)."""
         run = self._run
         if run is None or self._paused or run.ended is not None:
             return None
@@ -468,32 +567,47 @@ class SimulatorNode(Node):
 
     def _runaway(self, run: _FlightRun, sample: BallSample) -> str | None:
         """Why ``sample`` must not be published (the flight then ends), or None."""
-        values = np.concatenate((sample.position, sample.velocity, sample.orientation, sample.axis,
-                                 sample.angular_velocity, sample.aero_angles))
+        values = np.concatenate(
+            (
+                sample.position,
+                sample.velocity,
+                sample.orientation,
+                sample.axis,
+                sample.angular_velocity,
+                sample.aero_angles,
+            )
+        )
         if not np.isfinite(values).all():
-            return f"the state became non-finite at t = {sample.t:.4f} s"
+            return f'the state became non-finite at t = {sample.t:.4f} s'
         if run.bounds is None:
             run.bounds = _runaway_bounds(run.flight)
         bounds = run.bounds
         speed = float(np.linalg.norm(sample.velocity))
         if speed > bounds[0]:
-            return (f"runaway: speed {speed:.4g} m/s at t = {sample.t:.4f} s, far past the "
-                    f"{bounds[0] / RUNAWAY_FACTOR:.4g} m/s the release allows")
+            return (
+                f'runaway: speed {speed:.4g} m/s at t = {sample.t:.4f} s, far past the '
+                f'{bounds[0] / RUNAWAY_FACTOR:.4g} m/s the release allows'
+            )
         rate = float(np.linalg.norm(sample.angular_velocity))
         if rate > bounds[1]:
-            return (f"runaway: angular rate {rate:.4g} rad/s at t = {sample.t:.4f} s, far past "
-                    "the "
-                    f"{bounds[1] / RUNAWAY_FACTOR:.4g} rad/s the release allows")
+            return (
+                f'runaway: angular rate {rate:.4g} rad/s at t = {sample.t:.4f} s, far past '
+                'the '
+                f'{bounds[1] / RUNAWAY_FACTOR:.4g} rad/s the release allows'
+            )
         distance = float(np.linalg.norm(sample.position - run.flight.initial.position))
         if distance > MAX_DISTANCE_M:
-            return f"runaway: {distance:.4g} m from the release point at t = {sample.t:.4f} s"
+            return f'runaway: {distance:.4g} m from the release point at t = {sample.t:.4f} s'
         if not sample.landed and sample.t > MAX_FLIGHT_S:
-            return f"no landing within {MAX_FLIGHT_S:g} s of simulated flight"
+            return f'no landing within {MAX_FLIGHT_S:g} s of simulated flight'
         return None
 
     def _check_validity(self, run: _FlightRun, sample: BallSample) -> None:
-        """Warn once per flight (WARN event + log) when the total angle leaves the data range of
-        a model form in force (:func:`football_ros.physics.aero.out_of_validity`)."""
+        """
+        Warn once per flight when the total angle leaves the data range of a form in force.
+
+        A WARN event and a log line with :func:`football_ros.physics.aero.out_of_validity`.
+        """
         if run.validity_warned:
             return
         flight = run.flight
@@ -503,21 +617,26 @@ class SimulatorNode(Node):
         if delta <= run.valid_delta:
             return
         run.validity_warned = True
-        text = (f"flight '{run.order.request_id}' left the data range at t = {sample.t:.3f} s: "
-                + "; ".join(out_of_validity(delta, flight.model, flight.moment, flight.aero)))
+        text = (
+            f"flight '{run.order.request_id}' left the data range at t = {sample.t:.3f} s: "
+            + '; '.join(out_of_validity(delta, flight.model, flight.moment, flight.aero))
+        )
         with self._lock:
-            self._events.append(("WARN", "validity", text))
+            self._events.append(('WARN', 'validity', text))
         self.get_logger().warning(text)
 
     def _end_flight(self, run: _FlightRun, reason: str) -> None:
-        """End ``run`` with an ERROR event (log line + /diagnostics); nothing more is published
-        for it until the next release or reset."""
+        """
+        End ``run`` with an ERROR event (log line + /diagnostics).
+
+        Nothing more is published for it until the next release or reset.
+        """
         with self._lock:
             if run.ended is not None:
                 return
             run.ended = reason
             text = f"flight '{run.order.request_id}' ended: {reason}"
-            self._events.append(("ERROR", "error", text))
+            self._events.append(('ERROR', 'error', text))
         self.get_logger().error(text)
 
     def _publish_state(self, run: _FlightRun, sample: BallSample, stamp, at_rest: bool) -> None:
@@ -533,28 +652,41 @@ class SimulatorNode(Node):
         elif not run.linear_diverged:  # the closed form overflowed (an unstable ball, late)
             run.linear_diverged = True
             with self._lock:
-                self._events.append(("WARN", "linear_diverged",
-                                     f"flight '{run.order.request_id}': the linear prediction "
-                                     f"overflowed at t = {sample.t:.3f} s; aero_angles_linear "
-                                     "is not published for the rest of this flight"))
+                self._events.append(
+                    (
+                        'WARN',
+                        'linear_diverged',
+                        f"flight '{run.order.request_id}': the linear prediction "
+                        f'overflowed at t = {sample.t:.3f} s; aero_angles_linear '
+                        'is not published for the rest of this flight',
+                    )
+                )
         quasi = msgs.aero_angles_quasi_steady.vector
         if math.isfinite(quasi.x + quasi.y + quasi.z):
             self._pubs[qos.AERO_ANGLES_QUASI_STEADY].publish(msgs.aero_angles_quasi_steady)
         self._publish_tf(sample, stamp)
 
     def _publish_tf(self, sample: BallSample, stamp) -> None:
-        """TF hook: one transform per published state; tf2 rejects a repeated or older stamp
-        for a frame, so a stamp that does not advance on the same clock is skipped."""
+        """
+        TF hook: one transform per published state.
+
+        Tf2 rejects a repeated or older stamp for a frame, so a stamp that does not advance
+        on the same clock is skipped.
+        """
         ns = stamp.sec * 1_000_000_000 + stamp.nanosec
         clock, last_ns = self._tf_last
-        if self._tf_pub is None or not self.publish_tf or (clock == self.publish_clock
-                                                            and ns <= last_ns):
+        if (
+            self._tf_pub is None
+            or not self.publish_tf
+            or (clock == self.publish_clock and ns <= last_ns)
+        ):
             return
         self._tf_last = (self.publish_clock, ns)
         self._tf_pub.publish(mb.tf_message(sample, stamp, self.frame_id, self.child_frame_id))
 
-    def _maybe_publish_markers(self, run: _FlightRun, sample: BallSample, stamp, wall_ns: int,
-                               force: bool) -> None:
+    def _maybe_publish_markers(
+        self, run: _FlightRun, sample: BallSample, stamp, wall_ns: int, force: bool
+    ) -> None:
         if self.marker_rate <= 0:
             return
         last = run.last_marker_ns
@@ -567,58 +699,90 @@ class SimulatorNode(Node):
             run.trail_count += 1
             points = mb.decimated(trail, run.trail_count - len(trail))
         ball = run.flight.ball
-        self._markers_pub.publish(mb.markers(sample, points, stamp, self.frame_id, ball.length,
-                                             ball.diameter))
+        self._markers_pub.publish(
+            mb.markers(sample, points, stamp, self.frame_id, ball.length, ball.diameter)
+        )
 
     def _publish_diagnostics(self, events) -> None:
         with self._lock:
             run, paused, stats, rivals = self._run, self._paused, dict(self.stats), self._rivals
             dropped, self._events.dropped = self._events.dropped, 0
-            stamp = mb.time_msg(self._sim_clock_ns if self.publish_clock
-                                else self.get_clock().now().nanoseconds)
-        values = {"publish_rate": self.publish_rate, "real_time_factor": self.real_time_factor,
-                  "ticks": stats["ticks"], "overruns": stats["overruns"], "skipped_ticks": stats["skipped"],
-                  "max_late_ms": round(stats["max_late_ms"], 3)}
-        level, message = "OK", "idle: waiting for a release"
+            stamp = mb.time_msg(
+                self._sim_clock_ns if self.publish_clock else self.get_clock().now().nanoseconds
+            )
+        values = {
+            'publish_rate': self.publish_rate,
+            'real_time_factor': self.real_time_factor,
+            'ticks': stats['ticks'],
+            'overruns': stats['overruns'],
+            'skipped_ticks': stats['skipped'],
+            'max_late_ms': round(stats['max_late_ms'], 3),
+        }
+        level, message = 'OK', 'idle: waiting for a release'
         if run is not None:
             flight = run.flight
-            values.update({"flight_id": run.order.request_id, "ball": run.order.ball_name,
-                           "flight_time": run.time, "stable": flight.modes.stable})
+            values.update(
+                {
+                    'flight_id': run.order.request_id,
+                    'ball': run.order.ball_name,
+                    'flight_time': run.time,
+                    'stable': flight.modes.stable,
+                }
+            )
             if run.ended is not None:
-                level, message = "ERROR", f"flight '{run.order.request_id}' ended: {run.ended}"
+                level, message = 'ERROR', f"flight '{run.order.request_id}' ended: {run.ended}"
             elif flight.landing_time is not None:
                 landing = flight.state_at(flight.landing_time)
-                values.update({"time_of_flight": flight.landing_time, "landing_x": float(landing[0]),
-                               "landing_y": float(landing[1])})
+                values.update(
+                    {
+                        'time_of_flight': flight.landing_time,
+                        'landing_x': float(landing[0]),
+                        'landing_y': float(landing[1]),
+                    }
+                )
                 message = _landed_text(landing, flight.landing_time)
             else:
-                message = f"flying: t = {run.time:.3f} s"
-            if not flight.modes.stable and level == "OK":
-                level, message = "WARN", message + " (gyroscopically unstable)"
+                message = f'flying: t = {run.time:.3f} s'
+            if not flight.modes.stable and level == 'OK':
+                level, message = 'WARN', message + ' (gyroscopically unstable)'
         if paused:
-            message = "paused; " + message
+            message = 'paused; ' + message
         statuses = []
         for ev_level, event, text in events or []:
-            statuses.append(mb.diagnostic_status(self.diagnostic_name + " event", ev_level, text,
-                                                 dict(values, event=event), self.hardware_id))
+            statuses.append(
+                mb.diagnostic_status(
+                    self.diagnostic_name + ' event',
+                    ev_level,
+                    text,
+                    dict(values, event=event),
+                    self.hardware_id,
+                )
+            )
         if dropped:
-            statuses.append(mb.diagnostic_status(
-                self.diagnostic_name + " event", "WARN", f"{dropped} older event(s) dropped "
-                f"(at most {MAX_EVENTS} wait for /diagnostics)", dict(values, event="dropped"),
-                self.hardware_id))
-        new_overruns = stats["overruns"] - self._overruns_reported
+            statuses.append(
+                mb.diagnostic_status(
+                    self.diagnostic_name + ' event',
+                    'WARN',
+                    f'{dropped} older event(s) dropped '
+                    f'(at most {MAX_EVENTS} wait for /diagnostics)',
+                    dict(values, event='dropped'),
+                    self.hardware_id,
+                )
+            )
+        new_overruns = stats['overruns'] - self._overruns_reported
         if events is None:  # periodic status: overruns since the previous one make it WARN
-            self._overruns_reported = stats["overruns"]
+            self._overruns_reported = stats['overruns']
         if new_overruns:
-            level = "WARN" if level == "OK" else level
-            message += f"; {new_overruns} late tick(s) caught up since the last status"
+            level = 'WARN' if level == 'OK' else level
+            message += f'; {new_overruns} late tick(s) caught up since the last status'
         if rivals:
-            level = "WARN" if level == "OK" else level
-            message += f"; another node publishes the same topics: {', '.join(rivals)}"
-            values["other_publishers"] = ", ".join(rivals)
-        statuses.append(mb.diagnostic_status(self.diagnostic_name, level, message, values,
-                                             self.hardware_id))
-        self._diag_pub.publish(DiagnosticArray(header=mb.header(stamp, ""), status=statuses))
+            level = 'WARN' if level == 'OK' else level
+            message += f'; another node publishes the same topics: {", ".join(rivals)}'
+            values['other_publishers'] = ', '.join(rivals)
+        statuses.append(
+            mb.diagnostic_status(self.diagnostic_name, level, message, values, self.hardware_id)
+        )
+        self._diag_pub.publish(DiagnosticArray(header=mb.header(stamp, ''), status=statuses))
 
     def close(self) -> None:
         """Stop the pacing thread (called before the node is destroyed)."""
@@ -627,41 +791,52 @@ class SimulatorNode(Node):
 
 
 def _order_name(text: str) -> str:
-    """The ``order`` (else ``id``) of a flight order's text, for acknowledging even a bad one."""
+    """Return the ``order`` (else ``id``) of an order's text, to acknowledge even a bad one."""
     try:
         data = load_strict(text) if isinstance(text, str) and len(text) <= 1 << 20 else None
     except ValueError as exc:
-        data = getattr(exc, "partial", None)
+        data = getattr(exc, 'partial', None)
     if isinstance(data, dict):
-        for key in ("order", "id"):
+        for key in ('order', 'id'):
             value = data.get(key)
-            if isinstance(value, (str, int)) and not isinstance(value, bool) and str(value).isprintable():
-                return str(value)[:128] or "unknown"
-    return "unknown"
+            if (
+                isinstance(value, (str, int))
+                and not isinstance(value, bool)
+                and str(value).isprintable()
+            ):
+                return str(value)[:128] or 'unknown'
+    return 'unknown'
 
 
 def _qualified(namespace: str, name: str) -> str:
-    return f"{namespace.rstrip('/')}/{name}"
+    return f'{namespace.rstrip("/")}/{name}'
 
 
 def _runaway_bounds(flight: Flight) -> tuple[float, float]:
-    """Speed [m/s] and angular rate [rad/s] past which a flight is a runaway: RUNAWAY_FACTOR
-    times the bounds of :mod:`football_ros.physics.limits` (ground speed <= air speed + wind;
-    |w| <= transverse bound + |p|)."""
+    """
+    Speed [m/s] and angular rate [rad/s] past which a flight is a runaway.
+
+    RUNAWAY_FACTOR times the bounds of :mod:`football_ros.physics.limits` (ground speed <= air
+    speed + wind; |w| <= transverse bound + |p|).
+    """
     wind = flight.params[limits.dyn.P_WIND:limits.dyn.P_WIND + 3]
     speed = limits.max_air_speed(flight.initial, wind) + float(np.linalg.norm(wind))
-    rate = (limits.fastest_rates(flight.params, flight.initial)["angular rate"]
-            + abs(flight.initial.spin))
+    rate = limits.fastest_rates(flight.params, flight.initial)['angular rate'] + abs(
+        flight.initial.spin
+    )
     return RUNAWAY_FACTOR * speed, RUNAWAY_FACTOR * rate
 
 
 def _landed_text(position, time_of_flight: float) -> str:
-    return f"landed at x = {position[0]:.3f} m, y = {position[1]:.3f} m after {time_of_flight:.4f} s"
+    return (
+        f'landed at x = {position[0]:.3f} m, y = {position[1]:.3f} m after {time_of_flight:.4f} s'
+    )
 
 
 def _warm_up() -> None:
     """Load the compiled kernels now, so that the first flight's ticks are not late."""
     from ..physics.precompile import compile_ahead
+
     compile_ahead()  # every kernel of the nodes and commands (compiled once, then loaded)
     flight = Flight.from_release(Release())
     flight.sample(0.0105)
@@ -671,8 +846,8 @@ def _warm_up() -> None:
 
 
 def main(argv=None) -> int:
-    return run_node(SimulatorNode, argv, "simulator")
+    return run_node(SimulatorNode, argv, 'simulator')
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     raise SystemExit(main())

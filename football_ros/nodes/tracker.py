@@ -1,4 +1,19 @@
-"""Tracker node: ball positions from any detector in, state estimate and landing prediction out.
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Tracker node: ball positions from any detector in, state estimate and landing prediction out.
 
 Subscribes ``football/observation`` (geometry_msgs/msg/PointStamped, header.stamp = capture
 time) and runs :class:`football_ros.estimation.FlightTracker` (an unscented Kalman filter on
@@ -14,21 +29,21 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from geometry_msgs.msg import Point, PointStamped, PoseStamped, PoseWithCovarianceStamped
 from nav_msgs.msg import Odometry, Path
+import numpy as np
 from rclpy.node import Node
 
-from ..estimation import FlightTracker, TrackerSettings
-from ..estimation.tracker import X_H, X_S, X_V
-from ..physics.frames import FIELD_FRAME, attitude_with_axis
-from ..physics.presets import PRESETS
 from . import messages as mb
 from . import qos
 from .params import declare
 from .runner import run_node
+from ..estimation import FlightTracker, TrackerSettings
+from ..estimation.tracker import X_H, X_S, X_V
+from ..physics.frames import attitude_with_axis, FIELD_FRAME
+from ..physics.presets import PRESETS
 
-NODE_NAME = "football_tracker"
+NODE_NAME = 'football_tracker'
 UNKNOWN_VARIANCE = 1e6
 """Variance [rad^2] published for the spin angle about the axis (not observable)."""
 
@@ -46,70 +61,118 @@ class TrackerNode(Node):
 
     def __init__(self) -> None:
         super().__init__(NODE_NAME)
-        self.frame_id = declare(self, "frame_id", FIELD_FRAME,
-                                "World frame of the fixes and of every output", None, True)
-        ball = declare(self, "ball", "american",
-                       f"Ball preset the filter assumes: {', '.join(PRESETS)}", None, True)
-        noise = declare(self, "observation_noise", 0.02,
-                        "Fix noise, 1 sigma per axis [m]", (1e-4, 10.0), True)
-        spin = declare(self, "spin_rpm", 0.0,
-                       "Nominal |spin| [rev/min] of a throw, 0 = the preset's", (0.0, 3000.0),
-                       True)
-        gate = declare(self, "gate", 21.11, "Outlier gate: squared Mahalanobis distance",
-                       (1.0, 10000.0), True)
-        max_lag = declare(self, "max_lag", 0.5,
-                          "Oldest fix accepted behind the newest [s]", (0.0, 10.0), True)
-        max_gap = declare(self, "max_gap", 0.5, "Silence that ends a throw [s]",
-                          (0.01, 100.0), True)
-        self.max_future = declare(self, "max_future", 0.5,
-                                  "Fixes stamped more than this ahead of the node clock "
-                                  "are refused [s], 0 = no check", (0.0, 100.0), True)
-        self.path_step = declare(self, "path_step", 0.05,
-                                 "Time between poses of the predicted path [s]",
-                                 (0.005, 1.0), True)
-        self.prediction_rate = declare(self, "prediction_rate", 30.0,
-                                       "Landing and path predictions per second [Hz]",
-                                       (0.1, 1000.0), True)
+        self.frame_id = declare(
+            self,
+            'frame_id',
+            FIELD_FRAME,
+            'World frame of the fixes and of every output',
+            None,
+            True,
+        )
+        ball = declare(
+            self,
+            'ball',
+            'american',
+            f'Ball preset the filter assumes: {", ".join(PRESETS)}',
+            None,
+            True,
+        )
+        noise = declare(
+            self, 'observation_noise', 0.02, 'Fix noise, 1 sigma per axis [m]', (1e-4, 10.0), True
+        )
+        spin = declare(
+            self,
+            'spin_rpm',
+            0.0,
+            "Nominal |spin| [rev/min] of a throw, 0 = the preset's",
+            (0.0, 3000.0),
+            True,
+        )
+        gate = declare(
+            self, 'gate', 21.11, 'Outlier gate: squared Mahalanobis distance', (1.0, 10000.0), True
+        )
+        max_lag = declare(
+            self, 'max_lag', 0.5, 'Oldest fix accepted behind the newest [s]', (0.0, 10.0), True
+        )
+        max_gap = declare(
+            self, 'max_gap', 0.5, 'Silence that ends a throw [s]', (0.01, 100.0), True
+        )
+        self.max_future = declare(
+            self,
+            'max_future',
+            0.5,
+            'Fixes stamped more than this ahead of the node clock are refused [s], 0 = no check',
+            (0.0, 100.0),
+            True,
+        )
+        self.path_step = declare(
+            self,
+            'path_step',
+            0.05,
+            'Time between poses of the predicted path [s]',
+            (0.005, 1.0),
+            True,
+        )
+        self.prediction_rate = declare(
+            self,
+            'prediction_rate',
+            30.0,
+            'Landing and path predictions per second [Hz]',
+            (0.1, 1000.0),
+            True,
+        )
         if ball not in PRESETS:
-            raise ValueError(f"parameter ball must be one of {', '.join(PRESETS)}, "
-                             f"got '{ball}'")
+            raise ValueError(f"parameter ball must be one of {', '.join(PRESETS)}, got '{ball}'")
         if not self.frame_id:
-            raise ValueError("parameter frame_id must not be empty")
-        self.tracker = FlightTracker(TrackerSettings(
-            noise=noise, ball=ball, spin_rpm=spin or None, gate=gate, max_lag=max_lag,
-            max_gap=max_gap, max_future=max(self.max_future, 1e-9)))
+            raise ValueError('parameter frame_id must not be empty')
+        self.tracker = FlightTracker(
+            TrackerSettings(
+                noise=noise,
+                ball=ball,
+                spin_rpm=spin or None,
+                gate=gate,
+                max_lag=max_lag,
+                max_gap=max_gap,
+                max_future=max(self.max_future, 1e-9),
+            )
+        )
         self._estimate_pub = self.create_publisher(Odometry, qos.ESTIMATE, qos.STATE)
-        self._landing_pub = self.create_publisher(PoseWithCovarianceStamped, qos.LANDING,
-                                                  qos.STATE)
+        self._landing_pub = self.create_publisher(
+            PoseWithCovarianceStamped, qos.LANDING, qos.STATE
+        )
         self._path_pub = self.create_publisher(Path, qos.PREDICTED_PATH, qos.STATE)
         self.create_subscription(PointStamped, qos.OBSERVATION, self._on_fix, qos.STATE)
         self._last_prediction = -math.inf
         _warm_up(self.tracker)
         self.get_logger().info(
             f"ready: tracking '{self.resolve_topic_name(qos.OBSERVATION)}' in "
-            f"'{self.frame_id}' ({ball}, noise {noise:g} m)")
+            f"'{self.frame_id}' ({ball}, noise {noise:g} m)"
+        )
 
     def _on_fix(self, msg: PointStamped) -> None:
         try:
             self._handle(msg)
         except Exception as exc:  # noqa: BLE001 - a bad fix must never stop the node
-            self.get_logger().error(f"fix ignored after an internal error: {exc!r}"[:300])
+            self.get_logger().error(f'fix ignored after an internal error: {exc!r}'[:300])
 
     def _handle(self, msg: PointStamped) -> None:
         if msg.header.frame_id != self.frame_id:
             self.get_logger().warning(
                 f"fix refused: header.frame_id '{msg.header.frame_id[:40]}' is not "
-                f"'{self.frame_id}'", throttle_duration_sec=2.0)
+                f"'{self.frame_id}'",
+                throttle_duration_sec=2.0,
+            )
             return
         stamp = _ns(msg.header.stamp) * 1e-9
         now = self.get_clock().now().nanoseconds * 1e-9 if self.max_future > 0 else None
         result = self.tracker.update(stamp, (msg.point.x, msg.point.y, msg.point.z), now)
-        if result.status == "started":
-            self.get_logger().info(f"new throw #{self.tracker.throws} at t = {stamp:.3f} s")
+        if result.status == 'started':
+            self.get_logger().info(f'new throw #{self.tracker.throws} at t = {stamp:.3f} s')
         elif not result.used:
-            if result.status != "candidate":
-                self.get_logger().warning(f"fix refused ({result.status}): {result.reason}",
-                                          throttle_duration_sec=2.0)
+            if result.status != 'candidate':
+                self.get_logger().warning(
+                    f'fix refused ({result.status}): {result.reason}', throttle_duration_sec=2.0
+                )
             return
         self._publish_estimate()
         wall = self.get_clock().now().nanoseconds * 1e-9
@@ -134,8 +197,9 @@ class TrackerNode(Node):
                 self._landing_pub.publish(msg)
                 if landed:
                     self.get_logger().info(
-                        f"landed: predicted landing at x = {pred.position[0]:.3f} m, "
-                        f"y = {pred.position[1]:.3f} m, t = {pred.time:.3f} s")
+                        f'landed: predicted landing at x = {pred.position[0]:.3f} m, '
+                        f'y = {pred.position[1]:.3f} m, t = {pred.time:.3f} s'
+                    )
         path = self.tracker.predict_path(self.path_step)
         est = self.tracker.estimate
         if path is not None and est is not None:
@@ -149,16 +213,20 @@ def _finite(*arrays) -> bool:
 
 
 def _stampable(*seconds) -> bool:
-    """True if every time [s] fits a builtin_interfaces/Time (0 <= t < 2^31 s)."""
-    return all(math.isfinite(t) and 0.0 <= t < 2.0 ** 31 - 1.0 for t in seconds)
+    """Tell whether every time [s] fits a builtin_interfaces/Time (0 <= t < 2^31 s)."""
+    return all(math.isfinite(t) and 0.0 <= t < 2.0**31 - 1.0 for t in seconds)
 
 
-def estimate_message(t: float, x: np.ndarray, P: np.ndarray, frame_id: str,
-                     inertia_ratio: float) -> Odometry | None:
-    """Odometry of the estimate at ``t`` [s]: pose (orientation with body x = the estimated
-    axis) and twist (velocity and angular velocity) both in ``frame_id`` (child_frame_id =
-    frame_id), 6x6 covariances (x y z then rotations about x y z of that frame); None if
-    anything is non-finite."""
+def estimate_message(
+    t: float, x: np.ndarray, P: np.ndarray, frame_id: str, inertia_ratio: float
+) -> Odometry | None:
+    """
+    Odometry of the estimate at ``t`` [s].
+
+    Pose (orientation with body x = the estimated axis) and twist (velocity and angular
+    velocity) both in ``frame_id`` (child_frame_id = frame_id), 6x6 covariances (x y z then
+    rotations about x y z of that frame); None if anything is non-finite.
+    """
     r, v, s, h = x[:3], x[X_V:X_V + 3], x[X_S:X_S + 3], x[X_H:X_H + 3]
     h1 = float(h @ s)
     omega = h + (h1 / inertia_ratio - h1) * s  # w = h - h1 s + p s, p = h1 I_t / I_s
@@ -183,8 +251,12 @@ def estimate_message(t: float, x: np.ndarray, P: np.ndarray, frame_id: str,
 
 
 def landing_message(pred, frame_id: str) -> PoseWithCovarianceStamped | None:
-    """The predicted landing: header.stamp = predicted landing time, position on the ground
-    plane, covariance x/y block from the prediction (z and rotations 0: not estimated)."""
+    """
+    Build the predicted landing.
+
+    header.stamp = predicted landing time, position on the ground plane, covariance x/y block
+    from the prediction (z and rotations 0: not estimated).
+    """
     cov = np.zeros((6, 6))
     cov[:2, :2] = pred.covariance
     if not (_finite(pred.position, cov) and _stampable(pred.time)):
@@ -211,8 +283,11 @@ def path_message(t: float, times: np.ndarray, positions: np.ndarray, frame_id: s
 
 
 def _warm_up(tracker: FlightTracker) -> None:
-    """Compile the filter's kernels now (a throw seen on a scratch tracker), not on the first
-    real fix."""
+    """
+    Compile the filter's kernels now, not on the first real fix.
+
+    A throw seen on a scratch tracker.
+    """
     scratch = FlightTracker(tracker.settings)
     for k in range(12):
         t = k / 60.0
@@ -223,8 +298,8 @@ def _warm_up(tracker: FlightTracker) -> None:
 
 
 def main(argv=None) -> int:
-    return run_node(TrackerNode, argv, "tracker")
+    return run_node(TrackerNode, argv, 'tracker')
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     raise SystemExit(main())

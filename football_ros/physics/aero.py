@@ -1,4 +1,19 @@
-"""The "full" model: the paper's torque plus drag, lift, Magnus, damping, wind (docs/physics.md).
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The "full" model: the paper's torque plus drag, lift, Magnus, damping, wind (docs/physics.md).
 
 Forms follow McCoy, *Modern Exterior Ballistics* (linearised projectile aerodynamics), with the
 air-relative velocity u = v - wind, U = |u|, u_hat = u/U, axis s, delta = angle(u_hat, s),
@@ -47,8 +62,8 @@ The rugby preset uses the same estimates (no better data), scaled by its own S a
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, fields, replace
+import math
 from typing import Any, Mapping
 
 import numpy as np
@@ -67,8 +82,12 @@ def isa_temperature_c(altitude_m: float) -> float:
 
 
 def air_density(altitude_m: float = 0.0, temperature_c: float | None = None) -> float:
-    """Dry-air density [kg/m^3]: ISA pressure at ``altitude_m`` [m] and ``temperature_c``
-    [deg C], or the ISA temperature there when None (the ISA density: 1.0467 at 1609 m)."""
+    """
+    Dry-air density [kg/m^3].
+
+    ISA pressure at ``altitude_m`` [m] and ``temperature_c`` [deg C], or the ISA temperature
+    there when None (the ISA density: 1.0467 at 1609 m).
+    """
     pressure = 101325.0 * (1.0 - 2.25577e-5 * altitude_m) ** 5.25588
     if temperature_c is None:
         temperature_c = isa_temperature_c(altitude_m)
@@ -77,7 +96,8 @@ def air_density(altitude_m: float = 0.0, temperature_c: float | None = None) -> 
 
 @dataclass(frozen=True)
 class AeroModel:
-    """Switches and coefficients of the full model (see the module docstring for sources).
+    """
+    Switches and coefficients of the full model (see the module docstring for sources).
 
     wind [m/s] in ``field``; air_density [kg/m^3] overrides the ball's if given, else
     altitude_m/temperature_c give it when either is set (a missing temperature is the ISA
@@ -101,38 +121,53 @@ class AeroModel:
     altitude_m: float | None = None
     temperature_c: float | None = None
 
-    LIMITS = {"c_d0": (0.0, 2.0), "c_d2": (0.0, 5.0), "c_l_alpha": (-5.0, 5.0), "c_n_p_alpha": (-5.0, 5.0),
-              "c_m_q": (-100.0, 0.0), "c_l_p": (-1.0, 0.0), "c_m_p_alpha": (-5.0, 5.0),
-              "air_density": (0.3, 2.0), "altitude_m": (-500.0, 6000.0), "temperature_c": (-40.0, 55.0),
-              "wind": (-40.0, 40.0)}
+    LIMITS = {
+        'c_d0': (0.0, 2.0),
+        'c_d2': (0.0, 5.0),
+        'c_l_alpha': (-5.0, 5.0),
+        'c_n_p_alpha': (-5.0, 5.0),
+        'c_m_q': (-100.0, 0.0),
+        'c_l_p': (-1.0, 0.0),
+        'c_m_p_alpha': (-5.0, 5.0),
+        'air_density': (0.3, 2.0),
+        'altitude_m': (-500.0, 6000.0),
+        'temperature_c': (-40.0, 55.0),
+        'wind': (-40.0, 40.0),
+    }
 
     def __post_init__(self) -> None:
         for f in fields(self):
             value = getattr(self, f.name)
-            if f.type == "bool" or isinstance(value, bool):
+            if f.type == 'bool' or isinstance(value, bool):
                 if not isinstance(value, bool):
                     raise ValueError(f"aero '{f.name}' must be true or false, got {value!r}")
                 continue
-            if f.name == "wind":
+            if f.name == 'wind':
                 if not isinstance(value, (list, tuple)) or len(value) != 3:
                     raise ValueError(f"aero 'wind' must be [x, y, z] in m/s, got {value!r}")
-                object.__setattr__(self, "wind", tuple(_checked("wind", v, self.LIMITS["wind"]) for v in value))
+                object.__setattr__(
+                    self, 'wind', tuple(_checked('wind', v, self.LIMITS['wind']) for v in value)
+                )
             elif value is not None:
                 object.__setattr__(self, f.name, _checked(f.name, value, self.LIMITS[f.name]))
 
     @classmethod
-    def from_mapping(cls, data: Mapping[str, Any] | None) -> "AeroModel":
+    def from_mapping(cls, data: Mapping[str, Any] | None) -> 'AeroModel':
         """Build from plain data; unknown keys raise ValueError."""
         data = dict(data or {})
         known = {f.name for f in fields(cls)}
         unknown = sorted(set(data) - known)
         if unknown:
-            raise ValueError(f"unknown aero key(s) {', '.join(unknown)}; known: {', '.join(sorted(known))}")
+            raise ValueError(
+                f'unknown aero key(s) {", ".join(unknown)}; known: {", ".join(sorted(known))}'
+            )
         return cls(**data)
 
     def to_mapping(self) -> dict[str, Any]:
-        return {f.name: (list(getattr(self, f.name)) if f.name == "wind" else getattr(self, f.name))
-                for f in fields(self)}
+        return {
+            f.name: (list(getattr(self, f.name)) if f.name == 'wind' else getattr(self, f.name))
+            for f in fields(self)
+        }
 
     def density(self, default: float) -> float:
         """Air density [kg/m^3] in force for this model."""
@@ -142,19 +177,32 @@ class AeroModel:
             return air_density(self.altitude_m or 0.0, self.temperature_c)
         return default
 
-    def without_extras(self) -> "AeroModel":
+    def without_extras(self) -> 'AeroModel':
         """Every extra term off and no wind: the paper's model."""
-        return replace(self, drag=False, lift=False, magnus=False, pitch_damping=False,
-                       spin_damping=False, wind=(0.0, 0.0, 0.0))
+        return replace(
+            self,
+            drag=False,
+            lift=False,
+            magnus=False,
+            pitch_damping=False,
+            spin_damping=False,
+            wind=(0.0, 0.0, 0.0),
+        )
 
 
-def resolve(ball: BallPreset, model: str, aero: AeroModel | None) -> tuple[BallPreset, AeroModel | None]:
-    """The ball and aero settings a ``model`` flies with: for ``full`` the given settings (or
-    the defaults) and the ball with their air density; for ``paper`` the ball as it is and None."""
-    if model != "full":
+def resolve(
+    ball: BallPreset, model: str, aero: AeroModel | None
+) -> tuple[BallPreset, AeroModel | None]:
+    """
+    Return the ball and aero settings a ``model`` flies with.
+
+    For ``full`` the given settings (or the defaults) and the ball with their air density; for
+    ``paper`` the ball as it is and None.
+    """
+    if model != 'full':
         return ball, None
     aero = aero or AeroModel()
-    return ball.with_overrides({"air_density": aero.density(ball.air_density)}), aero
+    return ball.with_overrides({'air_density': aero.density(ball.air_density)}), aero
 
 
 def _checked(name: str, value: Any, limits: tuple[float, float]) -> float:
@@ -168,7 +216,8 @@ def _checked(name: str, value: Any, limits: tuple[float, float]) -> float:
 
 @dataclass(frozen=True)
 class DynamicStability:
-    """McCoy's stability factors and the modes' per-second rates, at one air speed and spin.
+    """
+    McCoy's stability factors and the modes' per-second rates, at one air speed and spin.
 
     s_g: gyroscopic stability factor P^2/(4M); s_d: dynamic stability factor 2T/H (McCoy's
     definition, per calibre); dynamically_stable: 1/S_g < S_d (2 - S_d);
@@ -186,9 +235,14 @@ class DynamicStability:
     slow_frequency: float = math.nan
 
 
-def dynamic_stability(ball: BallPreset, speed: float, spin: float, model: AeroModel) -> DynamicStability:
-    """McCoy's S_g, S_d and the modes' per-second damping rates at air speed ``speed`` [m/s]
-    and ``spin`` [rad/s], for the terms switched on in ``model`` (the ball's air density).
+def dynamic_stability(
+    ball: BallPreset, speed: float, spin: float, model: AeroModel
+) -> DynamicStability:
+    """
+    Return McCoy's S_g, S_d and the modes' per-second damping rates.
+
+    At air speed ``speed`` [m/s] and ``spin`` [rad/s], for the terms switched on in ``model``
+    (the ball's air density).
 
     S_g = P^2 / (4M), S_d = 2T/H with P = (I_s/I_t) p D / V, M = rho S D^3 C_Malpha / (2 I_t),
     H = rho S D / (2m) [C_Lalpha - C_D0 - (m D^2/I_t) C_Mq],
@@ -202,22 +256,34 @@ def dynamic_stability(ball: BallPreset, speed: float, spin: float, model: AeroMo
     """
     from . import model_params as dyn
     from .linear_theory import mode_rates
+
     mass, diameter, density, c_m_alpha = ball.mass, ball.diameter, ball.air_density, ball.c_m_alpha
     inertia_spin, inertia_transverse = ball.inertia_spin, ball.inertia_transverse
-    area = math.pi * diameter ** 2 / 4.0
+    area = math.pi * diameter**2 / 4.0
     p_nd = (inertia_spin / inertia_transverse) * spin * diameter / speed
-    m_nd = density * area * diameter ** 3 / (2.0 * inertia_transverse) * c_m_alpha
+    m_nd = density * area * diameter**3 / (2.0 * inertia_transverse) * c_m_alpha
     c_l = model.c_l_alpha if model.lift else 0.0
     c_d = model.c_d0 if model.drag else 0.0
     c_mpa = model.c_m_p_alpha if model.magnus else 0.0
     c_mq = model.c_m_q if model.pitch_damping else 0.0
-    t_nd = density * area * diameter / (2.0 * mass) * (
-        c_l + mass * diameter ** 2 / inertia_spin * c_mpa)
-    h_nd = density * area * diameter / (2.0 * mass) * (c_l - c_d - mass * diameter ** 2 / inertia_transverse * c_mq)
-    s_g = p_nd ** 2 / (4.0 * m_nd) if m_nd else math.inf
+    t_nd = (
+        density
+        * area
+        * diameter
+        / (2.0 * mass)
+        * (c_l + mass * diameter**2 / inertia_spin * c_mpa)
+    )
+    h_nd = (
+        density
+        * area
+        * diameter
+        / (2.0 * mass)
+        * (c_l - c_d - mass * diameter**2 / inertia_transverse * c_mq)
+    )
+    s_g = p_nd**2 / (4.0 * m_nd) if m_nd else math.inf
     s_d = 2.0 * t_nd / h_nd if h_nd else math.nan
     stable = bool(s_g > 1.0 and np.isfinite(s_d) and 1.0 / s_g < s_d * (2.0 - s_d))
-    params = dyn.make_params(ball, "linear", model)
+    params = dyn.make_params(ball, 'linear', model)
     fast, slow = mode_rates(params, speed, ball.inertia_ratio * spin)
     return DynamicStability(s_g, s_d, stable, fast.real, slow.real, fast.imag, slow.imag)
 
@@ -232,64 +298,90 @@ class ValidityRange:
 
 
 VALIDITY: dict[str, ValidityRange] = {
-    "moment_linear": ValidityRange(
-        "overturning moment, linear slope C_Malpha sin delta", 24.6,
+    'moment_linear': ValidityRange(
+        'overturning moment, linear slope C_Malpha sin delta',
+        24.6,
         "the paper's linear slope; at most 10 % above Rae & Streit's 0.165 sin 2 delta (ratio "
-        "1/cos delta) up to 24.6 deg"),
-    "moment_sin2delta": ValidityRange(
-        "overturning moment, Rae & Streit C_M = 0.165 sin 2 delta", 50.0,
-        "Rae & Streit wind-tunnel fit, 0-50 deg"),
-    "lift": ValidityRange("lift C_Lalpha/2 sin 2 delta", 50.0,
-                          "Rae & Streit lift (wind axes) ~ sin 2 delta, 0-50 deg "
-                          "(C_Lalpha ESTIMATE)"),
-    "drag": ValidityRange("drag C_D0 + C_D2 sin^2 delta", 90.0,
-                          "Rae & Streit / Alam et al.: end-on to broadside (ESTIMATE)"),
-    "magnus": ValidityRange("Magnus force and moment (McCoy small-angle forms)", 20.0,
-                            "McCoy linear forms, no football data"),
-    "pitch_damping": ValidityRange("pitch damping C_Mq (McCoy small-angle form)", 20.0,
-                                   "McCoy linear form, ESTIMATE, no football data"),
+        '1/cos delta) up to 24.6 deg',
+    ),
+    'moment_sin2delta': ValidityRange(
+        'overturning moment, Rae & Streit C_M = 0.165 sin 2 delta',
+        50.0,
+        'Rae & Streit wind-tunnel fit, 0-50 deg',
+    ),
+    'lift': ValidityRange(
+        'lift C_Lalpha/2 sin 2 delta',
+        50.0,
+        'Rae & Streit lift (wind axes) ~ sin 2 delta, 0-50 deg (C_Lalpha ESTIMATE)',
+    ),
+    'drag': ValidityRange(
+        'drag C_D0 + C_D2 sin^2 delta',
+        90.0,
+        'Rae & Streit / Alam et al.: end-on to broadside (ESTIMATE)',
+    ),
+    'magnus': ValidityRange(
+        'Magnus force and moment (McCoy small-angle forms)',
+        20.0,
+        'McCoy linear forms, no football data',
+    ),
+    'pitch_damping': ValidityRange(
+        'pitch damping C_Mq (McCoy small-angle form)',
+        20.0,
+        'McCoy linear form, ESTIMATE, no football data',
+    ),
 }
 """Validity of each form in total angle delta (docs/physics.md, 'Validity ranges')."""
 
 
 def validity_terms(model: str, moment: str, aero: AeroModel | None) -> list[str]:
     """Keys of :data:`VALIDITY` whose forms act in a flight of ``model``/``moment``/``aero``."""
-    terms = ["moment_sin2delta" if moment == "sin2delta" else "moment_linear"]
-    if model != "full" or aero is None:
+    terms = ['moment_sin2delta' if moment == 'sin2delta' else 'moment_linear']
+    if model != 'full' or aero is None:
         return terms
     if aero.lift and aero.c_l_alpha:
-        terms.append("lift")
+        terms.append('lift')
     if aero.drag and (aero.c_d0 or aero.c_d2):
-        terms.append("drag")
+        terms.append('drag')
     if aero.magnus and (aero.c_n_p_alpha or aero.c_m_p_alpha):
-        terms.append("magnus")
+        terms.append('magnus')
     if aero.pitch_damping and aero.c_m_q:
-        terms.append("pitch_damping")
+        terms.append('pitch_damping')
     return terms
 
 
-def max_valid_delta(model: str = "paper", moment: str = "linear",
-                    aero: AeroModel | None = None) -> float:
-    """The largest total angle delta [rad] inside every form in force: a cheap per-sample test
-    (``delta > max_valid_delta(...)``) before :func:`out_of_validity` words the warning."""
+def max_valid_delta(
+    model: str = 'paper', moment: str = 'linear', aero: AeroModel | None = None
+) -> float:
+    """
+    Return the largest total angle delta [rad] inside every form in force.
+
+    A cheap per-sample test (``delta > max_valid_delta(...)``) before :func:`out_of_validity`
+    words the warning.
+    """
     terms = validity_terms(model, moment, aero)
     return math.radians(min(VALIDITY[k].max_delta_deg for k in terms))
 
 
-def out_of_validity(delta: float, model: str = "paper", moment: str = "linear",
-                    aero: AeroModel | None = None) -> list[str]:
-    """Pure check of one state (or a flight's largest angle): the forms in force whose data
-    range the total angle ``delta`` [rad] exceeds, one sentence each (empty: all within).
+def out_of_validity(
+    delta: float, model: str = 'paper', moment: str = 'linear', aero: AeroModel | None = None
+) -> list[str]:
+    """
+    Pure check of one state (or a flight's largest angle).
+
+    The forms in force whose data range the total angle ``delta`` [rad] exceeds, one sentence
+    each (empty: all within).
 
     For the simulator's /diagnostics (WARN with these sentences) and ``simulate`` (stderr).
     """
     if not math.isfinite(delta):
-        return ["total angle delta is not finite"]
+        return ['total angle delta is not finite']
     deg = math.degrees(abs(delta))
     out = []
     for key in validity_terms(model, moment, aero):
         rng = VALIDITY[key]
         if deg > rng.max_delta_deg:
-            out.append(f"delta = {deg:.1f} deg is beyond the {rng.max_delta_deg:g} deg range of "
-                       f"the {rng.term} ({rng.source})")
+            out.append(
+                f'delta = {deg:.1f} deg is beyond the {rng.max_delta_deg:g} deg range of '
+                f'the {rng.term} ({rng.source})'
+            )
     return out

@@ -1,4 +1,19 @@
-"""Many flights at once: arrays of releases in, arrays of landings and wobble statistics out.
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Many flights at once: arrays of releases in, arrays of landings and wobble statistics out.
 
 The kernel integrates each ball with the forces and moments of
 :func:`football_ros.physics.dynamics.loads` (the same physics as the real-time kernel) on the
@@ -12,11 +27,11 @@ the steps. The landing is located inside its step on the cubic Hermite interpola
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
+import math
 
-import numpy as np
 from numba import njit, prange
+import numpy as np
 
 from . import dynamics as dyn
 from .aero import AeroModel, resolve
@@ -25,17 +40,24 @@ from .presets import BallPreset
 
 
 def _dop853_tableau():
-    """scipy's published DOP853 tableau (scipy/integrate/_ivp/dop853_coefficients.py), read
-    without importing scipy.integrate, which costs 0.2-2 s of start-up."""
+    """
+    Scipy's published DOP853 tableau, read without importing scipy.integrate.
+
+    From scipy/integrate/_ivp/dop853_coefficients.py; importing scipy.integrate costs 0.2-2 s
+    of start-up.
+    """
     import importlib.util
     import os
-    spec = importlib.util.find_spec("scipy")
-    path = os.path.join(os.path.dirname(spec.origin or ""), "integrate", "_ivp",
-                        "dop853_coefficients.py")
+
+    spec = importlib.util.find_spec('scipy')
+    path = os.path.join(
+        os.path.dirname(spec.origin or ''), 'integrate', '_ivp', 'dop853_coefficients.py'
+    )
     if not os.path.exists(path):
         from scipy.integrate._ivp import dop853_coefficients
+
         return dop853_coefficients
-    spec = importlib.util.spec_from_file_location("_football_ros_dop853", path)
+    spec = importlib.util.spec_from_file_location('_football_ros_dop853', path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
@@ -45,7 +67,8 @@ _dop853 = _dop853_tableau()
 _STAGES = _dop853.N_STAGES
 _A = _dop853.A[:_STAGES, :_STAGES]
 _B = np.ascontiguousarray(_dop853.B)
-# The non-zero entries of A, row by row (50 of 66): stage i uses _A_VAL/_A_COL[_A_ROW[i]:_A_ROW[i+1]].
+# The non-zero entries of A, row by row (50 of 66):
+# stage i uses _A_VAL/_A_COL[_A_ROW[i]:_A_ROW[i+1]].
 _A_ROW = np.concatenate([[0], np.cumsum((_A != 0).sum(axis=1))]).astype(np.int64)
 _A_COL = np.nonzero(_A)[1].astype(np.int64)
 _A_VAL = _A[np.nonzero(_A)]
@@ -58,12 +81,15 @@ ones (alpha0, beta0 ~ 4 deg, rates ~ 30 deg/s); the error grows as step^8 (1.3: 
 MAX_STEP = 0.04
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline='always')
 def _rate(speed, h, h1, params):
-    """Fastest rate [1/s] of the motion at air speed ``speed`` [m/s], |h| and |h1| [rad/s]:
-    the axis' rotation |h| (nutation, |h1| for a spiral) or 2 sqrt(M) (a ball tumbling in the
+    """
+    Fastest rate [1/s] of the motion at air speed ``speed`` [m/s], |h| and |h1| [rad/s].
+
+    The axis' rotation |h| (nutation, |h1| for a spiral) or 2 sqrt(M) (a ball tumbling in the
     overturning moment M_alpha plus the Magnus moment's stiffness), plus the damping and force
-    rates (pitch and spin damping, lift, drag, Magnus force)."""
+    rates (pitch and spin damping, lift, drag, Magnus force).
+    """
     spin = params[dyn.P_SPIN_RATIO] * h1
     damp = params[dyn.P_DAMP_K] * speed
     stiffness = params[dyn.P_MOMENT_K] * speed * speed + damp * spin * abs(params[dyn.P_CMPA])
@@ -71,7 +97,8 @@ def _rate(speed, h, h1, params):
     damping = damp * (abs(params[dyn.P_CMQ]) + abs(params[dyn.P_CLP]) * params[dyn.P_SPIN_RATIO])
     forces = params[dyn.P_FORCE_K] * (
         speed * (params[dyn.P_CD0] + params[dyn.P_CD2] + abs(params[dyn.P_CLA]))
-        + spin * params[dyn.P_DIAMETER] * abs(params[dyn.P_CNPA]))
+        + spin * params[dyn.P_DIAMETER] * abs(params[dyn.P_CNPA])
+    )
     return turning + damping + forces
 
 
@@ -84,10 +111,14 @@ def _rates(speed, h, h1, params):
 
 
 def fastest_rates(y0: np.ndarray, params: np.ndarray, ground: float = 0.0) -> np.ndarray:
-    """Fastest rate [1/s] of each ball's motion (lean states y0), at the largest air speed its
-    flight can reach: energy bound sqrt(V^2 + 2 g z) (capped at the terminal speed when there
-    is drag) plus twice the wind. This sets each block's step; during the flight the kernel
-    shortens it if the current rates grow beyond it (a Magnus moment can pump the wobble)."""
+    """
+    Return the fastest rate [1/s] of each ball's motion (lean states y0).
+
+    At the largest air speed its flight can reach: energy bound sqrt(V^2 + 2 g z) (capped at
+    the terminal speed when there is drag) plus twice the wind. This sets each block's step;
+    during the flight the kernel shortens it if the current rates grow beyond it (a Magnus
+    moment can pump the wobble).
+    """
     v = y0[:, 3:6]
     z = np.maximum(y0[:, 2] - ground, 0.0)
     g = params[dyn.P_GRAVITY]
@@ -109,28 +140,31 @@ def default_steps(rates: np.ndarray) -> np.ndarray:
 # _block_derivative, _block_step and dynamics.loads are inlined into the prange body, where the
 # block arrays are allocated: LLVM then knows they do not alias and vectorises over the balls
 # (measured 2.3x faster than calls).
-@njit(cache=True, fastmath=True, inline="always")
+@njit(cache=True, fastmath=True, inline='always')
 def _block_derivative(y, params, out, nb):
     """d/dt of the lean states in columns 0..nb-1 of y (N_LEAN, BLOCK) into out."""
     for b in range(nb):
         sx, sy, sz = y[6, b], y[7, b], y[8, b]
         hx, hy, hz = y[9, b], y[10, b], y[11, b]
-        ax, ay, az, dhx, dhy, dhz, dh1 = dyn.loads((y[3, b], y[4, b], y[5, b]), (sx, sy, sz),
-                                                   (hx, hy, hz), y[12, b], params)
+        ax, ay, az, dhx, dhy, dhz, dh1 = dyn.loads(
+            (y[3, b], y[4, b], y[5, b]), (sx, sy, sz), (hx, hy, hz), y[12, b], params
+        )
         out[0, b], out[1, b], out[2, b] = y[3, b], y[4, b], y[5, b]
         out[3, b], out[4, b], out[5, b] = ax, ay, az
-        out[6, b] = hy * sz - hz * sy   # s' = h x s
+        out[6, b] = hy * sz - hz * sy  # s' = h x s
         out[7, b] = hz * sx - hx * sz
         out[8, b] = hx * sy - hy * sx
         out[9, b], out[10, b], out[11, b] = dhx, dhy, dhz
         out[12, b] = dh1
 
 
-@njit(cache=True, fastmath=True, inline="always")
+@njit(cache=True, fastmath=True, inline='always')
 def _block_step(y, dt, params, k, tmp, out, nb):
-    """One DOP853 (8th-order weights) step of every column, then |s| = 1 and h.s = h1.
+    """
+    One DOP853 (8th-order weights) step of every column, then |s| = 1 and h.s = h1.
 
-    Columns are balls: the inner loops run over balls, so the compiler can use SIMD lanes."""
+    Columns are balls: the inner loops run over balls, so the compiler can use SIMD lanes.
+    """
     for i in range(_STAGES):
         for j in range(N_LEAN):
             for b in range(nb):
@@ -153,7 +187,9 @@ def _block_step(y, dt, params, k, tmp, out, nb):
         out[6, b] /= norm
         out[7, b] /= norm
         out[8, b] /= norm
-        err = out[12, b] - (out[9, b] * out[6, b] + out[10, b] * out[7, b] + out[11, b] * out[8, b])
+        err = out[12, b] - (
+            out[9, b] * out[6, b] + out[10, b] * out[7, b] + out[11, b] * out[8, b]
+        )
         out[9, b] += err * out[6, b]
         out[10, b] += err * out[7, b]
         out[11, b] += err * out[8, b]
@@ -163,14 +199,21 @@ def _block_step(y, dt, params, k, tmp, out, nb):
 def _hermite(p0, d0, p1, d1, dt, u):
     """Cubic Hermite interpolant at fraction u of a step of length dt."""
     u2, u3 = u * u, u * u * u
-    return ((2 * u3 - 3 * u2 + 1) * p0 + (u3 - 2 * u2 + u) * dt * d0
-            + (-2 * u3 + 3 * u2) * p1 + (u3 - u2) * dt * d1)
+    return (
+        (2 * u3 - 3 * u2 + 1) * p0
+        + (u3 - 2 * u2 + u) * dt * d0
+        + (-2 * u3 + 3 * u2) * p1
+        + (u3 - u2) * dt * d1
+    )
 
 
 @njit(cache=True)
 def _hermite_root(z0, d0, z1, d1, h, ground):
-    """Fraction u of a step of length h where the cubic Hermite interpolant of z reaches
-    ``ground`` (bisection; z0 above, z1 at or below it)."""
+    """
+    Return the fraction u of a step of length h where the Hermite z reaches ``ground``.
+
+    z is the cubic Hermite interpolant; bisection; z0 above, z1 at or below it.
+    """
     lo, hi = 0.0, 1.0
     for _ in range(60):
         mid = 0.5 * (lo + hi)
@@ -183,8 +226,11 @@ def _hermite_root(z0, d0, z1, d1, h, ground):
 
 @njit(cache=True)
 def _curved(y, nxt, j, b, h, u):
-    """|cubic Hermite - quadratic| at fraction u for coordinate j (velocity j + 3) of column b:
-    a bound on the cubic's interpolation error, which is far smaller (~ h^4 vs h^3)."""
+    """
+    |cubic Hermite - quadratic| at fraction u for coordinate j (velocity j + 3) of column b.
+
+    A bound on the cubic's interpolation error, which is far smaller (~ h^4 vs h^3).
+    """
     p0, d0, p1 = y[j, b], y[j + 3, b], nxt[j, b]
     quadratic = p0 + d0 * h * u + (p1 - p0 - d0 * h) * u * u
     return abs(_hermite(p0, d0, p1, nxt[j + 3, b], h, u) - quadratic)
@@ -192,11 +238,14 @@ def _curved(y, nxt, j, b, h, u):
 
 @njit(cache=True, fastmath=True)
 def _landing(y, nxt, b, h, params, ground, out):
-    """Fraction u of the step of length h from column b of y to nxt at which z = ground; the
-    state there (a partial step from y) into out[:, 0]. The root of the cubic Hermite
+    """
+    Fraction u of the step of length h from column b of y to nxt at which z = ground.
+
+    The state there (a partial step from y) into out[:, 0]. The root of the cubic Hermite
     interpolant of z is taken, the state computed there, and, if z misses the ground there by
     more than 1e-12 m, the bracket narrowed on it (at most 3 rounds: the interpolation error
-    shrinks as the bracket's length^4)."""
+    shrinks as the bracket's length^4).
+    """
     one = np.empty((N_LEAN, 1))
     k = np.empty((_STAGES, N_LEAN, 1))
     tmp = np.empty((N_LEAN, 1))
@@ -230,12 +279,16 @@ BLOCK = 32
 
 
 @njit(parallel=True, cache=True)
-def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples, results,
-                     adaptive):
-    """Integrate every row of y0 (N, N_LEAN), block b of BLOCK rows with step steps[b] (if
-    ``adaptive``, shortened whenever the block's current fastest rate needs it);
-    results (N, 7) = landing x, y, time, landed, max|alpha|, max|beta|, max delta.
-    ``samples`` (N, M, 2) gets alpha, beta every ``sample_every`` steps."""
+def _integrate_batch(
+    y0, params, steps, max_time, ground, sample_every, samples, results, adaptive
+):
+    """
+    Integrate every row of y0 (N, N_LEAN) in blocks of BLOCK rows.
+
+    Block b with step steps[b] (if ``adaptive``, shortened whenever the block's current fastest
+    rate needs it); results (N, 7) = landing x, y, time, landed, max|alpha|, max|beta|, max
+    delta. ``samples`` (N, M, 2) gets alpha, beta every ``sample_every`` steps.
+    """
     n_balls = y0.shape[0]
     n_blocks = (n_balls + BLOCK - 1) // BLOCK
     wx, wy, wz = params[dyn.P_WIND], params[dyn.P_WIND + 1], params[dyn.P_WIND + 2]
@@ -254,7 +307,8 @@ def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples,
             ball = first + b
             y[:, b] = y0[ball]
             s1, s2, s3 = dyn.velocity_frame_components(  # against the air: v - wind
-                (y[3, b] - wx, y[4, b] - wy, y[5, b] - wz), (y[6, b], y[7, b], y[8, b]))
+                (y[3, b] - wx, y[4, b] - wy, y[5, b] - wz), (y[6, b], y[7, b], y[8, b])
+            )
             # Extremes are kept as components (no trigonometry per step): the largest |alpha|
             # as the pair (|s2|, s1) of largest angle, the largest |beta| as max |s3|, the
             # largest delta as min s1; angles are taken once at the end.
@@ -274,9 +328,11 @@ def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples,
                 fastest = 0.0
                 for b in range(nb):
                     if flying[b]:
-                        speed = math.sqrt((y[3, b] - params[dyn.P_WIND]) ** 2
-                                          + (y[4, b] - params[dyn.P_WIND + 1]) ** 2
-                                          + (y[5, b] - params[dyn.P_WIND + 2]) ** 2)
+                        speed = math.sqrt(
+                            (y[3, b] - params[dyn.P_WIND]) ** 2
+                            + (y[4, b] - params[dyn.P_WIND + 1]) ** 2
+                            + (y[5, b] - params[dyn.P_WIND + 2]) ** 2
+                        )
                         hn = math.sqrt(y[9, b] ** 2 + y[10, b] ** 2 + y[11, b] ** 2)
                         fastest = max(fastest, _rate(speed, hn, abs(y[12, b]), params))
                 if fastest * h > 1.05 * STEP_PER_RADIAN:  # (margin: the wobble moves |h| a little)
@@ -295,8 +351,11 @@ def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples,
                 above = y[2, b] > ground or (i == 0 and y[2, b] == ground and y[5, b] > 0.0)
                 if above and nxt[2, b] <= ground and nxt[5, b] < 0.0:
                     u = _hermite_root(y[2, b], y[5, b], nxt[2, b], nxt[5, b], h, ground)
-                    if (_curved(y, nxt, 0, b, h, u) + _curved(y, nxt, 1, b, h, u)
-                            + _curved(y, nxt, 2, b, h, u)) > 1e-6:
+                    if (
+                        _curved(y, nxt, 0, b, h, u)
+                        + _curved(y, nxt, 1, b, h, u)
+                        + _curved(y, nxt, 2, b, h, u)
+                    ) > 1e-6:
                         # Far from a parabola: locate it on exact partial steps instead.
                         u = _landing(y, nxt, b, h, params, ground, at)
                         results[ball, 0], results[ball, 1] = at[0, 0], at[1, 0]
@@ -309,10 +368,12 @@ def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples,
                     left -= 1
                     continue
                 ux, uy, uz = nxt[3, b] - wx, nxt[4, b] - wy, nxt[5, b] - wz  # air-relative
-                horizontal = ux ** 2 + uy ** 2
-                if not horizontal > 1e-20 * (horizontal + uz ** 2):
+                horizontal = ux**2 + uy**2
+                if not horizontal > 1e-20 * (horizontal + uz**2):
                     continue  # vertical air velocity: alpha and beta are undefined
-                s1, s2, s3 = dyn.velocity_frame_components((ux, uy, uz), (nxt[6, b], nxt[7, b], nxt[8, b]))
+                s1, s2, s3 = dyn.velocity_frame_components(
+                    (ux, uy, uz), (nxt[6, b], nxt[7, b], nxt[8, b])
+                )
                 if abs(s2) * worst[1, b] > worst[0, b] * s1:
                     worst[0, b], worst[1, b] = abs(s2), s1
                 worst[2, b] = max(worst[2, b], abs(s3))
@@ -335,9 +396,13 @@ def _integrate_batch(y0, params, steps, max_time, ground, sample_every, samples,
 
 @dataclass(frozen=True)
 class BatchResult:
-    """Per-ball results: landing_x, landing_y [m], time_of_flight [s] (max_time if not landed),
-    landed (bool), max_alpha, max_beta, max_delta [rad] over the flight, and, when asked for,
-    samples (N, M, 2) of alpha, beta [rad] at multiples of ``sample_period``."""
+    """
+    Per-ball results.
+
+    landing_x, landing_y [m], time_of_flight [s] (max_time if not landed), landed (bool),
+    max_alpha, max_beta, max_delta [rad] over the flight, and, when asked for, samples (N, M,
+    2) of alpha, beta [rad] at multiples of ``sample_period``.
+    """
 
     landing_x: np.ndarray
     landing_y: np.ndarray
@@ -352,23 +417,34 @@ class BatchResult:
 
 def lean_states(ball: BallPreset, states: dict[str, np.ndarray]) -> np.ndarray:
     """(N, N_LEAN) batch states from :func:`football_ros.physics.release.release_states`."""
-    n = states["velocity"].shape[0]
+    n = states['velocity'].shape[0]
     y = np.empty((n, N_LEAN))
-    y[:, 0:3] = states["position"]
-    y[:, 3:6] = states["velocity"]
-    y[:, 6:9] = states["axis"]
-    h1 = ball.inertia_ratio * states["spin"]
-    y[:, 9:12] = states["transverse_rate"] + h1[:, None] * states["axis"]
+    y[:, 0:3] = states['position']
+    y[:, 3:6] = states['velocity']
+    y[:, 6:9] = states['axis']
+    h1 = ball.inertia_ratio * states['spin']
+    y[:, 9:12] = states['transverse_rate'] + h1[:, None] * states['axis']
     y[:, 12] = h1
     return y
 
 
-def simulate_batch(ball: BallPreset, states: dict[str, np.ndarray], model: str = "paper",
-                   moment: str = "linear", aero: AeroModel | None = None, step: float | None = None,
-                   max_time: float = 20.0, ground: float = 0.0, sample_period: float | None = None,
-                   sample_count: int = 0) -> BatchResult:
-    """Fly N balls (same ball and model, releases from ``states``) until each lands on z = ground
-    or ``max_time`` [s] passes. ``step`` [s]: None = the default rule (module docstring).
+def simulate_batch(
+    ball: BallPreset,
+    states: dict[str, np.ndarray],
+    model: str = 'paper',
+    moment: str = 'linear',
+    aero: AeroModel | None = None,
+    step: float | None = None,
+    max_time: float = 20.0,
+    ground: float = 0.0,
+    sample_period: float | None = None,
+    sample_count: int = 0,
+) -> BatchResult:
+    """
+    Fly N balls until each lands on z = ground or ``max_time`` [s] passes.
+
+    Same ball and model, releases from ``states``. ``step`` [s]: None = the default rule
+    (module docstring).
 
     Raises ValueError if a release moves with the wind (no air speed: its angles and the
     loads' direction are undefined), as :func:`football_ros.physics.limits.check_flyable` does.
@@ -379,15 +455,17 @@ def simulate_batch(ball: BallPreset, states: dict[str, np.ndarray], model: str =
     air = np.linalg.norm(y0[:, 3:6] - params[dyn.P_WIND:dyn.P_WIND + 3], axis=1)
     if not np.all(air > MIN_AIR_SPEED):
         bad = int(np.argmin(air))
-        raise ValueError(f"release {bad} moves with the wind (air speed {air[bad]:.3g} m/s < "
-                         f"{MIN_AIR_SPEED:g} m/s): its angle of attack is undefined")
+        raise ValueError(
+            f'release {bad} moves with the wind (air speed {air[bad]:.3g} m/s < '
+            f'{MIN_AIR_SPEED:g} m/s): its angle of attack is undefined'
+        )
     n = y0.shape[0]
     n_blocks = (n + BLOCK - 1) // BLOCK
     rates = fastest_rates(y0, params, ground)
     if step is None and not sample_count:
         # Blocks of balls with similar rates, each with its own step.
-        order = np.argsort(rates, kind="stable")
-        padded = np.pad(rates[order], (0, n_blocks * BLOCK - n), mode="edge")
+        order = np.argsort(rates, kind='stable')
+        padded = np.pad(rates[order], (0, n_blocks * BLOCK - n), mode='edge')
         steps = default_steps(padded.reshape(n_blocks, BLOCK).max(axis=1))
     else:
         order = np.arange(n)
@@ -398,12 +476,30 @@ def simulate_batch(ball: BallPreset, states: dict[str, np.ndarray], model: str =
     if sample_count:
         every = int(round((sample_period or steps[0]) / steps[0]))
         if every < 1 or abs(every * steps[0] - (sample_period or steps[0])) > 1e-9 * steps[0]:
-            raise ValueError("sample_period must be a whole multiple of the step")
+            raise ValueError('sample_period must be a whole multiple of the step')
     samples = np.full((n, sample_count, 2), np.nan)
     results = np.empty((n, 7))
-    _integrate_batch(np.ascontiguousarray(y0[order]), params, steps, max_time,
-                     ground, every, samples, results, step is None and not sample_count)
+    _integrate_batch(
+        np.ascontiguousarray(y0[order]),
+        params,
+        steps,
+        max_time,
+        ground,
+        every,
+        samples,
+        results,
+        step is None and not sample_count,
+    )
     unsorted = np.empty_like(results)
     unsorted[order] = results
-    return BatchResult(unsorted[:, 0], unsorted[:, 1], unsorted[:, 2], unsorted[:, 3] > 0.5, unsorted[:, 4],
-                       unsorted[:, 5], unsorted[:, 6], samples if sample_count else None, every * steps[0])
+    return BatchResult(
+        unsorted[:, 0],
+        unsorted[:, 1],
+        unsorted[:, 2],
+        unsorted[:, 3] > 0.5,
+        unsorted[:, 4],
+        unsorted[:, 5],
+        unsorted[:, 6],
+        samples if sample_count else None,
+        every * steps[0],
+    )

@@ -1,4 +1,19 @@
-"""Equations of motion and their integrator: the hot path, compiled with numba.
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Equations of motion and their integrator: the hot path, compiled with numba.
 
 Torque-only model of the paper (docs/physics.md, "The paper's model"), in ``field``:
 
@@ -25,13 +40,35 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
+import numpy as np
 
 from .model_params import (  # noqa: F401  (the layout, re-exported for the kernels' users)
-    H, H1, N_PARAM, N_STATE, P_CD0, P_CD2, P_CLA, P_CLP, P_CMPA, P_CMQ, P_CNPA, P_DAMP_K,
-    P_DIAMETER, P_FORCE_K, P_GRAVITY, P_MOMENT_K, P_SIN2DELTA, P_SPIN_RATIO, P_WIND, PHI, Q, R, V,
-    make_params)
+    H,
+    H1,
+    make_params,
+    N_PARAM,
+    N_STATE,
+    P_CD0,
+    P_CD2,
+    P_CLA,
+    P_CLP,
+    P_CMPA,
+    P_CMQ,
+    P_CNPA,
+    P_DAMP_K,
+    P_DIAMETER,
+    P_FORCE_K,
+    P_GRAVITY,
+    P_MOMENT_K,
+    P_SIN2DELTA,
+    P_SPIN_RATIO,
+    P_WIND,
+    PHI,
+    Q,
+    R,
+    V,
+)
 
 
 @njit(cache=True)
@@ -41,10 +78,14 @@ def axis_of(y: np.ndarray) -> tuple:
     return (1.0 - 2.0 * (qy * qy + qz * qz), 2.0 * (qx * qy + qw * qz), 2.0 * (qx * qz - qw * qy))
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline='always')
 def loads(v: tuple, s: tuple, h: tuple, h1: float, params: np.ndarray) -> tuple:
-    """Acceleration a [m/s^2], dh/dt [rad/s^2] and dh1/dt of the ball (module docstring and
-    :mod:`football_ros.physics.aero` give the terms). Shared by every kernel."""
+    """
+    Return acceleration a [m/s^2], dh/dt [rad/s^2] and dh1/dt of the ball.
+
+    The module docstring and :mod:`football_ros.physics.aero` give the terms. Shared by every
+    kernel.
+    """
     vx, vy, vz = v
     sx, sy, sz = s
     hx, hy, hz = h
@@ -85,7 +126,9 @@ def derivative(y: np.ndarray, params: np.ndarray, out: np.ndarray) -> None:
     s = axis_of(y)
     sx, sy, sz = s
     hx, hy, hz = y[H], y[H + 1], y[H + 2]
-    ax, ay, az, dhx, dhy, dhz, dh1 = loads((y[V], y[V + 1], y[V + 2]), s, (hx, hy, hz), y[H1], params)
+    ax, ay, az, dhx, dhy, dhz, dh1 = loads(
+        (y[V], y[V + 1], y[V + 2]), s, (hx, hy, hz), y[H1], params
+    )
     # Transverse angular velocity w_perp = h - (h.s) s turns the non-rolling frame.
     hs = hx * sx + hy * sy + hz * sz
     wx, wy, wz = hx - hs * sx, hy - hs * sy, hz - hs * sz
@@ -158,14 +201,21 @@ def landing_time_in_step(y: np.ndarray, dt: float, params: np.ndarray, ground: f
 
 @njit(cache=True)
 def crossed_ground(before: np.ndarray, after: np.ndarray, ground: float) -> bool:
-    """True when a step took the ball from above ``ground`` to at or below it, moving down."""
+    """Tell whether a step took the ball from above ``ground`` to at or below it, moving down."""
     return before[R + 2] > ground and after[R + 2] <= ground and after[V + 2] < 0.0
 
 
 @njit(cache=True, nogil=True)  # the release node predicts beside its executor
-def propagate(y0: np.ndarray, dt: float, params: np.ndarray, sample_period: float,
-              duration: float, ground: float) -> tuple:
-    """Integrate from ``y0`` at t = 0 and sample at multiples of ``sample_period`` [s].
+def propagate(
+    y0: np.ndarray,
+    dt: float,
+    params: np.ndarray,
+    sample_period: float,
+    duration: float,
+    ground: float,
+) -> tuple:
+    """
+    Integrate from ``y0`` at t = 0 and sample at multiples of ``sample_period`` [s].
 
     Stops at ``duration`` or when the ball, moving down, reaches z = ``ground``; the last
     sample is then the landing, located to round-off inside its step. Integration steps are
@@ -188,8 +238,9 @@ def propagate(y0: np.ndarray, dt: float, params: np.ndarray, sample_period: floa
             n_steps += 1
         rk4_step(y, t_sample - n_steps * dt, params, nxt)
         if crossed_ground(y, nxt, ground):
-            return _finish_with_landing(times, states, k, y, n_steps * dt, t_sample - n_steps * dt,
-                                        params, ground)
+            return _finish_with_landing(
+                times, states, k, y, n_steps * dt, t_sample - n_steps * dt, params, ground
+            )
         times[k] = t_sample
         states[k] = nxt
     return times, states, False
@@ -201,14 +252,18 @@ def _finish_with_landing(times, states, k, y, t, step, params, ground):
     rk4_step(y, tau, params, states[k])
     states[k, R + 2] = ground
     times[k] = t + tau
-    return times[:k + 1], states[:k + 1], True
+    return times[: k + 1], states[: k + 1], True
 
 
 @njit(cache=True)
 def velocity_frame_components(v: tuple, s: tuple) -> tuple:
-    """Components (s1, s2, s3) of ``s`` along e1 = v/V, e2 = up made perpendicular to e1 and
-    e3 = e1 x e2 (compiled twin of :func:`football_ros.physics.frames.to_velocity_frame`).
-    Pass the air-relative velocity v - wind for aerodynamic angles."""
+    """
+    Return components (s1, s2, s3) of ``s`` along e1, e2, e3.
+
+    e1 = v/V, e2 = up made perpendicular to e1 and e3 = e1 x e2 (compiled twin of
+    :func:`football_ros.physics.frames.to_velocity_frame`). Pass the air-relative velocity v -
+    wind for aerodynamic angles.
+    """
     vx, vy, vz = v
     sx, sy, sz = s
     speed = math.sqrt(vx * vx + vy * vy + vz * vz)
@@ -217,8 +272,11 @@ def velocity_frame_components(v: tuple, s: tuple) -> tuple:
     n2 = math.sqrt(e2x * e2x + e2y * e2y + e2z * e2z)
     e2x, e2y, e2z = e2x / n2, e2y / n2, e2z / n2
     e3x, e3y, e3z = e1y * e2z - e1z * e2y, e1z * e2x - e1x * e2z, e1x * e2y - e1y * e2x
-    return (sx * e1x + sy * e1y + sz * e1z, sx * e2x + sy * e2y + sz * e2z,
-            sx * e3x + sy * e3y + sz * e3z)
+    return (
+        sx * e1x + sy * e1y + sz * e1z,
+        sx * e2x + sy * e2y + sz * e2z,
+        sx * e3x + sy * e3y + sz * e3z,
+    )
 
 
 # Columns of describe(): orientation (x, y, z, w), axis, angular velocity, alpha, beta, delta.
@@ -228,7 +286,8 @@ N_DESCRIBE = 13
 
 @njit(cache=True)
 def describe(states: np.ndarray, params: np.ndarray) -> np.ndarray:
-    """Derived quantities of state rows (N, N_STATE) -> (N, N_DESCRIBE), in ``field``.
+    """
+    Derive quantities of state rows (N, N_STATE) -> (N, N_DESCRIBE), in ``field``.
 
     Orientation = q_nr * rot_x(phi) (body x = axis, spin angle included); angular velocity
     w = h - h1 s + p s with p = (I_t/I_s) h1; alpha, beta, delta as in docs/physics.md,

@@ -1,4 +1,19 @@
-"""A flight: initial state + ball + model, integrated headless or paced in real time.
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+A flight: initial state + ball + model, integrated headless or paced in real time.
 
 Everything is in ``field`` and SI. :class:`Flight` owns the state vector of
 :mod:`football_ros.physics.dynamics`; :class:`Trajectory` turns sampled state vectors into the
@@ -10,35 +25,57 @@ from __future__ import annotations
 
 import csv
 import dataclasses
-import math
 from dataclasses import dataclass
 from functools import cached_property
+import math
 from pathlib import Path
 
 import numpy as np
 
 from . import dynamics as dyn
-from .limits import check_flyable
-from .linear_theory import LinearModes, QuasiSteadyTracker, linear_modes, quasi_steady_components
-from .presets import BallPreset
 from .aero import AeroModel, resolve
-from .release import MODELS, InitialState, Release
+from .limits import check_flyable
+from .linear_theory import linear_modes, LinearModes, quasi_steady_components, QuasiSteadyTracker
+from .presets import BallPreset
+from .release import InitialState, MODELS, Release
 
 DEFAULT_STEP = 1e-3
 """Default integration step [s]: RK4 error on alpha/beta stays below 1e-6 rad over a pass."""
 
-CSV_BASE_HEADER = ("t", "x", "y", "z", "vx", "vy", "vz", "qx", "qy", "qz", "qw", "sx", "sy", "sz",
-                   "alpha", "beta", "alpha_linear", "beta_linear")
+CSV_BASE_HEADER = (
+    't',
+    'x',
+    'y',
+    'z',
+    'vx',
+    'vy',
+    'vz',
+    'qx',
+    'qy',
+    'qz',
+    'qw',
+    'sx',
+    'sy',
+    'sz',
+    'alpha',
+    'beta',
+    'alpha_linear',
+    'beta_linear',
+)
 """The 18 columns every simulate CSV starts with, in this order (a contract: never reordered)."""
-CSV_HEADER = CSV_BASE_HEADER + ("delta", "alpha_quasi_steady", "beta_quasi_steady", "spin")
+CSV_HEADER = CSV_BASE_HEADER + ('delta', 'alpha_quasi_steady', 'beta_quasi_steady', 'spin')
 """Columns written by :meth:`Trajectory.write_csv`: the base 18, then (appended) the total angle
 delta [rad], the quasi-steady linear theory's alpha, beta [rad] and the spin p [rad/s]."""
 
 
 @dataclass(frozen=True)
 class Trajectory:
-    """Sampled flight. ``times`` (N,) [s] since release, ``states`` (N, N_STATE) state vectors;
-    ``params`` the kernel parameters flown (None: the paper's, no wind)."""
+    """
+    Sampled flight.
+
+    ``times`` (N,) [s] since release, ``states`` (N, N_STATE) state vectors; ``params`` the
+    kernel parameters flown (None: the paper's, no wind).
+    """
 
     times: np.ndarray
     states: np.ndarray
@@ -111,47 +148,81 @@ class Trajectory:
 
     @cached_property
     def axis_components_quasi_steady(self) -> np.ndarray:
-        """(N,) complex x = s2 + i s3 of the quasi-steady linear theory (local U, Phi, h1, and
-        the flown model's lift, damping and Magnus terms)."""
+        """
+        Return (N,) complex x = s2 + i s3 of the quasi-steady linear theory.
+
+        Local U, Phi, h1, and the flown model's lift, damping and Magnus terms.
+        """
         params = dyn.make_params(self.ball) if self.params is None else self.params
-        return quasi_steady_components(self.modes, params, self.times, self.air_velocities,
-                                       self.states[:, dyn.H1])
+        return quasi_steady_components(
+            self.modes, params, self.times, self.air_velocities, self.states[:, dyn.H1]
+        )
 
     @property
     def aero_angles_quasi_steady(self) -> np.ndarray:
-        """(N, 2) alpha, beta [rad] of the quasi-steady linear theory: M_alpha(U), w_V, s3p
-        and h1 local, phases integrated along the flight (docs/physics.md)."""
+        """
+        (N, 2) alpha, beta [rad] of the quasi-steady linear theory.
+
+        M_alpha(U), w_V, s3p and h1 local, phases integrated along the flight
+        (docs/physics.md).
+        """
         from .linear_theory import angles_from_components
+
         return np.stack(angles_from_components(self.axis_components_quasi_steady), axis=-1)
 
     def table(self) -> np.ndarray:
         """(N, len(CSV_HEADER)) rows in the order of :data:`CSV_HEADER`."""
-        return np.column_stack([self.times, self.positions, self.velocities, self.orientations,
-                                self.axes, self.aero_angles[:, :2], self.aero_angles_linear,
-                                self.aero_angles[:, 2], self.aero_angles_quasi_steady, self.spin])
+        return np.column_stack(
+            [
+                self.times,
+                self.positions,
+                self.velocities,
+                self.orientations,
+                self.axes,
+                self.aero_angles[:, :2],
+                self.aero_angles_linear,
+                self.aero_angles[:, 2],
+                self.aero_angles_quasi_steady,
+                self.spin,
+            ]
+        )
 
     def write_csv(self, path: str | Path) -> None:
         """Write :meth:`table` with :data:`CSV_HEADER` (full float precision)."""
-        with open(path, "w", newline="") as handle:
+        with open(path, 'w', newline='') as handle:
             writer = csv.writer(handle)
             writer.writerow(CSV_HEADER)
             writer.writerows([[repr(float(v)) for v in row] for row in self.table()])
 
 
 class Flight:
-    """One ball in flight: build from a :class:`Release` or an :class:`InitialState`.
+    """
+    One ball in flight: build from a :class:`Release` or an :class:`InitialState`.
 
     ``step`` is the fixed integration step [s]; sampling never changes the trajectory.
     """
 
-    def __init__(self, ball: BallPreset, initial: InitialState, model: str = "paper",
-                 moment: str = "linear", step: float = DEFAULT_STEP, aero: AeroModel | None = None) -> None:
+    def __init__(
+        self,
+        ball: BallPreset,
+        initial: InitialState,
+        model: str = 'paper',
+        moment: str = 'linear',
+        step: float = DEFAULT_STEP,
+        aero: AeroModel | None = None,
+    ) -> None:
         if model not in MODELS:
             raise ValueError(f"unknown model '{model}' (known: {', '.join(MODELS)})")
         if not (0.0 < step <= 0.05):
-            raise ValueError(f"integration step must be in (0, 0.05] s, got {step}")
+            raise ValueError(f'integration step must be in (0, 0.05] s, got {step}')
         ball, self.aero = resolve(ball, model, aero)
-        self.ball, self.initial, self.model, self.moment, self.step = ball, initial, model, moment, step
+        self.ball, self.initial, self.model, self.moment, self.step = (
+            ball,
+            initial,
+            model,
+            moment,
+            step,
+        )
         self.params = dyn.make_params(ball, moment, self.aero)
         self.wind = self.params[dyn.P_WIND:dyn.P_WIND + 3].copy()
         check_flyable(self.params, initial, step)  # one check for every entry point
@@ -166,16 +237,29 @@ class Flight:
         self.rewind()
 
     @classmethod
-    def from_release(cls, release: Release, step: float = DEFAULT_STEP) -> "Flight":
-        return cls(release.preset(), release.initial_state(), release.model, release.moment, step,
-                   release.aero_model())
+    def from_release(cls, release: Release, step: float = DEFAULT_STEP) -> 'Flight':
+        return cls(
+            release.preset(),
+            release.initial_state(),
+            release.model,
+            release.moment,
+            step,
+            release.aero_model(),
+        )
 
     # --- headless ---------------------------------------------------------------------------
-    def simulate(self, rate: float = 100.0, duration: float = 10.0, ground: float = 0.0) -> Trajectory:
-        """Samples at multiples of 1/``rate`` [Hz] from t = 0 until ``duration`` [s] or the
-        landing on z = ``ground`` (then the last sample is the landing itself)."""
-        times, states, landed = dyn.propagate(self.y0, self.step, self.params, 1.0 / rate,
-                                              duration, ground)
+    def simulate(
+        self, rate: float = 100.0, duration: float = 10.0, ground: float = 0.0
+    ) -> Trajectory:
+        """
+        Return samples at multiples of 1/``rate`` [Hz] from t = 0.
+
+        Until ``duration`` [s] or the landing on z = ``ground`` (then the last sample is
+        the landing itself).
+        """
+        times, states, landed = dyn.propagate(
+            self.y0, self.step, self.params, 1.0 / rate, duration, ground
+        )
         return Trajectory(times, states, landed, self.ball, self.modes, self.params)
 
     # --- real time --------------------------------------------------------------------------
@@ -185,11 +269,13 @@ class Flight:
         self._steps = 0
         self.landing_time: float | None = None
         self._landing_state: np.ndarray | None = None
-        self._quasi_steady = QuasiSteadyTracker(self.modes, self.params,
-                                                self.initial.velocity - self.wind)
+        self._quasi_steady = QuasiSteadyTracker(
+            self.modes, self.params, self.initial.velocity - self.wind
+        )
 
     def state_at(self, t: float, ground: float = 0.0) -> np.ndarray:
-        """State vector at time ``t`` [s] after release (t never decreasing between calls).
+        """
+        State vector at time ``t`` [s] after release (t never decreasing between calls).
 
         Whole steps are committed, the remainder is a partial step. After the landing the
         landing state is returned; ``landing_time`` is then set.
@@ -218,32 +304,41 @@ class Flight:
         self._landing_state = state
         return state
 
-    def sample(self, t: float, ground: float = 0.0) -> "BallSample":
-        """The ball at ``t`` [s] after release (or at its landing, once landed)."""
+    def sample(self, t: float, ground: float = 0.0) -> 'BallSample':
+        """Return the ball at ``t`` [s] after release (or at its landing, once landed)."""
         state = self.state_at(t, ground)
         landed = self.landing_time is not None
         t_state = self.landing_time if landed else t
         d = dyn.describe(state[None, :], self.params)[0]
         alpha_lin, beta_lin = self.modes.aero_angles(t_state)
-        quasi = self._quasi_steady.update(t_state, state[dyn.V:dyn.V + 3] - self.wind,
-                                          float(state[dyn.H1]))
-        return BallSample(t=t_state, position=state[dyn.R:dyn.R + 3].copy(),
-                          velocity=state[dyn.V:dyn.V + 3].copy(),
-                          orientation=d[dyn.D_ORIENT:dyn.D_ORIENT + 4], axis=d[dyn.D_AXIS:dyn.D_AXIS + 3],
-                          angular_velocity=d[dyn.D_OMEGA:dyn.D_OMEGA + 3],
-                          aero_angles=d[dyn.D_ALPHA:dyn.D_DELTA + 1],
-                          aero_angles_linear=np.array([float(alpha_lin), float(beta_lin)]),
-                          landed=landed, aero_angles_quasi_steady=quasi)
+        quasi = self._quasi_steady.update(
+            t_state, state[dyn.V:dyn.V + 3] - self.wind, float(state[dyn.H1])
+        )
+        return BallSample(
+            t=t_state,
+            position=state[dyn.R:dyn.R + 3].copy(),
+            velocity=state[dyn.V:dyn.V + 3].copy(),
+            orientation=d[dyn.D_ORIENT:dyn.D_ORIENT + 4],
+            axis=d[dyn.D_AXIS:dyn.D_AXIS + 3],
+            angular_velocity=d[dyn.D_OMEGA:dyn.D_OMEGA + 3],
+            aero_angles=d[dyn.D_ALPHA:dyn.D_DELTA + 1],
+            aero_angles_linear=np.array([float(alpha_lin), float(beta_lin)]),
+            landed=landed,
+            aero_angles_quasi_steady=quasi,
+        )
 
 
 @dataclass(frozen=True)
 class BallSample:
-    """One instant of a flight, in ``field``: t [s] since release, position [m], velocity [m/s],
-    orientation (x, y, z, w; body x = axis), axis (unit), angular_velocity [rad/s],
-    aero_angles (alpha, beta, delta) [rad] against the air (v - wind), aero_angles_linear
-    (alpha, beta) [rad] of the linear theory frozen at release, aero_angles_quasi_steady
-    (alpha, beta) [rad] of the quasi-steady linear theory (NaN once an unstable ball's theory
-    overflows)."""
+    """
+    One instant of a flight, in ``field``.
+
+    t [s] since release, position [m], velocity [m/s], orientation (x, y, z, w; body x = axis),
+    axis (unit), angular_velocity [rad/s], aero_angles (alpha, beta, delta) [rad] against the
+    air (v - wind), aero_angles_linear (alpha, beta) [rad] of the linear theory frozen at
+    release, aero_angles_quasi_steady (alpha, beta) [rad] of the quasi-steady linear theory
+    (NaN once an unstable ball's theory overflows).
+    """
 
     t: float
     position: np.ndarray
@@ -255,4 +350,5 @@ class BallSample:
     aero_angles_linear: np.ndarray
     landed: bool
     aero_angles_quasi_steady: np.ndarray = dataclasses.field(
-        default_factory=lambda: np.full(2, np.nan))
+        default_factory=lambda: np.full(2, np.nan)
+    )

@@ -1,4 +1,19 @@
-"""Frames and conversions: the one place for them (docs/physics.md, "Frames and signs").
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Frames and conversions: the one place for them (docs/physics.md, "Frames and signs").
 
 World frame ``field`` (REP-103): x downfield, y to the thrower's left, z up. Body frame
 ``football``: x along the spin axis toward the leading nose, y and z transverse. The paper's
@@ -12,8 +27,8 @@ from __future__ import annotations
 
 import numpy as np
 
-FIELD_FRAME = "field"
-BODY_FRAME = "football"
+FIELD_FRAME = 'field'
+BODY_FRAME = 'football'
 UP = np.array([0.0, 0.0, 1.0])
 GRAVITY = 9.81
 """Magnitude of gravity [m/s^2], acting along -z in ``field``."""
@@ -36,7 +51,10 @@ def _unit(v: np.ndarray) -> np.ndarray:
 
 
 def velocity_frame(velocity: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Unit vectors e1 (along v), e2 (up, perpendicular to e1), e3 = e1 x e2 (right), in ``field``.
+    """
+    Return unit vectors e1 (along v), e2 (up, perpendicular to e1), e3 = e1 x e2 (right).
+
+    In ``field``.
 
     Undefined for a vertical velocity.
     """
@@ -48,14 +66,14 @@ def velocity_frame(velocity: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.nda
 
 
 def to_velocity_frame(vec: np.ndarray, velocity: np.ndarray) -> np.ndarray:
-    """Components (along e1, e2, e3) of a ``field`` vector in the velocity frame of ``velocity``."""
+    """Return components (along e1, e2, e3) of a ``field`` vector in ``velocity``'s frame."""
     e1, e2, e3 = velocity_frame(velocity)
     vec = np.asarray(vec, dtype=float)
     return np.stack([np.sum(vec * e, axis=-1) for e in (e1, e2, e3)], axis=-1)
 
 
 def from_velocity_frame(components: np.ndarray, velocity: np.ndarray) -> np.ndarray:
-    """``field`` vector from its velocity-frame components (inverse of :func:`to_velocity_frame`)."""
+    """Return a ``field`` vector from velocity-frame components (inverse of to_velocity_frame)."""
     e1, e2, e3 = velocity_frame(velocity)
     c = np.asarray(components, dtype=float)
     return c[..., 0:1] * e1 + c[..., 1:2] * e2 + c[..., 2:3] * e3
@@ -68,7 +86,8 @@ def air_velocity(velocity: np.ndarray, wind=None) -> np.ndarray:
 
 
 def aero_angles(axis: np.ndarray, velocity: np.ndarray, wind=None) -> np.ndarray:
-    """Angle of attack alpha, sideslip beta and total angle delta [rad], stacked on the last axis.
+    """
+    Angle of attack alpha, sideslip beta and total angle delta [rad], stacked on the last axis.
 
     Against the air-relative velocity u = velocity - ``wind`` (both in ``field``, m/s):
     alpha = atan2(s.e2, s.e1) (nose above u > 0), beta = asin(s.e3) (nose right of u > 0),
@@ -82,10 +101,15 @@ def aero_angles(axis: np.ndarray, velocity: np.ndarray, wind=None) -> np.ndarray
 
 
 def axis_from_aero_angles(alpha, beta, velocity: np.ndarray) -> np.ndarray:
-    """Unit axis in ``field`` with the given alpha and beta [rad] against ``velocity``
-    (alpha, beta broadcast with the leading axes of ``velocity``)."""
+    """
+    Return the unit axis in ``field`` with alpha and beta [rad] against ``velocity``.
+
+    alpha, beta broadcast with the leading axes of ``velocity``.
+    """
     alpha, beta = np.asarray(alpha, dtype=float), np.asarray(beta, dtype=float)
-    comps = np.stack([np.cos(beta) * np.cos(alpha), np.cos(beta) * np.sin(alpha), np.sin(beta)], axis=-1)
+    comps = np.stack(
+        [np.cos(beta) * np.cos(alpha), np.cos(beta) * np.sin(alpha), np.sin(beta)], axis=-1
+    )
     return from_velocity_frame(comps, velocity)
 
 
@@ -96,17 +120,25 @@ def flight_path_angle(velocity: np.ndarray) -> np.ndarray:
 
 
 def direction(speed, elevation, azimuth) -> np.ndarray:
-    """Velocity [m/s] in ``field`` from speed, elevation above the horizontal and azimuth [rad]
-    (azimuth from +x toward +y, i.e. counter-clockwise seen from above); arrays broadcast to
-    (..., 3)."""
+    """
+    Return velocity [m/s] in ``field`` from speed, elevation and azimuth [rad].
+
+    Elevation above the horizontal, azimuth from +x toward +y, i.e. counter-clockwise seen from
+    above; arrays broadcast to (..., 3).
+    """
     speed, elevation, azimuth = (np.asarray(x, dtype=float) for x in (speed, elevation, azimuth))
-    return speed[..., None] * np.stack([np.cos(elevation) * np.cos(azimuth),
-                                        np.cos(elevation) * np.sin(azimuth),
-                                        np.sin(elevation)], axis=-1)
+    return speed[..., None] * np.stack(
+        [
+            np.cos(elevation) * np.cos(azimuth),
+            np.cos(elevation) * np.sin(azimuth),
+            np.sin(elevation),
+        ],
+        axis=-1,
+    )
 
 
 def quaternion_from_matrix(rot: np.ndarray) -> np.ndarray:
-    """Unit quaternion (x, y, z, w) of a 3x3 rotation matrix (columns = body axes in the world)."""
+    """Return the unit quaternion (x, y, z, w) of a 3x3 rotation matrix (columns = body axes)."""
     m = np.asarray(rot, dtype=float)
     trace = m[0, 0] + m[1, 1] + m[2, 2]
     if trace > 0.0:
@@ -129,11 +161,14 @@ def quaternion_to_matrix(q: np.ndarray) -> np.ndarray:
     """Rotation matrices (..., 3, 3) of quaternions (..., 4) in (x, y, z, w) order."""
     q = np.asarray(q, dtype=float)
     x, y, z, w = np.moveaxis(q, -1, 0)
-    return np.stack([
-        np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], axis=-1),
-        np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], axis=-1),
-        np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], axis=-1),
-    ], axis=-2)
+    return np.stack(
+        [
+            np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], axis=-1),
+            np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], axis=-1),
+            np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], axis=-1),
+        ],
+        axis=-2,
+    )
 
 
 def body_x_axis(q: np.ndarray) -> np.ndarray:
@@ -142,7 +177,8 @@ def body_x_axis(q: np.ndarray) -> np.ndarray:
 
 
 def attitude_with_axis(axis: np.ndarray) -> np.ndarray:
-    """Quaternion (x, y, z, w) whose body x is ``axis`` and body z is as close to up as it can be.
+    """
+    Quaternion (x, y, z, w) whose body x is ``axis`` and body z is as close to up as it can be.
 
     Body y = z x x points to the left of the axis (REP-103). For a vertical axis, +x of
     ``field`` stands in for up.

@@ -1,4 +1,19 @@
-"""Can a flight be integrated with its fixed step? The one check shared by every entry point.
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Can a flight be integrated with its fixed step? The one check shared by every entry point.
 
 Classical RK4 is stable for h * lambda inside its stability region: up to |h lambda| = 2.83 on
 the imaginary axis (oscillations) and 2.79 on the negative real axis (damping). The fastest
@@ -44,51 +59,62 @@ MIN_AIR_SPEED = 0.1
 """Smallest speed relative to the air at release [m/s]."""
 
 
-def max_air_speed(initial: InitialState, wind: Sequence[float] = (0.0, 0.0, 0.0),
-                  gravity: float = GRAVITY) -> float:
+def max_air_speed(
+    initial: InitialState, wind: Sequence[float] = (0.0, 0.0, 0.0), gravity: float = GRAVITY
+) -> float:
     """Upper bound [m/s] of the air-relative speed over the flight (energy, no drag)."""
     speed = float(np.linalg.norm(initial.velocity)) + float(np.linalg.norm(wind))
-    return math.sqrt(speed ** 2 + 2.0 * gravity * max(float(initial.position[2]), 0.0))
+    return math.sqrt(speed**2 + 2.0 * gravity * max(float(initial.position[2]), 0.0))
 
 
 def fastest_rates(params: np.ndarray, initial: InitialState) -> dict[str, float]:
-    """The rates [1/s] that limit the step, by name (module docstring), for kernel ``params``
-    (:func:`football_ros.physics.dynamics.make_params`) and the release state."""
+    """
+    Return the rates [1/s] that limit the step, by name (module docstring).
+
+    For kernel ``params`` (:func:`football_ros.physics.dynamics.make_params`) and the release
+    state.
+    """
     wind = params[dyn.P_WIND:dyn.P_WIND + 3]
     u_max = max_air_speed(initial, wind, params[dyn.P_GRAVITY])
     spin_ratio = params[dyn.P_SPIN_RATIO]  # I_t / I_s
     h1 = initial.spin / spin_ratio  # (I_s / I_t) p
     p = abs(initial.spin)
     damp = params[dyn.P_DAMP_K] * u_max  # rho S D^2 U / (2 I_t)
-    stiffness = params[dyn.P_MOMENT_K] * u_max ** 2 + damp * p * abs(params[dyn.P_CMPA])
+    stiffness = params[dyn.P_MOMENT_K] * u_max**2 + damp * p * abs(params[dyn.P_CMPA])
     angular = 0.5 * (abs(h1) + math.sqrt(h1 * h1 + 4.0 * stiffness))
     angular += float(np.linalg.norm(initial.transverse_rate))
     force_k = params[dyn.P_FORCE_K]  # rho S / (2 m)
     return {
-        "angular rate": angular,
-        "pitch-damping rate": damp * abs(params[dyn.P_CMQ]),
-        "spin-damping rate": damp * abs(params[dyn.P_CLP]) * spin_ratio,
-        "drag and lift rate": force_k * (u_max * (2.0 * params[dyn.P_CD0] + 2.0 * params[dyn.P_CD2]
-                                                  + abs(params[dyn.P_CLA]))
-                                         + params[dyn.P_DIAMETER] * p * abs(params[dyn.P_CNPA])),
+        'angular rate': angular,
+        'pitch-damping rate': damp * abs(params[dyn.P_CMQ]),
+        'spin-damping rate': damp * abs(params[dyn.P_CLP]) * spin_ratio,
+        'drag and lift rate': force_k
+        * (
+            u_max * (2.0 * params[dyn.P_CD0] + 2.0 * params[dyn.P_CD2] + abs(params[dyn.P_CLA]))
+            + params[dyn.P_DIAMETER] * p * abs(params[dyn.P_CNPA])
+        ),
     }
 
 
 def check_flyable(params: np.ndarray, initial: InitialState, step: float) -> None:
-    """Raise :class:`ReleaseError` naming the rate when ``step`` [s] is too large for it.
+    """
+    Raise :class:`ReleaseError` naming the rate when ``step`` [s] is too large for it.
 
     Also refuses a release that moves with the wind (no air speed: the aerodynamic angles,
     the linear theory and the loads' direction are undefined).
     """
     air = initial.velocity - params[dyn.P_WIND:dyn.P_WIND + 3]
     if not float(np.linalg.norm(air)) > MIN_AIR_SPEED:
-        raise ReleaseError(f"the release moves with the wind (air speed {np.linalg.norm(air):.3g} "
-                           f"m/s < {MIN_AIR_SPEED:g} m/s): its angle of attack is undefined")
+        raise ReleaseError(
+            f'the release moves with the wind (air speed {np.linalg.norm(air):.3g} '
+            f'm/s < {MIN_AIR_SPEED:g} m/s): its angle of attack is undefined'
+        )
     for name, rate in fastest_rates(params, initial).items():
         if not math.isfinite(rate):
             raise ReleaseError(f"the flight's {name} is not finite")
         if rate * step > MAX_STEP_RATE:
             raise ReleaseError(
                 f"integration step {step:g} s is too large for this flight's {name} of "
-                f"{rate:.4g} rad/s (step x rate = {rate * step:.3g} > {MAX_STEP_RATE:g}): "
-                f"use a step <= {MAX_STEP_RATE / rate:.3g} s, or less spin, speed or moment")
+                f'{rate:.4g} rad/s (step x rate = {rate * step:.3g} > {MAX_STEP_RATE:g}): '
+                f'use a step <= {MAX_STEP_RATE / rate:.3g} s, or less spin, speed or moment'
+            )

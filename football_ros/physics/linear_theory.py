@@ -1,4 +1,19 @@
-"""Linear theory in the velocity frame: frozen at release, and quasi-steady along the flight.
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Linear theory in the velocity frame: frozen at release, and quasi-steady along the flight.
 
 With x = s2 + i s3 (velocity-frame components of the axis, against the air-relative velocity
 u = v - wind) and h1 = h.s (docs/physics.md, "Linear theory"):
@@ -20,28 +35,33 @@ equilibrium of its own linear equation (lift, damping, Magnus; :func:`local_expo
 from __future__ import annotations
 
 import cmath
-import math
 from dataclasses import dataclass
+import math
 
 import numpy as np
 
 from . import frames
 from .presets import BallPreset
-from .release import RPM, InitialState
+from .release import InitialState, RPM
 
 
 def angles_from_components(x) -> tuple[np.ndarray, np.ndarray]:
-    """alpha, beta [rad] of the unit axis with velocity-frame components
-    (sqrt(1 - s2^2 - s3^2), s2, s3), x = s2 + i s3 (complex, any shape)."""
+    """
+    Return alpha, beta [rad] of the unit axis from x = s2 + i s3.
+
+    Velocity-frame components (sqrt(1 - s2^2 - s3^2), s2, s3), x = s2 + i s3 (complex, any
+    shape).
+    """
     x = np.asarray(x)
     s2, s3 = np.clip(x.real, -1.0, 1.0), np.clip(x.imag, -1.0, 1.0)
-    s1 = np.sqrt(np.clip(1.0 - s2 ** 2 - s3 ** 2, 0.0, None))
+    s1 = np.sqrt(np.clip(1.0 - s2**2 - s3**2, 0.0, None))
     return np.arctan2(s2, s1), np.arcsin(s3)
 
 
 @dataclass(frozen=True)
 class LinearModes:
-    """Linear-theory numbers of one release. Rates in rad/s, angles in rad.
+    """
+    Linear-theory numbers of one release. Rates in rad/s, angles in rad.
 
     m_alpha [1/s^2], h1 [rad/s], omega_fast/omega_slow: real parts of the mode frequencies,
     fast = the larger |omega|; both have the sign of h1 (negative for a left-handed spiral,
@@ -69,7 +89,7 @@ class LinearModes:
     @property
     def gyroscopic_stability_factor(self) -> float:
         """S_g = h1^2 / (4 M_alpha) (McCoy's P^2 / 4M); > 1 means gyroscopically stable."""
-        return self.h1 ** 2 / (4.0 * self.m_alpha)
+        return self.h1**2 / (4.0 * self.m_alpha)
 
     def _roots(self) -> tuple[complex, complex]:
         return mode_frequencies(self.h1, self.m_alpha)
@@ -78,22 +98,30 @@ class LinearModes:
         """x(t) = s2 + i s3 at times ``t`` [s] after release (complex array)."""
         w_f, w_s = self._roots()
         t = np.asarray(t, dtype=float)
-        return (self.c1 * np.exp(1j * w_f * t) + self.c2 * np.exp(1j * w_s * t)
-                + 1j * self.equilibrium_sideslip)
+        return (
+            self.c1 * np.exp(1j * w_f * t)
+            + self.c2 * np.exp(1j * w_s * t)
+            + 1j * self.equilibrium_sideslip
+        )
 
     def aero_angles(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Predicted alpha, beta [rad] at times ``t``: the angles of the unit axis with
-        velocity-frame components (sqrt(1 - s2^2 - s3^2), s2, s3)."""
+        """
+        Predicted alpha, beta [rad] at times ``t``.
+
+        The angles of the unit axis with velocity-frame components (sqrt(1 - s2^2 - s3^2),
+        s2, s3).
+        """
         return angles_from_components(self.axis_components(t))
 
 
 def mode_frequencies(h1: float, m_alpha: float) -> tuple[complex, complex]:
-    """(w_fast, w_slow) [rad/s], the roots of w^2 - h1 w + M_alpha = 0, fast = larger |w|.
+    """
+    (w_fast, w_slow) [rad/s], the roots of w^2 - h1 w + M_alpha = 0, fast = larger |w|.
 
     w = (h1 +- sign(h1) sqrt(h1^2 - 4 M_alpha)) / 2: both carry the sign of h1 (a left-handed
     spiral's modes turn the other way, w(-h1) = -w(h1)); complex when gyroscopically unstable.
     """
-    disc = cmath.sqrt(h1 ** 2 - 4.0 * m_alpha)
+    disc = cmath.sqrt(h1**2 - 4.0 * m_alpha)
     if h1 < 0.0:
         disc = -disc
     return (h1 + disc) / 2.0, (h1 - disc) / 2.0
@@ -101,12 +129,14 @@ def mode_frequencies(h1: float, m_alpha: float) -> tuple[complex, complex]:
 
 def moment_slope(ball: BallPreset, speed: float) -> float:
     """M_alpha(V) = rho S D V^2 C_Malpha / (2 I_t) [1/s^2]."""
-    return ball.moment_coefficient() * speed ** 2
+    return ball.moment_coefficient() * speed**2
 
 
-def linear_modes(ball: BallPreset, state: InitialState, gravity: float = frames.GRAVITY,
-                 wind=None) -> LinearModes:
-    """Modes, equilibrium and mode amplitudes for a release, U and Phi frozen at release.
+def linear_modes(
+    ball: BallPreset, state: InitialState, gravity: float = frames.GRAVITY, wind=None
+) -> LinearModes:
+    """
+    Modes, equilibrium and mode amplitudes for a release, U and Phi frozen at release.
 
     ``wind`` [m/s] in ``field``: the theory uses the air-relative velocity u = v - wind.
     """
@@ -130,15 +160,25 @@ def linear_modes(ball: BallPreset, state: InitialState, gravity: float = frames.
     c1 = (rate - w_s * offset) / (w_f - w_s)
     c2 = (-rate + w_f * offset) / (w_f - w_s)
     return LinearModes(
-        m_alpha=m_alpha, h1=h1, omega_fast=w_f.real, omega_slow=w_s.real,
-        growth_rate=abs(w_f.imag), stable=h1 ** 2 > 4.0 * m_alpha,
+        m_alpha=m_alpha,
+        h1=h1,
+        omega_fast=w_f.real,
+        omega_slow=w_s.real,
+        growth_rate=abs(w_f.imag),
+        stable=h1**2 > 4.0 * m_alpha,
         critical_spin_rpm=2.0 * math.sqrt(m_alpha) / ball.inertia_ratio / RPM,
-        equilibrium_sideslip=s3p, c1=complex(c1), c2=complex(c2), omega_v=omega_v,
-        speed=speed, flight_path_angle=phi)
+        equilibrium_sideslip=s3p,
+        c1=complex(c1),
+        c2=complex(c2),
+        omega_v=omega_v,
+        speed=speed,
+        flight_path_angle=phi,
+    )
 
 
 def local_modes(moment_k: float, air_velocity: np.ndarray, h1, gravity: float = frames.GRAVITY):
-    """Local linear-theory numbers along a flight (arrays broadcast over samples).
+    """
+    Local linear-theory numbers along a flight (arrays broadcast over samples).
 
     ``moment_k`` = M_alpha / U^2 [1/m^2], ``air_velocity`` (..., 3) [m/s], ``h1`` [rad/s].
     Returns (w_f, w_s, D, s3p): complex mode frequencies [rad/s] (fast = larger |w|, as
@@ -148,17 +188,20 @@ def local_modes(moment_k: float, air_velocity: np.ndarray, h1, gravity: float = 
     air = np.asarray(air_velocity, dtype=float)
     speed = np.linalg.norm(air, axis=-1)
     phi = frames.flight_path_angle(air)
-    m_alpha = moment_k * speed ** 2
+    m_alpha = moment_k * speed**2
     h1 = np.asarray(h1, dtype=float)
-    disc = np.sqrt((h1 ** 2 - 4.0 * m_alpha).astype(complex))
+    disc = np.sqrt((h1**2 - 4.0 * m_alpha).astype(complex))
     s3p = gravity * np.cos(phi) * h1 / (m_alpha * speed)
     signed = np.where(h1 < 0.0, -disc, disc)
     return (h1 + signed) / 2.0, (h1 - signed) / 2.0, disc, s3p
 
 
 def local_exponents(params: np.ndarray, air_velocity: np.ndarray, h1):
-    """Local linear equation x'' + B x' - C x = F of the flown model (kernel ``params`` of
-    :func:`football_ros.physics.dynamics.make_params`; the paper's when its extra terms are 0).
+    """
+    Return the local linear equation x'' + B x' - C x = F of the flown model.
+
+    Kernel ``params`` of :func:`football_ros.physics.dynamics.make_params`; the paper's when
+    its extra terms are 0.
 
     B = fk U C_Lalpha - dk U C_Mq - i (h1 + fk p D C_Npalpha),
     C = M_alpha + h1 fk p D C_Npalpha + i (h1 fk U C_Lalpha + dk U p C_Mpalpha),
@@ -169,6 +212,7 @@ def local_exponents(params: np.ndarray, air_velocity: np.ndarray, h1):
     4 M_alpha) for the paper: sigma = i w_f, i w_s), and the equilibrium x_p = -F / C.
     """
     from . import model_params as dyn
+
     air = np.asarray(air_velocity, dtype=float)
     speed = np.linalg.norm(air, axis=-1)
     phi = frames.flight_path_angle(air)
@@ -176,21 +220,32 @@ def local_exponents(params: np.ndarray, air_velocity: np.ndarray, h1):
     spin = params[dyn.P_SPIN_RATIO] * h1
     fk, diameter = params[dyn.P_FORCE_K], params[dyn.P_DIAMETER]
     dk_u = params[dyn.P_DAMP_K] * speed
-    m_alpha = params[dyn.P_MOMENT_K] * speed ** 2
+    m_alpha = params[dyn.P_MOMENT_K] * speed**2
     magnus = fk * spin * diameter * params[dyn.P_CNPA]
     b = fk * speed * params[dyn.P_CLA] - dk_u * params[dyn.P_CMQ] - 1j * (h1 + magnus)
-    c = m_alpha + h1 * magnus + 1j * (h1 * fk * speed * params[dyn.P_CLA]
-                                      + dk_u * spin * params[dyn.P_CMPA])
+    c = (
+        m_alpha
+        + h1 * magnus
+        + 1j * (h1 * fk * speed * params[dyn.P_CLA] + dk_u * spin * params[dyn.P_CMPA])
+    )
     d_c = np.sqrt(-(b * b + 4.0 * c))
     w_v = -params[dyn.P_GRAVITY] * np.cos(phi) / speed
     x_p = -(1j * h1 + dk_u * params[dyn.P_CMQ]) * w_v / c
     return (-b + 1j * d_c) / 2.0, (-b - 1j * d_c) / 2.0, b, d_c, x_p
 
 
-def mode_rates(params: np.ndarray, speed: float, h1: float, speed_rate: float | None = None,
-               h1_rate: float | None = None) -> tuple[complex, complex]:
-    """Per-second exponents of the two modes of the full model's linear equation at air
-    speed ``speed`` [m/s] and spin momentum ``h1`` [rad/s] (kernel ``params``), fast first.
+def mode_rates(
+    params: np.ndarray,
+    speed: float,
+    h1: float,
+    speed_rate: float | None = None,
+    h1_rate: float | None = None,
+) -> tuple[complex, complex]:
+    """
+    Return per-second exponents of the two modes of the full model's linear equation.
+
+    At air speed ``speed`` [m/s] and spin momentum ``h1`` [rad/s] (kernel ``params``), fast
+    first.
 
     Returns (fast, slow): complex, real part the damping rate [1/s] of the mode's amplitude
     (< 0 decays), imaginary part its frequency [rad/s] (fast = larger |frequency|). In the
@@ -204,9 +259,14 @@ def mode_rates(params: np.ndarray, speed: float, h1: float, speed_rate: float | 
     is not proportional to U (docs/physics.md section 5).
     """
     from . import model_params as dyn
+
     a, fk, dk = params[dyn.P_SPIN_RATIO], params[dyn.P_FORCE_K], params[dyn.P_DAMP_K]
-    c_la, c_mq, c_np, c_mp = (params[dyn.P_CLA], params[dyn.P_CMQ], params[dyn.P_CNPA],
-                              params[dyn.P_CMPA])
+    c_la, c_mq, c_np, c_mp = (
+        params[dyn.P_CLA],
+        params[dyn.P_CMQ],
+        params[dyn.P_CNPA],
+        params[dyn.P_CMPA],
+    )
     diameter, k = params[dyn.P_DIAMETER], params[dyn.P_MOMENT_K]
     u, spin = float(speed), a * h1
     if speed_rate is None:
@@ -217,8 +277,10 @@ def mode_rates(params: np.ndarray, speed: float, h1: float, speed_rate: float | 
     b = complex(fk * u * c_la - dk * u * c_mq, -(h1 + magnus * h1))
     c = complex(k * u * u + magnus * h1 * h1, h1 * fk * u * c_la + dk * u * spin * c_mp)
     b_dot = (fk * c_la - dk * c_mq) * speed_rate - 1j * (1.0 + magnus) * h1_rate
-    c_dot = (complex(2.0 * k * u, h1 * fk * c_la + dk * spin * c_mp) * speed_rate
-             + complex(2.0 * magnus * h1, fk * u * c_la + dk * u * a * c_mp) * h1_rate)
+    c_dot = (
+        complex(2.0 * k * u, h1 * fk * c_la + dk * spin * c_mp) * speed_rate
+        + complex(2.0 * magnus * h1, fk * u * c_la + dk * u * a * c_mp) * h1_rate
+    )
     d_c = cmath.sqrt(-(b * b + 4.0 * c))
     d_c_dot = -(b * b_dot + 2.0 * c_dot) / d_c
     common = -0.5 * (d_c_dot / d_c).real
@@ -230,16 +292,32 @@ def mode_rates(params: np.ndarray, speed: float, h1: float, speed_rate: float | 
 
 
 def _scalar_constants(params: np.ndarray) -> tuple:
-    """The kernel parameters :func:`_local_exponents_scalar` reads, as Python floats."""
+    """Return the kernel parameters :func:`_local_exponents_scalar` reads, as Python floats."""
     from . import model_params as dyn
-    keys = (dyn.P_SPIN_RATIO, dyn.P_FORCE_K, dyn.P_DAMP_K, dyn.P_CLA, dyn.P_CMQ, dyn.P_DIAMETER,
-            dyn.P_CNPA, dyn.P_MOMENT_K, dyn.P_CMPA, dyn.P_GRAVITY, dyn.P_CD0, dyn.P_CLP)
+
+    keys = (
+        dyn.P_SPIN_RATIO,
+        dyn.P_FORCE_K,
+        dyn.P_DAMP_K,
+        dyn.P_CLA,
+        dyn.P_CMQ,
+        dyn.P_DIAMETER,
+        dyn.P_CNPA,
+        dyn.P_MOMENT_K,
+        dyn.P_CMPA,
+        dyn.P_GRAVITY,
+        dyn.P_CD0,
+        dyn.P_CLP,
+    )
     return tuple(float(params[k]) for k in keys)
 
 
 def _local_exponents_scalar(consts: tuple, air_velocity, h1: float) -> tuple:
-    """:func:`local_exponents` for one sample in plain floats (the real-time path);
-    ``consts`` from :func:`_scalar_constants`."""
+    """
+    :func:`local_exponents` for one sample in plain floats (the real-time path).
+
+    ``consts`` from :func:`_scalar_constants`.
+    """
     spin_ratio, fk, dk, c_la, c_mq, diameter, c_np, moment_k, c_mp, gravity = consts[:10]
     ux, uy, uz = (float(c) for c in air_velocity)
     speed = math.sqrt(ux * ux + uy * uy + uz * uz)
@@ -248,8 +326,9 @@ def _local_exponents_scalar(consts: tuple, air_velocity, h1: float) -> tuple:
     dk_u = dk * speed
     magnus = fk * spin * diameter * c_np
     b = complex(fk * speed * c_la - dk_u * c_mq, -(h1 + magnus))
-    c = complex(moment_k * speed * speed + h1 * magnus,
-                h1 * fk * speed * c_la + dk_u * spin * c_mp)
+    c = complex(
+        moment_k * speed * speed + h1 * magnus, h1 * fk * speed * c_la + dk_u * spin * c_mp
+    )
     d_c = cmath.sqrt(-(b * b + 4.0 * c))
     w_v = -gravity * cos_phi / speed
     x_p = -complex(dk_u * c_mq, h1) * w_v / c
@@ -261,10 +340,19 @@ EQUILIBRIUM_STEP = 1e-4
 
 
 def _path_rates(consts: tuple, air, h1):
-    """u' [m/s^2] and h1' [rad/s^2] of the linearised flight (zero yaw): gravity and drag
-    C_D0 on u, spin damping on h1 (arrays (..., 3) and (...) or plain floats)."""
-    spin_ratio, fk, dk, gravity, c_d0, c_lp = (consts[0], consts[1], consts[2], consts[9],
-                                                consts[10], consts[11])
+    """
+    U' [m/s^2] and h1' [rad/s^2] of the linearised flight (zero yaw).
+
+    Gravity and drag C_D0 on u, spin damping on h1 (arrays (..., 3) and (...) or plain floats).
+    """
+    spin_ratio, fk, dk, gravity, c_d0, c_lp = (
+        consts[0],
+        consts[1],
+        consts[2],
+        consts[9],
+        consts[10],
+        consts[11],
+    )
     air = np.asarray(air, dtype=float)
     speed = np.linalg.norm(air, axis=-1)
     u_dot = -fk * c_d0 * speed[..., None] * air if air.ndim > 1 else -fk * c_d0 * speed * air
@@ -273,7 +361,8 @@ def _path_rates(consts: tuple, air, h1):
 
 
 def _drifting_equilibrium(exponents, consts, air, h1, b, d_c, x_p):
-    """The equilibrium to first order in its drift and that drift: (x_p + B x_p' / C, x_p').
+    """
+    Return the equilibrium to first order in its drift, and that drift: (x_p + B x_p'/C, x_p').
 
     Inserting x = x_p(t) + y in x'' + B x' - C x = F leaves B x_p' on the right; its
     quasi-static answer is y = B x_p' / C. x_p' is a central difference of ``exponents``
@@ -290,8 +379,11 @@ def _drifting_equilibrium(exponents, consts, air, h1, b, d_c, x_p):
 
 
 def _start(modes: LinearModes, sigma_1, sigma_2, x_p0, x_p_dot0=0.0) -> tuple[complex, complex]:
-    """Mode amplitudes for the release state of ``modes`` (x0, x0'), the local exponents and
-    the equilibrium x_p0 and its rate x_p_dot0 at release."""
+    """
+    Return mode amplitudes for the release state of ``modes`` (x0, x0').
+
+    Also the local exponents and the equilibrium x_p0 and its rate x_p_dot0 at release.
+    """
     w_f, w_s = modes._roots()
     x0 = modes.c1 + modes.c2 + 1j * modes.equilibrium_sideslip
     x0_dot = 1j * w_f * modes.c1 + 1j * w_s * modes.c2 - x_p_dot0
@@ -300,10 +392,14 @@ def _start(modes: LinearModes, sigma_1, sigma_2, x_p0, x_p_dot0=0.0) -> tuple[co
     return complex(k1), complex(k2)
 
 
-def quasi_steady_components(modes: LinearModes, params: np.ndarray, times: np.ndarray,
-                            air_velocities: np.ndarray, h1) -> np.ndarray:
-    """x(t) = s2 + i s3 of the quasi-steady linear theory at ``times`` [s] (increasing, the
-    first one the release), from the flight's air-relative velocities (N, 3) [m/s] and h1.
+def quasi_steady_components(
+    modes: LinearModes, params: np.ndarray, times: np.ndarray, air_velocities: np.ndarray, h1
+) -> np.ndarray:
+    """
+    Return x(t) = s2 + i s3 of the quasi-steady linear theory at ``times`` [s].
+
+    ``times`` increasing, the first one the release; from the flight's air-relative velocities
+    (N, 3) [m/s] and h1.
 
     x = A1 K1 exp(int sigma_1) + A2 K2 exp(int sigma_2) + X_p(t) with the local exponents of
     :func:`local_exponents`, the equilibrium to the same (first) order as the amplitudes,
@@ -316,8 +412,14 @@ def quasi_steady_components(modes: LinearModes, params: np.ndarray, times: np.nd
     h1 = np.broadcast_to(h1, times.shape)
     sig1, sig2, b, d_c, x_p = local_exponents(params, air_velocities, h1)
     x_p, x_p_dot = _drifting_equilibrium(
-        lambda air, h: local_exponents(params, air, h), _scalar_constants(params),
-        air_velocities, h1, b, d_c, x_p)
+        lambda air, h: local_exponents(params, air, h),
+        _scalar_constants(params),
+        air_velocities,
+        h1,
+        b,
+        d_c,
+        x_p,
+    )
     k1, k2 = _start(modes, sig1[0], sig2[0], x_p[0], x_p_dot[0])
     dt = np.diff(times)
 
@@ -327,22 +429,27 @@ def quasi_steady_components(modes: LinearModes, params: np.ndarray, times: np.nd
 
     drift = integral(1.0 / (2j * d_c), np.diff(b))
     common = np.sqrt(d_c[0] / d_c)
-    with np.errstate(over="ignore", invalid="ignore"):
+    with np.errstate(over='ignore', invalid='ignore'):
         modes_part = k1 * np.exp(integral(sig1) + drift) + k2 * np.exp(integral(sig2) - drift)
         return common * modes_part + x_p
 
 
 class QuasiSteadyTracker:
-    """The quasi-steady linear theory sample by sample (real time): call :meth:`update` with
-    non-decreasing times; the integrals advance by the trapezoid rule between calls, from the
-    release (t = 0) on."""
+    """
+    The quasi-steady linear theory sample by sample (real time).
 
-    def __init__(self, modes: LinearModes, params: np.ndarray,
-                 release_air_velocity: np.ndarray) -> None:
+    Call :meth:`update` with non-decreasing times; the integrals advance by the trapezoid rule
+    between calls, from the release (t = 0) on.
+    """
+
+    def __init__(
+        self, modes: LinearModes, params: np.ndarray, release_air_velocity: np.ndarray
+    ) -> None:
         self.modes, self.params = modes, params
         self._consts = _scalar_constants(params)
-        sig1, sig2, b, d_c, x_p = _local_exponents_scalar(self._consts, release_air_velocity,
-                                                          modes.h1)
+        sig1, sig2, b, d_c, x_p = _local_exponents_scalar(
+            self._consts, release_air_velocity, modes.h1
+        )
         x_p, x_p_dot = self._equilibrium(release_air_velocity, modes.h1, b, d_c, x_p)
         self._k = _start(modes, sig1, sig2, x_p, x_p_dot)
         self._t = 0.0
@@ -351,8 +458,11 @@ class QuasiSteadyTracker:
         self._log = [0j, 0j]  # integrals of sigma +- the WKB drift
 
     def update(self, t: float, air_velocity: np.ndarray, h1: float) -> np.ndarray:
-        """alpha, beta [rad] of the quasi-steady theory at ``t`` [s] since release (NaN once
-        an unstable ball's theory overflows)."""
+        """
+        Return alpha, beta [rad] of the quasi-steady theory at ``t`` [s] since release.
+
+        NaN once an unstable ball's theory overflows.
+        """
         sig1, sig2, b, d_c, x_p = _local_exponents_scalar(self._consts, air_velocity, float(h1))
         x_p = self._equilibrium(air_velocity, float(h1), b, d_c, x_p)[0]
         if t > self._t:
@@ -364,8 +474,11 @@ class QuasiSteadyTracker:
             self._t, self._last = t, (sig1, sig2, b, d_c)
         try:
             common = cmath.sqrt(self._d0 / d_c)
-            x = common * (self._k[0] * cmath.exp(self._log[0])
-                          + self._k[1] * cmath.exp(self._log[1])) + x_p
+            x = (
+                common
+                * (self._k[0] * cmath.exp(self._log[0]) + self._k[1] * cmath.exp(self._log[1]))
+                + x_p
+            )
         except (OverflowError, ZeroDivisionError):
             return np.full(2, np.nan)
         if not (math.isfinite(x.real) and math.isfinite(x.imag)):
@@ -377,5 +490,6 @@ class QuasiSteadyTracker:
     def _equilibrium(self, air, h1, b, d_c, x_p):
         def exponents(air_, h1_):
             return _local_exponents_scalar(self._consts, air_, float(h1_))
+
         x_p, x_p_dot = _drifting_equilibrium(exponents, self._consts, air, h1, b, d_c, x_p)
         return complex(x_p), complex(x_p_dot)

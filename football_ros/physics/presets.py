@@ -1,4 +1,19 @@
-"""Ball presets: the one place where ball and nominal-release numbers live.
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Ball presets: the one place where ball and nominal-release numbers live.
 
 Every number is SI (kg, m, kg m^2, kg/m^3, m/s, rad/s via rpm). Sources: Dzielski & Blackburn,
 Dynamics 2022 (inertias, C_Malpha, nominal releases); diameter and air density chosen as
@@ -8,14 +23,15 @@ docs/physics.md section 4 states so that M_alpha = 191 s^-2 at 27.4 m/s for the 
 from __future__ import annotations
 
 import dataclasses
-import math
 from dataclasses import dataclass
+import math
 from typing import Mapping
 
 
 @dataclass(frozen=True)
 class BallPreset:
-    """Physical description of a ball and its nominal release.
+    """
+    Physical description of a ball and its nominal release.
 
     Attributes are SI: mass [kg], diameter and length [m], inertias [kg m^2] about the long
     (spin) axis and a transverse axis through the centre of mass, c_m_alpha [1/rad] is the
@@ -46,28 +62,42 @@ class BallPreset:
         return self.inertia_spin / self.inertia_transverse
 
     def moment_coefficient(self) -> float:
-        """k such that M_alpha(V) = k V^2 [1/m^2]: k = rho S D C_Malpha / (2 I_t)."""
-        return (self.air_density * self.reference_area * self.diameter * self.c_m_alpha
-                / (2.0 * self.inertia_transverse))
+        """K such that M_alpha(V) = k V^2 [1/m^2]: k = rho S D C_Malpha / (2 I_t)."""
+        return (
+            self.air_density
+            * self.reference_area
+            * self.diameter
+            * self.c_m_alpha
+            / (2.0 * self.inertia_transverse)
+        )
 
-    def with_overrides(self, overrides: Mapping[str, float]) -> "BallPreset":
-        """A copy with some numeric fields replaced, validated by :func:`check_ball`.
+    def with_overrides(self, overrides: Mapping[str, float]) -> 'BallPreset':
+        """
+        Return a copy with some numeric fields replaced, validated by :func:`check_ball`.
 
         Unknown keys, non-numbers, non-finite or non-positive values and values outside
         :data:`BALL_LIMITS` (or a combination :func:`check_ball` refuses) raise ValueError
         naming the parameter and its accepted range.
         """
-        numeric = {f.name for f in dataclasses.fields(self)} - {"name", "speed", "elevation_deg",
-                                                                 "spin_rpm"}
+        numeric = {f.name for f in dataclasses.fields(self)} - {
+            'name',
+            'speed',
+            'elevation_deg',
+            'spin_rpm',
+        }
         changes = {}
         for key, value in overrides.items():
             if key not in numeric:
-                raise ValueError(f"unknown ball parameter '{str(key)[:40]}' "
-                                 f"(known: {', '.join(sorted(numeric))})")
+                raise ValueError(
+                    f"unknown ball parameter '{str(key)[:40]}' "
+                    f'(known: {", ".join(sorted(numeric))})'
+                )
             number = _as_float(value)
             if number is None or not math.isfinite(number) or number <= 0.0:
-                raise ValueError(f"ball parameter '{key}' must be a positive finite number, "
-                                 f"got {str(value)[:40]!r}")
+                raise ValueError(
+                    f"ball parameter '{key}' must be a positive finite number, "
+                    f'got {str(value)[:40]!r}'
+                )
             changes[key] = number
         ball = dataclasses.replace(self, **changes)
         check_ball(ball, changed=changes)
@@ -85,13 +115,13 @@ def _as_float(value: object) -> float | None:
 
 
 BALL_LIMITS: dict[str, tuple[float, float]] = {
-    "mass": (0.05, 2.0),                   # kg
-    "diameter": (0.05, 0.4),               # m
-    "length": (0.05, 0.6),                 # m
-    "inertia_spin": (1e-6, 0.1),           # kg m^2
-    "inertia_transverse": (1e-6, 0.1),     # kg m^2
-    "c_m_alpha": (0.01, 2.0),              # 1/rad
-    "air_density": (0.3, 2.0),             # kg/m^3 (AeroModel accepts the same range)
+    'mass': (0.05, 2.0),  # kg
+    'diameter': (0.05, 0.4),  # m
+    'length': (0.05, 0.6),  # m
+    'inertia_spin': (1e-6, 0.1),  # kg m^2
+    'inertia_transverse': (1e-6, 0.1),  # kg m^2
+    'c_m_alpha': (0.01, 2.0),  # 1/rad
+    'air_density': (0.3, 2.0),  # kg/m^3 (AeroModel accepts the same range)
 }
 """Accepted ball parameters (SI). Every real ball is well inside, with margin for lab balls:
 
@@ -122,8 +152,9 @@ Combinations (:func:`check_ball`), true of every rigid body that fits in the bal
 MIN_INERTIA_RATIO = 0.05
 
 
-def check_ball(ball: "BallPreset", changed: Mapping[str, float] | None = None) -> None:
-    """Raise ValueError when ``ball`` is outside :data:`BALL_LIMITS` or its combinations.
+def check_ball(ball: 'BallPreset', changed: Mapping[str, float] | None = None) -> None:
+    """
+    Raise ValueError when ``ball`` is outside :data:`BALL_LIMITS` or its combinations.
 
     ``changed`` (the overridden keys) only orders the checks so that the message names the
     parameter the caller set.
@@ -133,39 +164,67 @@ def check_ball(ball: "BallPreset", changed: Mapping[str, float] | None = None) -
         lo, hi = BALL_LIMITS[key]
         value = getattr(ball, key)
         if not lo <= value <= hi:
-            raise ValueError(f"ball parameter '{key}' = {value:g} is outside the accepted range "
-                             f"[{lo:g}, {hi:g}]")
+            raise ValueError(
+                f"ball parameter '{key}' = {value:g} is outside the accepted range "
+                f'[{lo:g}, {hi:g}]'
+            )
     i_s, i_t, m = ball.inertia_spin, ball.inertia_transverse, ball.mass
     if i_s > 2.0 * i_t:
-        raise ValueError(f"ball parameters 'inertia_spin' = {i_s:g} and 'inertia_transverse' = "
-                         f"{i_t:g}: a rigid body has inertia_spin <= 2 inertia_transverse")
+        raise ValueError(
+            f"ball parameters 'inertia_spin' = {i_s:g} and 'inertia_transverse' = "
+            f'{i_t:g}: a rigid body has inertia_spin <= 2 inertia_transverse'
+        )
     if i_s < MIN_INERTIA_RATIO * i_t:
-        raise ValueError(f"ball parameters 'inertia_spin' / 'inertia_transverse' = {i_s / i_t:g}"
-                         f" is below the accepted {MIN_INERTIA_RATIO:g}")
+        raise ValueError(
+            f"ball parameters 'inertia_spin' / 'inertia_transverse' = {i_s / i_t:g}"
+            f' is below the accepted {MIN_INERTIA_RATIO:g}'
+        )
     spin_max = m * (ball.diameter / 2.0) ** 2
     if i_s > spin_max:
-        raise ValueError(f"ball parameter 'inertia_spin' = {i_s:g} exceeds mass (diameter/2)^2 "
-                         f"= {spin_max:g} kg m^2, the most a {m:g} kg ball of that diameter has")
+        raise ValueError(
+            f"ball parameter 'inertia_spin' = {i_s:g} exceeds mass (diameter/2)^2 "
+            f'= {spin_max:g} kg m^2, the most a {m:g} kg ball of that diameter has'
+        )
     transverse_max = m * (max(ball.length, ball.diameter) / 2.0) ** 2
     if i_t > transverse_max:
-        raise ValueError(f"ball parameter 'inertia_transverse' = {i_t:g} exceeds mass "
-                         f"(max(length, diameter)/2)^2 = {transverse_max:g} kg m^2, the most a "
-                         f"{m:g} kg ball of that size has")
+        raise ValueError(
+            f"ball parameter 'inertia_transverse' = {i_t:g} exceeds mass "
+            f'(max(length, diameter)/2)^2 = {transverse_max:g} kg m^2, the most a '
+            f'{m:g} kg ball of that size has'
+        )
 
 
 PRESETS: dict[str, BallPreset] = {
     # American football, spiral pass (paper section 4). Mass: NFL ball, 14-15 oz -> 0.411 kg;
     # length 0.28 m (11 in) is used only for drawing.
-    "american": BallPreset(
-        name="american", mass=0.411, diameter=0.1726, length=0.28,
-        inertia_spin=0.00194, inertia_transverse=0.00321, c_m_alpha=0.33, air_density=1.225,
-        speed=27.4, elevation_deg=30.0, spin_rpm=600.0),
+    'american': BallPreset(
+        name='american',
+        mass=0.411,
+        diameter=0.1726,
+        length=0.28,
+        inertia_spin=0.00194,
+        inertia_transverse=0.00321,
+        c_m_alpha=0.33,
+        air_density=1.225,
+        speed=27.4,
+        elevation_deg=30.0,
+        spin_rpm=600.0,
+    ),
     # Rugby ball, screw kick (paper, from the rugby literature). Mass 0.43 kg (World Rugby:
     # 410-460 g), length 0.29 m for drawing.
-    "rugby": BallPreset(
-        name="rugby", mass=0.43, diameter=0.19, length=0.29,
-        inertia_spin=0.0026, inertia_transverse=0.0033, c_m_alpha=0.147, air_density=1.225,
-        speed=20.0, elevation_deg=30.0, spin_rpm=300.0),
+    'rugby': BallPreset(
+        name='rugby',
+        mass=0.43,
+        diameter=0.19,
+        length=0.29,
+        inertia_spin=0.0026,
+        inertia_transverse=0.0033,
+        c_m_alpha=0.147,
+        air_density=1.225,
+        speed=20.0,
+        elevation_deg=30.0,
+        spin_rpm=300.0,
+    ),
 }
 
 

@@ -1,4 +1,19 @@
-"""Figures in the paper's style, headless (Agg), from a bag or a simulate CSV.
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Figures in the paper's style, headless (Agg), from a bag or a simulate CSV.
 
 The ball, spin, model and wind come from the file (a CSV's sidecar, a bag's flight order);
 without them ``--ball`` must say which ball it is, or :func:`plot_source` refuses.
@@ -16,42 +31,57 @@ from pathlib import Path
 
 import matplotlib
 
-matplotlib.use("Agg")
+matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from .flightdata import FlightInfo, FlightRecord, load  # noqa: E402
 from ..physics import frames, get_preset  # noqa: E402
 from ..physics.linear_theory import local_modes  # noqa: E402
 from ..physics.release import RPM  # noqa: E402
-from .flightdata import FlightInfo, FlightRecord, load  # noqa: E402
 
 DEG = np.degrees
-LEGEND = dict(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
+LEGEND = {'fontsize': 8, 'loc': 'upper left', 'bbox_to_anchor': (1.01, 1.0), 'borderaxespad': 0.0}
 """Legends beside the axes, never over the data."""
 
 
-def flight_info(record: FlightRecord, ball: str | None = None,
-                spin_rpm: float | None = None) -> FlightInfo:
-    """What the flight is: the file's own description; else ``ball`` (and ``spin_rpm`` or the
-    preset's) when the user names it; else ValueError. A ``ball`` that contradicts the file's
-    is refused too."""
+def flight_info(
+    record: FlightRecord, ball: str | None = None, spin_rpm: float | None = None
+) -> FlightInfo:
+    """
+    Describe what the flight is.
+
+    The file's own description; else ``ball`` (and ``spin_rpm`` or the preset's) when the user
+    names it; else ValueError. A ``ball`` that contradicts the file's is refused too.
+    """
     info = record.info
     if info is not None:
         if ball is not None and ball != info.ball_name:
-            raise ValueError(f"{record.source} is a '{info.ball_name}' flight ({info.origin}); "
-                             f"--ball {ball} contradicts it")
+            raise ValueError(
+                f"{record.source} is a '{info.ball_name}' flight ({info.origin}); "
+                f'--ball {ball} contradicts it'
+            )
         if spin_rpm is not None:
-            return FlightInfo(info.ball, info.ball_name, spin_rpm * RPM, info.model, info.moment,
-                              info.aero, info.origin + " (spin from --spin-rpm)")
+            return FlightInfo(
+                info.ball,
+                info.ball_name,
+                spin_rpm * RPM,
+                info.model,
+                info.moment,
+                info.aero,
+                info.origin + ' (spin from --spin-rpm)',
+            )
         return info
     if ball is None:
-        raise ValueError(f"{record.source} does not say which ball it holds (no sidecar "
-                         f"<name>.csv.json, no football/flight/order in the bag): pass --ball "
-                         f"(and --spin-rpm), or re-run 'football-ros simulate'")
+        raise ValueError(
+            f'{record.source} does not say which ball it holds (no sidecar '
+            f'<name>.csv.json, no football/flight/order in the bag): pass --ball '
+            f"(and --spin-rpm), or re-run 'football-ros simulate'"
+        )
     preset = get_preset(ball)
     spin = (spin_rpm if spin_rpm is not None else preset.spin_rpm) * RPM
-    origin = "--ball" + (" and --spin-rpm" if spin_rpm is not None else ", preset's spin")
-    return FlightInfo(preset, ball, spin, "paper", "linear", None, origin)
+    origin = '--ball' + (' and --spin-rpm' if spin_rpm is not None else ", preset's spin")
+    return FlightInfo(preset, ball, spin, 'paper', 'linear', None, origin)
 
 
 def spin_series(record: FlightRecord, info: FlightInfo) -> np.ndarray:
@@ -74,50 +104,56 @@ def components(record: FlightRecord, info: FlightInfo) -> np.ndarray:
 
 
 def components_from_angles(alpha: np.ndarray, beta: np.ndarray) -> np.ndarray:
-    """x = s2 + i s3 of the axis with angles alpha, beta [rad]: s2 = sin a cos b, s3 = sin b."""
+    """X = s2 + i s3 of the axis with angles alpha, beta [rad]: s2 = sin a cos b, s3 = sin b."""
     return np.sin(alpha) * np.cos(beta) + 1j * np.sin(beta)
 
 
 def describe(info: FlightInfo) -> str:
     """One line: ball, spin, model, where it came from."""
     origin = Path(info.origin).name
-    return f"{info.ball_name}, {info.spin / RPM:.0f} rpm, {info.model} model ({origin})"
+    return f'{info.ball_name}, {info.spin / RPM:.0f} rpm, {info.model} model ({origin})'
 
 
-def plot_source(source: str | Path, out_dir: str | Path, ball: str | None = None,
-                spin_rpm: float | None = None) -> list[Path]:
-    """Write the four PNG figures for the flight in ``source``; returns their paths.
+def plot_source(
+    source: str | Path, out_dir: str | Path, ball: str | None = None, spin_rpm: float | None = None
+) -> list[Path]:
+    """
+    Write the four PNG figures for the flight in ``source``; returns their paths.
 
-    Raises ValueError when the file does not say which ball it holds and ``ball`` is None."""
+    Raises ValueError when the file does not say which ball it holds and ``ball`` is None.
+    """
     record = load(source)
     info = flight_info(record, ball, spin_rpm)
-    return plot_record(record, info, out_dir, f"{Path(record.source).name}: {describe(info)}")
+    return plot_record(record, info, out_dir, f'{Path(record.source).name}: {describe(info)}')
 
 
-def plot_record(record: FlightRecord, info: FlightInfo, out_dir: str | Path, subtitle: str,
-                prefix: str = "") -> list[Path]:
-    """The four figures of one record into ``out_dir`` (names prefixed by ``prefix``)."""
+def plot_record(
+    record: FlightRecord, info: FlightInfo, out_dir: str | Path, subtitle: str, prefix: str = ''
+) -> list[Path]:
+    """Draw the four figures of one record into ``out_dir`` (names prefixed by ``prefix``)."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     paths = []
     fig, ax = plt.subplots(figsize=(8.5, 6))
     wobble_axes(ax, record, info)
-    ax.set_title(f"Wobble in the velocity frame\n{subtitle}", fontsize=9)
-    paths.append(_save(fig, out / f"{prefix}wobble.png"))
+    ax.set_title(f'Wobble in the velocity frame\n{subtitle}', fontsize=9)
+    paths.append(_save(fig, out / f'{prefix}wobble.png'))
     fig, axes = plt.subplots(2, 1, figsize=(9, 6), sharex=True)
     angle_axes(axes, record, info)
-    axes[0].set_title(f"Angle of attack and sideslip\n{subtitle}", fontsize=9)
-    paths.append(_save(fig, out / f"{prefix}angles.png"))
+    axes[0].set_title(f'Angle of attack and sideslip\n{subtitle}', fontsize=9)
+    paths.append(_save(fig, out / f'{prefix}angles.png'))
     fig, axes = plt.subplots(2, 1, figsize=(9, 6), sharex=True)
     trajectory_axes(axes, record)
-    axes[0].set_title(f"Trajectory (field frame: x downfield, y left, z up)\n{subtitle}",
-                      fontsize=9)
-    paths.append(_save(fig, out / f"{prefix}trajectory.png"))
+    axes[0].set_title(
+        f'Trajectory (field frame: x downfield, y left, z up)\n{subtitle}', fontsize=9
+    )
+    paths.append(_save(fig, out / f'{prefix}trajectory.png'))
     fig, axes = plt.subplots(2, 1, figsize=(9, 6), sharex=True)
     precession_axes(axes, record, info)
-    axes[0].set_title(f"Nutation and precession about the equilibrium point\n{subtitle}",
-                      fontsize=9)
-    paths.append(_save(fig, out / f"{prefix}precession.png"))
+    axes[0].set_title(
+        f'Nutation and precession about the equilibrium point\n{subtitle}', fontsize=9
+    )
+    paths.append(_save(fig, out / f'{prefix}precession.png'))
     return paths
 
 
@@ -125,86 +161,127 @@ def wobble_axes(ax, record: FlightRecord, info: FlightInfo) -> None:
     """s2 against s3 [deg]: integrated, linear (frozen, quasi-steady), equilibrium."""
     x = components(record, info)
     s3p = equilibrium_sideslip(record, info)
-    ax.plot(DEG(x.imag), DEG(x.real), lw=1.0, label="spin axis (integrated)")
+    ax.plot(DEG(x.imag), DEG(x.real), lw=1.0, label='spin axis (integrated)')
     lin = components_from_angles(record.alpha_linear, record.beta_linear)
-    ax.plot(DEG(lin.imag), DEG(lin.real), lw=0.8, ls="--", color="gray",
-            label="linear theory, V and $\\Phi$ frozen at release")
+    ax.plot(
+        DEG(lin.imag),
+        DEG(lin.real),
+        lw=0.8,
+        ls='--',
+        color='gray',
+        label='linear theory, V and $\\Phi$ frozen at release',
+    )
     if record.alpha_quasi_steady is not None:
         qs = components_from_angles(record.alpha_quasi_steady, record.beta_quasi_steady)
-        ax.plot(DEG(qs.imag), DEG(qs.real), lw=0.8, ls=":", color="tab:green",
-                label="linear theory, quasi-steady")
-    ax.plot(DEG(s3p), np.zeros_like(s3p), color="tab:red", lw=1.0, alpha=0.6,
-            label="equilibrium $s_{3p}$ along the flight")
-    ax.plot(DEG(s3p[0]), 0.0, marker="*", ms=14, color="tab:red", ls="none",
-            label="equilibrium at release")
-    ax.plot(DEG(x[0].imag), DEG(x[0].real), marker="o", color="k", ls="none", label="release")
-    ax.axhline(0, color="k", lw=0.5)
-    ax.axvline(0, color="k", lw=0.5)
-    ax.set_xlabel("$s_3$: nose right of the velocity [deg]")
-    ax.set_ylabel("$s_2$: nose above the velocity [deg]")
-    ax.set_aspect("equal", adjustable="datalim")
+        ax.plot(
+            DEG(qs.imag),
+            DEG(qs.real),
+            lw=0.8,
+            ls=':',
+            color='tab:green',
+            label='linear theory, quasi-steady',
+        )
+    ax.plot(
+        DEG(s3p),
+        np.zeros_like(s3p),
+        color='tab:red',
+        lw=1.0,
+        alpha=0.6,
+        label='equilibrium $s_{3p}$ along the flight',
+    )
+    ax.plot(
+        DEG(s3p[0]),
+        0.0,
+        marker='*',
+        ms=14,
+        color='tab:red',
+        ls='none',
+        label='equilibrium at release',
+    )
+    ax.plot(DEG(x[0].imag), DEG(x[0].real), marker='o', color='k', ls='none', label='release')
+    ax.axhline(0, color='k', lw=0.5)
+    ax.axvline(0, color='k', lw=0.5)
+    ax.set_xlabel('$s_3$: nose right of the velocity [deg]')
+    ax.set_ylabel('$s_2$: nose above the velocity [deg]')
+    ax.set_aspect('equal', adjustable='datalim')
     ax.legend(**LEGEND)
 
 
 def angle_axes(axes, record: FlightRecord, info: FlightInfo) -> None:
-    """alpha and beta against time: integrated, frozen and quasi-steady linear theory."""
+    """Alpha and beta against time: integrated, frozen and quasi-steady linear theory."""
     s3p = equilibrium_sideslip(record, info)
     qs = (record.alpha_quasi_steady, record.beta_quasi_steady)
-    rows = ((axes[0], "angle of attack $\\alpha$", record.alpha, record.alpha_linear),
-            (axes[1], "sideslip $\\beta$", record.beta, record.beta_linear))
+    rows = (
+        (axes[0], 'angle of attack $\\alpha$', record.alpha, record.alpha_linear),
+        (axes[1], 'sideslip $\\beta$', record.beta, record.beta_linear),
+    )
     for k, (ax, name, value, lin) in enumerate(rows):
-        ax.plot(record.t, DEG(value), label="nonlinear (integrated)")
-        ax.plot(record.t, DEG(lin), ls="--", label="linear theory, frozen")
+        ax.plot(record.t, DEG(value), label='nonlinear (integrated)')
+        ax.plot(record.t, DEG(lin), ls='--', label='linear theory, frozen')
         if qs[k] is not None:
-            ax.plot(record.t, DEG(qs[k]), ls=":", label="linear theory, quasi-steady")
+            ax.plot(record.t, DEG(qs[k]), ls=':', label='linear theory, quasi-steady')
         if k == 1:
-            ax.plot(record.t, DEG(s3p), color="tab:red", lw=0.8, alpha=0.7,
-                    label="equilibrium $s_{3p}$")
-        ax.set_ylabel(f"{name} [deg]")
+            ax.plot(
+                record.t,
+                DEG(s3p),
+                color='tab:red',
+                lw=0.8,
+                alpha=0.7,
+                label='equilibrium $s_{3p}$',
+            )
+        ax.set_ylabel(f'{name} [deg]')
         ax.grid(alpha=0.3)
         ax.legend(**LEGEND)
-    axes[1].set_xlabel("time since release [s]")
+    axes[1].set_xlabel('time since release [s]')
 
 
 def trajectory_axes(axes, record: FlightRecord) -> None:
     """Side view (x, z) with the ground z = 0, top view (x, y)."""
-    axes[0].plot(record.position[:, 0], record.position[:, 2], label="ball")
-    axes[0].axhline(0.0, color="saddlebrown", lw=1.5, label="ground z = 0")
-    axes[0].set_ylabel("height z [m]")
-    axes[0].set_aspect("equal", adjustable="datalim")
+    axes[0].plot(record.position[:, 0], record.position[:, 2], label='ball')
+    axes[0].axhline(0.0, color='saddlebrown', lw=1.5, label='ground z = 0')
+    axes[0].set_ylabel('height z [m]')
+    axes[0].set_aspect('equal', adjustable='datalim')
     axes[0].legend(**LEGEND)
     axes[1].plot(record.position[:, 0], record.position[:, 1])
     lateral = max(1.0, 1.2 * float(np.max(np.abs(record.position[:, 1]))))
     axes[1].set_ylim(-lateral, lateral)
-    axes[1].set_ylabel("lateral y, left > 0 [m]")
-    axes[1].set_xlabel("downfield x [m]")
+    axes[1].set_ylabel('lateral y, left > 0 [m]')
+    axes[1].set_xlabel('downfield x [m]')
     for ax in axes:
         ax.grid(alpha=0.3)
 
 
 def complementary(record: FlightRecord, info: FlightInfo) -> dict[str, np.ndarray]:
-    """The complementary part x_c = x - i s3p(t) of the integrated flight and of the linear
-    theories (frozen: its own s3p at release), keyed "nonlinear", "frozen", "quasi_steady"."""
+    """
+    Return the complementary part x_c = x - i s3p(t) of the flight and the theories.
+
+    Of the integrated flight and of the linear theories (frozen: its own s3p at release), keyed
+    "nonlinear", "frozen", "quasi_steady".
+    """
     s3p = equilibrium_sideslip(record, info)
-    out = {"nonlinear": components(record, info) - 1j * s3p,
-           "frozen": components_from_angles(record.alpha_linear, record.beta_linear) - 1j * s3p[0]}
+    out = {
+        'nonlinear': components(record, info) - 1j * s3p,
+        'frozen': components_from_angles(record.alpha_linear, record.beta_linear) - 1j * s3p[0],
+    }
     if record.alpha_quasi_steady is not None:
         quasi = components_from_angles(record.alpha_quasi_steady, record.beta_quasi_steady)
-        out["quasi_steady"] = quasi - 1j * s3p
+        out['quasi_steady'] = quasi - 1j * s3p
     return out
 
 
 def precession_axes(axes, record: FlightRecord, info: FlightInfo) -> None:
     """Nutation |x_c| and precession arg(x_c) (unwrapped) about the equilibrium point."""
-    styles = {"nonlinear": dict(label="nonlinear (integrated)"),
-              "frozen": dict(ls="--", label="linear theory, frozen"),
-              "quasi_steady": dict(ls=":", label="linear theory, quasi-steady")}
+    styles = {
+        'nonlinear': {'label': 'nonlinear (integrated)'},
+        'frozen': {'ls': '--', 'label': 'linear theory, frozen'},
+        'quasi_steady': {'ls': ':', 'label': 'linear theory, quasi-steady'},
+    }
     for key, xc in complementary(record, info).items():
         axes[0].plot(record.t, DEG(np.abs(xc)), **styles[key])
         axes[1].plot(record.t, DEG(np.unwrap(np.angle(xc))), **styles[key])
-    axes[0].set_ylabel("nutation: distance from\nthe equilibrium $|x_c|$ [deg]")
-    axes[1].set_ylabel("precession: angle about the\nequilibrium arg $x_c$ [deg]")
-    axes[1].set_xlabel("time since release [s]")
+    axes[0].set_ylabel('nutation: distance from\nthe equilibrium $|x_c|$ [deg]')
+    axes[1].set_ylabel('precession: angle about the\nequilibrium arg $x_c$ [deg]')
+    axes[1].set_xlabel('time since release [s]')
     for ax in axes:
         ax.grid(alpha=0.3)
         ax.legend(**LEGEND)

@@ -1,4 +1,19 @@
-"""Load a flight from a recorded bag (rosbags) or a ``football-ros simulate`` CSV, no ROS needed.
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Load a flight from a recorded bag (rosbags) or a ``football-ros simulate`` CSV, no ROS needed.
 
 Both give a :class:`FlightRecord` of arrays in ``field``, SI units, t = 0 at the release, and,
 when the source says so, what the flight is: the release (ball with its overrides, spin, model,
@@ -13,8 +28,8 @@ after the landing is dropped.
 from __future__ import annotations
 
 import csv
-import json
 from dataclasses import asdict, dataclass
+import json
 from pathlib import Path
 from typing import Any
 
@@ -24,18 +39,22 @@ from ..physics import frames
 from ..physics.aero import AeroModel, resolve
 from ..physics.flight import CSV_BASE_HEADER, CSV_HEADER
 from ..physics.presets import BallPreset
-from ..physics.release import RPM, Release
+from ..physics.release import Release, RPM
 
-SIDECAR_FORMAT = "football_ros.simulate.sidecar"
+SIDECAR_FORMAT = 'football_ros.simulate.sidecar'
 SIDECAR_VERSION = 1
 MAX_SIDECAR_BYTES = 1 << 20
 
 
 @dataclass(frozen=True)
 class FlightInfo:
-    """What a flight file holds: the ball as flown (overrides and the full model's density
-    applied), its preset name, spin at release [rad/s], model, moment curve, aero settings
-    (None for the paper model) and where this was read from."""
+    """
+    What a flight file holds.
+
+    The ball as flown (overrides and the full model's density applied), its preset name, spin
+    at release [rad/s], model, moment curve, aero settings (None for the paper model) and where
+    this was read from.
+    """
 
     ball: BallPreset
     ball_name: str
@@ -53,9 +72,12 @@ class FlightInfo:
 
 @dataclass(frozen=True)
 class FlightRecord:
-    """t (N,) [s], position, velocity, axis (N, 3), alpha, beta, alpha_linear, beta_linear (N,)
-    [rad]; spin (N,) [rad/s] about the axis when known, else None; alpha/beta_quasi_steady
-    (N,) [rad] when the source has them, else None; info: what the flight is, or None."""
+    """
+    t (N,) [s], position, velocity, axis (N, 3), alpha, beta, alpha_linear, beta_linear (N,) [rad].
+
+    Spin (N,) [rad/s] about the axis when known, else None; alpha/beta_quasi_steady (N,) [rad]
+    when the source has them, else None; info: what the flight is, or None.
+    """
 
     t: np.ndarray
     position: np.ndarray
@@ -75,86 +97,122 @@ class FlightRecord:
 def sidecar_path(csv_path: str | Path) -> Path:
     """``<name>.csv.json`` beside a simulate CSV."""
     csv_path = Path(csv_path)
-    return csv_path.with_name(csv_path.name + ".json")
+    return csv_path.with_name(csv_path.name + '.json')
 
 
-def write_sidecar(csv_path: str | Path, release: Release, ball: BallPreset, aero: AeroModel | None,
-                  extra: dict[str, Any] | None = None) -> Path:
-    """Write the sidecar of a simulate CSV: the release (ball name, overrides, spin, model,
-    moment, aero), the ball as flown and the columns. Returns its path."""
-    data = {"format": SIDECAR_FORMAT, "version": SIDECAR_VERSION, "csv": Path(csv_path).name,
-            "columns": list(CSV_HEADER), "release": release.to_mapping(), "ball": asdict(ball),
-            "model": release.model, "moment": release.moment,
-            "aero": None if aero is None else aero.to_mapping()}
+def write_sidecar(
+    csv_path: str | Path,
+    release: Release,
+    ball: BallPreset,
+    aero: AeroModel | None,
+    extra: dict[str, Any] | None = None,
+) -> Path:
+    """
+    Write the sidecar of a simulate CSV.
+
+    The release (ball name, overrides, spin, model, moment, aero), the ball as flown and the
+    columns. Returns its path.
+    """
+    data = {
+        'format': SIDECAR_FORMAT,
+        'version': SIDECAR_VERSION,
+        'csv': Path(csv_path).name,
+        'columns': list(CSV_HEADER),
+        'release': release.to_mapping(),
+        'ball': asdict(ball),
+        'model': release.model,
+        'moment': release.moment,
+        'aero': None if aero is None else aero.to_mapping(),
+    }
     data.update(extra or {})
     path = sidecar_path(csv_path)
-    path.write_text(json.dumps(data, indent=2, default=float) + "\n")
+    path.write_text(json.dumps(data, indent=2, default=float) + '\n')
     return path
 
 
 def read_sidecar(csv_path: str | Path) -> FlightInfo | None:
-    """The flight a CSV holds, from its sidecar; None without one; ValueError when it is bad."""
+    """Read the flight a CSV holds from its sidecar; None without one; ValueError when bad."""
     path = sidecar_path(csv_path)
     if not path.exists():
         return None
     if path.stat().st_size > MAX_SIDECAR_BYTES:
-        raise ValueError(f"{path}: sidecar larger than {MAX_SIDECAR_BYTES} bytes")
+        raise ValueError(f'{path}: sidecar larger than {MAX_SIDECAR_BYTES} bytes')
     try:
         data = json.loads(path.read_text())
-        if not isinstance(data, dict) or data.get("format") != SIDECAR_FORMAT:
-            raise ValueError("not a simulate sidecar")
-        release = Release.from_mapping(data["release"])
+        if not isinstance(data, dict) or data.get('format') != SIDECAR_FORMAT:
+            raise ValueError('not a simulate sidecar')
+        release = Release.from_mapping(data['release'])
     except (KeyError, TypeError, ValueError) as exc:
-        raise ValueError(f"{path}: unreadable sidecar ({str(exc)[:120]})") from None
+        raise ValueError(f'{path}: unreadable sidecar ({str(exc)[:120]})') from None
     ball, aero = resolve(release.preset(), release.model, release.aero_model())
-    return FlightInfo(ball, release.ball, release.spin_rpm * RPM, release.model, release.moment,
-                      aero, str(path))
+    return FlightInfo(
+        ball, release.ball, release.spin_rpm * RPM, release.model, release.moment, aero, str(path)
+    )
 
 
 def info_from_order(text: str, origin: str) -> FlightInfo:
-    """The flight an order JSON (``football/flight/order``) describes; ValueError if bad."""
+    """Return the flight an order JSON (``football/flight/order``) describes; ValueError if bad."""
     from ..requests import FlightOrder  # the order's one parser (owned with the release path)
+
     order = FlightOrder.from_json(text)
-    aero = AeroModel.from_mapping(order.aero) if order.model == "full" else None
+    aero = AeroModel.from_mapping(order.aero) if order.model == 'full' else None
     ball, aero = resolve(order.ball(), order.model, aero)
-    return FlightInfo(ball, order.ball_name, float(order.initial.spin), order.model, order.moment,
-                      aero, origin)
+    return FlightInfo(
+        ball, order.ball_name, float(order.initial.spin), order.model, order.moment, aero, origin
+    )
 
 
 def load(path: str | Path) -> FlightRecord:
-    """A CSV file from ``simulate``, or a bag (folder, or its .mcap/.db3 file)."""
+    """Load a CSV file from ``simulate``, or a bag (folder, or its .mcap/.db3 file)."""
     path = Path(path)
-    if path.suffix == ".csv":
+    if path.suffix == '.csv':
         return load_csv(path)
-    if path.is_file() and path.suffix in (".mcap", ".db3"):
+    if path.is_file() and path.suffix in ('.mcap', '.db3'):
         path = path.parent
-    if not (path / "metadata.yaml").exists():
-        raise ValueError(f"{path}: neither a simulate CSV nor a rosbag2 folder with metadata.yaml")
+    if not (path / 'metadata.yaml').exists():
+        raise ValueError(f'{path}: neither a simulate CSV nor a rosbag2 folder with metadata.yaml')
     return load_bag(path)
 
 
 def load_csv(path: Path) -> FlightRecord:
-    """A simulate CSV: its 18 base columns (required, in order), appended columns when present."""
-    with open(path, newline="") as handle:
+    """
+    Load a simulate CSV: its 18 base columns (required, in order).
+
+    Appended columns when present.
+    """
+    with open(path, newline='') as handle:
         header = next(csv.reader(handle), [])
-    if tuple(header[:len(CSV_BASE_HEADER)]) != CSV_BASE_HEADER:
-        raise ValueError(f"{path}: not a simulate CSV (header {','.join(header)[:80]})")
-    d = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    if tuple(header[: len(CSV_BASE_HEADER)]) != CSV_BASE_HEADER:
+        raise ValueError(f'{path}: not a simulate CSV (header {",".join(header)[:80]})')
+    d = np.loadtxt(path, delimiter=',', skiprows=1, ndmin=2)
     col = {name: i for i, name in enumerate(header)}
 
     def column(name: str) -> np.ndarray | None:
         return d[:, col[name]] if name in col else None
 
-    return FlightRecord(t=d[:, 0], position=d[:, 1:4], velocity=d[:, 4:7], axis=d[:, 11:14],
-                        alpha=d[:, col["alpha"]], beta=d[:, col["beta"]],
-                        alpha_linear=d[:, col["alpha_linear"]], beta_linear=d[:, col["beta_linear"]],
-                        spin=column("spin"), source=str(path),
-                        alpha_quasi_steady=column("alpha_quasi_steady"),
-                        beta_quasi_steady=column("beta_quasi_steady"), info=read_sidecar(path))
+    return FlightRecord(
+        t=d[:, 0],
+        position=d[:, 1:4],
+        velocity=d[:, 4:7],
+        axis=d[:, 11:14],
+        alpha=d[:, col['alpha']],
+        beta=d[:, col['beta']],
+        alpha_linear=d[:, col['alpha_linear']],
+        beta_linear=d[:, col['beta_linear']],
+        spin=column('spin'),
+        source=str(path),
+        alpha_quasi_steady=column('alpha_quasi_steady'),
+        beta_quasi_steady=column('beta_quasi_steady'),
+        info=read_sidecar(path),
+    )
 
 
 def _last_flight(stamps: np.ndarray, positions: np.ndarray) -> np.ndarray:
-    """Indices of the last flight: drop repeats of a state (the held landing), split at pauses."""
+    """
+    Return indices of the last flight.
+
+    Drop repeats of a state (the held landing), split at pauses.
+    """
     fresh = np.ones(len(stamps), bool)
     fresh[1:] = np.any(positions[1:] != positions[:-1], axis=1)
     index = np.flatnonzero(fresh)
@@ -167,45 +225,52 @@ def _last_flight(stamps: np.ndarray, positions: np.ndarray) -> np.ndarray:
 
 def load_bag(path: Path) -> FlightRecord:
     from rosbags.highlevel import AnyReader
-    from rosbags.typesys import Stores, get_typestore
+    from rosbags.typesys import get_typestore, Stores
 
     odom, aero, linear, orders = [], [], [], []
-    suffixes = ("football/odom", "football/aero_angles", "football/aero_angles_linear",
-                "football/flight/order")
+    suffixes = (
+        'football/odom',
+        'football/aero_angles',
+        'football/aero_angles_linear',
+        'football/flight/order',
+    )
     with AnyReader([path], default_typestore=get_typestore(Stores.ROS2_JAZZY)) as reader:
         conns = [c for c in reader.connections if c.topic.endswith(suffixes)]
         if not any(c.topic.endswith(suffixes[:3]) for c in conns):
-            raise ValueError(f"{path}: no football/odom or football/aero_angles messages in the bag")
+            raise ValueError(
+                f'{path}: no football/odom or football/aero_angles messages in the bag'
+            )
         for conn, bag_time, raw in reader.messages(connections=conns):
             msg = reader.deserialize(raw, conn.msgtype)
-            if conn.topic.endswith("flight/order"):
+            if conn.topic.endswith('flight/order'):
                 orders.append((bag_time, msg.data))
                 continue
             stamp = msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec
-            if conn.topic.endswith("odom"):
+            if conn.topic.endswith('odom'):
                 p, q = msg.pose.pose.position, msg.pose.pose.orientation
                 v, w = msg.twist.twist.linear, msg.twist.twist.angular
                 odom.append((stamp, p.x, p.y, p.z, q.x, q.y, q.z, q.w, v.x, v.y, v.z, w.x))
-            elif conn.topic.endswith("aero_angles"):
+            elif conn.topic.endswith('aero_angles'):
                 aero.append((stamp, msg.vector.x, msg.vector.y))
             else:
                 linear.append((stamp, msg.vector.x, msg.vector.y))
     odom_a, aero_a, linear_a = (np.array(sorted(x)) for x in (odom, aero, linear))
     if len(odom_a) < 2:
-        raise ValueError(f"{path}: fewer than two football/odom messages")
+        raise ValueError(f'{path}: fewer than two football/odom messages')
     keep = _last_flight(odom_a[:, 0], odom_a[:, 1:4])
     odom_a = odom_a[keep]
     stamps = odom_a[:, 0]
     rot = frames.quaternion_to_matrix(odom_a[:, 4:8])
-    velocity = np.einsum("nij,nj->ni", rot, odom_a[:, 8:11])  # body -> field
+    velocity = np.einsum('nij,nj->ni', rot, odom_a[:, 8:11])  # body -> field
     info = None
     if orders:
         _, text = max(orders, key=lambda o: o[0])
         try:
-            info = info_from_order(text, f"{path} (football/flight/order)")
+            info = info_from_order(text, f'{path} (football/flight/order)')
         except ValueError as exc:
-            raise ValueError(f"{path}: unreadable football/flight/order message "
-                             f"({str(exc)[:120]})") from None
+            raise ValueError(
+                f'{path}: unreadable football/flight/order message ({str(exc)[:120]})'
+            ) from None
 
     def by_stamp(arr: np.ndarray, column: int) -> np.ndarray:
         if len(arr) == 0:
@@ -213,19 +278,46 @@ def load_bag(path: Path) -> FlightRecord:
         index = {s: i for i, s in enumerate(arr[:, 0])}
         return np.array([arr[index[s], column] if s in index else np.nan for s in stamps])
 
-    return FlightRecord(t=stamps - stamps[0], position=odom_a[:, 1:4], velocity=velocity, axis=rot[:, :, 0],
-                        alpha=by_stamp(aero_a, 1), beta=by_stamp(aero_a, 2),
-                        alpha_linear=by_stamp(linear_a, 1), beta_linear=by_stamp(linear_a, 2),
-                        spin=odom_a[:, 11], source=str(path), info=info)
+    return FlightRecord(
+        t=stamps - stamps[0],
+        position=odom_a[:, 1:4],
+        velocity=velocity,
+        axis=rot[:, :, 0],
+        alpha=by_stamp(aero_a, 1),
+        beta=by_stamp(aero_a, 2),
+        alpha_linear=by_stamp(linear_a, 1),
+        beta_linear=by_stamp(linear_a, 2),
+        spin=odom_a[:, 11],
+        source=str(path),
+        info=info,
+    )
 
 
-def record_from_trajectory(trajectory, info: FlightInfo,
-                           source: str = "simulated") -> FlightRecord:
-    """A :class:`FlightRecord` of a :class:`football_ros.physics.flight.Trajectory` (no file)."""
-    angles, linear, quasi = (trajectory.aero_angles, trajectory.aero_angles_linear,
-                             trajectory.aero_angles_quasi_steady)
-    return FlightRecord(t=trajectory.times, position=trajectory.positions,
-                        velocity=trajectory.velocities, axis=trajectory.axes, alpha=angles[:, 0],
-                        beta=angles[:, 1], alpha_linear=linear[:, 0], beta_linear=linear[:, 1],
-                        spin=trajectory.spin, source=source, alpha_quasi_steady=quasi[:, 0],
-                        beta_quasi_steady=quasi[:, 1], info=info)
+def record_from_trajectory(
+    trajectory, info: FlightInfo, source: str = 'simulated'
+) -> FlightRecord:
+    """
+    Make a :class:`FlightRecord` of a :class:`football_ros.physics.flight.Trajectory`.
+
+    No file.
+    """
+    angles, linear, quasi = (
+        trajectory.aero_angles,
+        trajectory.aero_angles_linear,
+        trajectory.aero_angles_quasi_steady,
+    )
+    return FlightRecord(
+        t=trajectory.times,
+        position=trajectory.positions,
+        velocity=trajectory.velocities,
+        axis=trajectory.axes,
+        alpha=angles[:, 0],
+        beta=angles[:, 1],
+        alpha_linear=linear[:, 0],
+        beta_linear=linear[:, 1],
+        spin=trajectory.spin,
+        source=source,
+        alpha_quasi_steady=quasi[:, 0],
+        beta_quasi_steady=quasi[:, 1],
+        info=info,
+    )
