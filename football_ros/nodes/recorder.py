@@ -94,7 +94,7 @@ BAG_VERSION = 9  # rosbag2 metadata version written by Jazzy
 ROS_DISTRO = 'jazzy'
 RESERVE_NAME = '.football_ros_reserve'
 RESERVE_BYTES = 8 << 20  # > one mcap chunk (1 MiB + one message) + summary + metadata.yaml
-SQLITE_COMMIT_S = 1.0  # sqlite3: commit at most this often (a write error loses at most this)
+SQLITE_COMMIT_S = 0.2  # sqlite3: commit at most this often (a write error loses at most this)
 EXIT_WRITE_ERROR = 1
 
 # topic -> (message class, QoS to subscribe with; matches what the football_ros nodes offer)
