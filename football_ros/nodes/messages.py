@@ -259,7 +259,7 @@ class StateMessages:
         at_rest: bool = False,
     ) -> None:
         """
-        Set every field from ``sample`` (stamp shared by the five messages).
+        Set every field from ``sample`` (one stamp shared by every message).
 
         pose and odom pose in ``frame_id``; odom twist in the body frame, zero when ``at_rest``
         (the landed state held after the landing: the ball lies on the ground); spin axis in

@@ -54,6 +54,7 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from geometry_msgs.msg import PoseStamped, Vector3Stamped
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import ParameterDescriptor
+from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.qos import QoSProfile
 from rosbags.interfaces import (
@@ -516,8 +517,13 @@ class RecorderNode(Node):
         self._diag_pub.publish(
             DiagnosticArray(header=mb.header(self.get_clock().now().to_msg(), ''), status=[status])
         )
-        # Give DDS a moment to deliver the status, then end the node (main returns exit_code).
-        self.create_timer(0.5, lambda: self.context.try_shutdown())
+        # Let DDS deliver the status (every matched reader acknowledges it, 3 s at most), then
+        # end the node (main returns exit_code).
+        self.create_timer(0.1, self._shut_down_after_failure)
+
+    def _shut_down_after_failure(self) -> None:
+        self._diag_pub.wait_for_all_acked(Duration(seconds=3.0))
+        self.context.try_shutdown()
 
     def close(self) -> None:
         """Finish the bag (idempotent)."""

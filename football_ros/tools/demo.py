@@ -24,6 +24,7 @@ the bag. Ctrl-C at any time stops the children and keeps what was recorded.
 from __future__ import annotations
 
 import argparse
+import collections
 import datetime
 import json
 import math
@@ -67,6 +68,58 @@ class _Child:
         self._log.close()
 
 
+class _Table:
+    """
+    The live table: one row per 0.1 s of flight time.
+
+    Each row holds the pose and the angles of one tick (matched by stamp); the last tick (the
+    landing) ends the table.
+    """
+
+    PERIOD = 0.1  # flight time [s] between rows
+    KEEP = 2000   # positions waiting for their tick's angles at most
+
+    def __init__(self) -> None:
+        self.positions: collections.OrderedDict = collections.OrderedDict()
+        self.t0: float | None = None
+        self.next_row = 0.0
+        self.last = -math.inf  # flight time [s] of the newest tick
+        self._pending: str | None = None  # the newest tick's row, if not printed
+
+    def on_pose(self, msg) -> None:
+        self.positions[_stamp_ns(msg)] = msg.pose.position
+        while len(self.positions) > self.KEEP:
+            self.positions.popitem(last=False)
+
+    def on_angles(self, msg) -> None:
+        ns = _stamp_ns(msg)
+        p = self.positions.pop(ns, None)
+        if p is None:
+            return
+        self.t0 = ns * 1e-9 if self.t0 is None else self.t0
+        t = ns * 1e-9 - self.t0
+        self.last = t
+        a = msg.vector
+        row = (f'{t:10.2f}{p.x:10.2f}{p.y:10.2f}{p.z:10.2f}'
+               f'{math.degrees(a.x):13.2f}{math.degrees(a.y):12.2f}')
+        if t >= self.next_row - 1e-9:
+            _say(row)
+            self.next_row = math.floor(t / self.PERIOD + 1e-6) * self.PERIOD + self.PERIOD
+            self._pending = None
+        else:
+            self._pending = row
+
+    def finish(self) -> None:
+        """Print the newest tick (the landing) if its row was not printed."""
+        if self._pending is not None:
+            _say(self._pending)
+            self._pending = None
+
+
+def _stamp_ns(msg) -> int:
+    return msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec
+
+
 def _say(text: str) -> None:
     print(f'[demo] {text}', flush=True)
 
@@ -98,13 +151,10 @@ def run_demo(args: argparse.Namespace) -> int:
     ]
     rclpy.init()
     node = rclpy.create_node('football_demo')
-    state = {'pose': None, 'aero': None, 'responses': [], 'landed': None}
-    node.create_subscription(
-        PoseStamped, qos.POSE, lambda m: state.__setitem__('pose', m), qos.STATE
-    )
-    node.create_subscription(
-        Vector3Stamped, qos.AERO_ANGLES, lambda m: state.__setitem__('aero', m), qos.STATE
-    )
+    state = {'responses': [], 'landed': None, 'time_of_flight': math.nan}
+    table = _Table()
+    node.create_subscription(PoseStamped, qos.POSE, table.on_pose, qos.STATE)
+    node.create_subscription(Vector3Stamped, qos.AERO_ANGLES, table.on_angles, qos.STATE)
     responses = node.create_subscription(
         DiagnosticStatus, qos.RELEASE_RESPONSE, state['responses'].append, qos.REQUEST
     )
@@ -114,6 +164,7 @@ def run_demo(args: argparse.Namespace) -> int:
             values = {kv.key: kv.value for kv in status.values}
             if values.get('event') == 'landed':
                 state['landed'] = status.message
+                state['time_of_flight'] = float(values.get('time_of_flight', 'nan'))
 
     node.create_subscription(DiagnosticArray, qos.DIAGNOSTICS, on_diagnostics, qos.DIAGNOSTICS_QOS)
     requests = node.create_publisher(String, qos.RELEASE_REQUEST, qos.REQUEST)
@@ -162,23 +213,17 @@ def run_demo(args: argparse.Namespace) -> int:
         _say('     t [s]     x [m]     y [m]     z [m]  alpha [deg]  beta [deg]')
         values = {kv.key: kv.value for kv in accepted.values}
         flight_end = time.monotonic() + float(values.get('time_of_flight', 'nan')) + 10.0
-        next_row = 0.0  # flight time [s] of the next table row: one row per 0.1 s of flight
-        while state['landed'] is None:
-            if not time.monotonic() < flight_end:  # NaN (no landing predicted) ends it too
+        landed_at = None
+        while True:  # until the landing is reported and its tick is in the table (or 3 s)
+            if state['landed'] is not None:
+                landed_at = landed_at or time.monotonic()
+                if (table.last >= state['time_of_flight'] - 1e-6
+                        or time.monotonic() - landed_at > 3.0):
+                    break
+            elif not time.monotonic() < flight_end:  # NaN (no landing predicted) ends it too
                 raise RuntimeError('no landing reported; see simulator.log')
             rclpy.spin_once(node, timeout_sec=0.01)
-            pose, aero = state['pose'], state['aero']
-            if pose is None or aero is None:
-                continue
-            t = pose.header.stamp.sec + 1e-9 * pose.header.stamp.nanosec
-            t0 = state.setdefault('t0', t)
-            if t - t0 >= next_row - 1e-9:
-                p, a = pose.pose.position, aero.vector
-                _say(
-                    f'{t - t0:10.2f}{p.x:10.2f}{p.y:10.2f}{p.z:10.2f}'
-                    f'{math.degrees(a.x):13.2f}{math.degrees(a.y):12.2f}'
-                )
-                next_row = math.floor((t - t0) / 0.1 + 1e-6) * 0.1 + 0.1
+        table.finish()
         _say(state['landed'])
         code = 0
     except KeyboardInterrupt:
