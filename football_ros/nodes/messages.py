@@ -23,7 +23,7 @@ the body frame (``football``). The aero angles are not a vector: their header.fr
 from __future__ import annotations
 
 import math
-from typing import Iterable, Mapping, Sequence
+from typing import Iterable, Mapping, Sequence, TYPE_CHECKING
 
 from builtin_interfaces.msg import Time
 from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
@@ -33,7 +33,8 @@ import numpy as np
 from std_msgs.msg import ColorRGBA, Header
 from visualization_msgs.msg import Marker, MarkerArray
 
-from ..physics.flight import BallSample
+if TYPE_CHECKING:  # type hints only: the command-line tools start without the compiled kernels
+    from ..physics.flight import BallSample
 
 try:  # the real tf2_msgs on a Jazzy install; pip_ros/tf2_msgs built by setup.sh on the pip ROS
     from geometry_msgs.msg import TransformStamped
