@@ -201,8 +201,13 @@ def landing_time_in_step(y: np.ndarray, dt: float, params: np.ndarray, ground: f
 
 @njit(cache=True)
 def crossed_ground(before: np.ndarray, after: np.ndarray, ground: float) -> bool:
-    """Tell whether a step took the ball from above ``ground`` to at or below it, moving down."""
-    return before[R + 2] > ground and after[R + 2] <= ground and after[V + 2] < 0.0
+    """
+    Tell whether a step took the ball from at or above ``ground`` to at or below it, moving down.
+
+    "At" counts too: a release from the ground that the air pushes down at once (a strong
+    downdraft, a steep lift) lands in its first step instead of flying on below ground.
+    """
+    return before[R + 2] >= ground and after[R + 2] <= ground and after[V + 2] < 0.0
 
 
 @njit(cache=True, nogil=True)  # the release node predicts beside its executor
