@@ -45,6 +45,25 @@ LIMITS = {
 }
 
 
+def check_numbers(kind: str, settings: object, limits: dict) -> None:
+    """
+    Raise ValueError naming the first attribute of ``settings`` outside its ``limits``.
+
+    Each attribute named in ``limits`` must be a finite number (not a bool) in [lo, hi].
+    """
+    for name, (lo, hi) in limits.items():
+        value = getattr(settings, name)
+        if (
+            isinstance(value, bool)
+            or not isinstance(value, (int, float))
+            or not math.isfinite(value)
+            or not lo <= value <= hi
+        ):
+            raise ValueError(
+                f"{kind} '{name}' must be a number in [{lo:g}, {hi:g}], got {value!r}"
+            )
+
+
 @dataclass(frozen=True)
 class CameraSettings:
     """
@@ -63,17 +82,7 @@ class CameraSettings:
     seed: int = 0
 
     def __post_init__(self) -> None:
-        for name, (lo, hi) in LIMITS.items():
-            value = getattr(self, name)
-            if (
-                isinstance(value, bool)
-                or not isinstance(value, (int, float))
-                or not math.isfinite(value)
-                or not lo <= value <= hi
-            ):
-                raise ValueError(
-                    f"camera '{name}' must be a number in [{lo:g}, {hi:g}], got {value!r}"
-                )
+        check_numbers('camera', self, LIMITS)
         if isinstance(self.seed, bool) or not isinstance(self.seed, int):
             raise ValueError(f"camera 'seed' must be an integer, got {self.seed!r}")
 

@@ -86,6 +86,7 @@ import math
 from numba import njit
 import numpy as np
 
+from .sensor import check_numbers
 from ..physics import dynamics as dyn
 from ..physics.aero import AeroModel, resolve
 from ..physics.presets import get_preset
@@ -341,17 +342,7 @@ class TrackerSettings:
     }
 
     def __post_init__(self) -> None:
-        for name, (lo, hi) in self.LIMITS.items():
-            value = getattr(self, name)
-            if (
-                isinstance(value, bool)
-                or not isinstance(value, (int, float))
-                or not math.isfinite(value)
-                or not lo <= value <= hi
-            ):
-                raise ValueError(
-                    f"tracker '{name}' must be a number in [{lo:g}, {hi:g}], got {value!r}"
-                )
+        check_numbers('tracker', self, self.LIMITS)
         if self.spin_rpm is not None and (
             isinstance(self.spin_rpm, bool)
             or not isinstance(self.spin_rpm, (int, float))
