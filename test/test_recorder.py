@@ -394,7 +394,14 @@ def test_full_disk_keeps_the_recording(start_node, collector, small_disk, storag
     start_node('simulator', '--ros-args', '-p', 'publish_rate:=1000.0')
     recorder = start_node('record', '--out', str(bag), '--storage', storage)
     collector.subscribe(PoseStamped, qos.POSE, qos.STATE, raw=True)
+    collector.subscribe(DiagnosticArray, qos.DIAGNOSTICS, qos.DIAGNOSTICS_QOS)
     recorder.wait_for_log("recording '/diagnostics'")
+    # The recorder's ERROR status can only reach a reader it has discovered: wait for both
+    # /diagnostics publishers (simulator, recorder) before the disk fills up.
+    collector.wait_for(
+        lambda: collector.node.count_publishers(qos.DIAGNOSTICS) >= 2, 20.0, 'the publishers'
+    )
+    time.sleep(0.5)
     order_flight(collector, Release(), 'full-1')
     recorder.proc.wait(timeout=30)  # the disk fills up within the flight: the recorder ends
     log = recorder.log()
