@@ -72,36 +72,50 @@ class _Table:
     """
     The live table: one row per 0.1 s of flight time.
 
-    Each row holds the pose and the angles of one tick (matched by stamp); the last tick (the
-    landing) ends the table.
+    Each row holds the pose and the angles of one tick, matched by stamp whichever arrives
+    first; the last tick (the landing) ends the table.
     """
 
     PERIOD = 0.1  # flight time [s] between rows
-    KEEP = 2000   # positions waiting for their tick's angles at most
+    KEEP = 2000  # ticks waiting for their other half at most
 
     def __init__(self) -> None:
         self.positions: collections.OrderedDict = collections.OrderedDict()
+        self.angles: collections.OrderedDict = collections.OrderedDict()
         self.t0: float | None = None
         self.next_row = 0.0
         self.last = -math.inf  # flight time [s] of the newest tick
         self._pending: str | None = None  # the newest tick's row, if not printed
 
     def on_pose(self, msg) -> None:
-        self.positions[_stamp_ns(msg)] = msg.pose.position
-        while len(self.positions) > self.KEEP:
-            self.positions.popitem(last=False)
+        self._pair(_stamp_ns(msg), position=msg.pose.position)
 
     def on_angles(self, msg) -> None:
-        ns = _stamp_ns(msg)
-        p = self.positions.pop(ns, None)
-        if p is None:
-            return
+        self._pair(_stamp_ns(msg), angles=msg.vector)
+
+    def _pair(self, ns: int, position=None, angles=None) -> None:
+        if position is not None:
+            angles = self.angles.pop(ns, None)
+            if angles is None:
+                _keep(self.positions, ns, position, self.KEEP)
+                return
+        else:
+            position = self.positions.pop(ns, None)
+            if position is None:
+                _keep(self.angles, ns, angles, self.KEEP)
+                return
+        self._row(ns, position, angles)
+
+    def _row(self, ns: int, p, a) -> None:
         self.t0 = ns * 1e-9 if self.t0 is None else self.t0
         t = ns * 1e-9 - self.t0
+        if t < self.last:
+            return  # a late half of an older tick
         self.last = t
-        a = msg.vector
-        row = (f'{t:10.2f}{p.x:10.2f}{p.y:10.2f}{p.z:10.2f}'
-               f'{math.degrees(a.x):13.2f}{math.degrees(a.y):12.2f}')
+        row = (
+            f'{t:10.2f}{p.x:10.2f}{p.y:10.2f}{p.z:10.2f}'
+            f'{math.degrees(a.x):13.2f}{math.degrees(a.y):12.2f}'
+        )
         if t >= self.next_row - 1e-9:
             _say(row)
             self.next_row = math.floor(t / self.PERIOD + 1e-6) * self.PERIOD + self.PERIOD
@@ -114,6 +128,12 @@ class _Table:
         if self._pending is not None:
             _say(self._pending)
             self._pending = None
+
+
+def _keep(buffer: collections.OrderedDict, key: int, value, limit: int) -> None:
+    buffer[key] = value
+    while len(buffer) > limit:
+        buffer.popitem(last=False)
 
 
 def _stamp_ns(msg) -> int:
@@ -153,8 +173,10 @@ def run_demo(args: argparse.Namespace) -> int:
     node = rclpy.create_node('football_demo')
     state = {'responses': [], 'landed': None, 'time_of_flight': math.nan}
     table = _Table()
-    node.create_subscription(PoseStamped, qos.POSE, table.on_pose, qos.STATE)
-    node.create_subscription(Vector3Stamped, qos.AERO_ANGLES, table.on_angles, qos.STATE)
+    watched = [
+        node.create_subscription(PoseStamped, qos.POSE, table.on_pose, qos.STATE),
+        node.create_subscription(Vector3Stamped, qos.AERO_ANGLES, table.on_angles, qos.STATE),
+    ]
     responses = node.create_subscription(
         DiagnosticStatus, qos.RELEASE_RESPONSE, state['responses'].append, qos.REQUEST
     )
@@ -184,6 +206,7 @@ def run_demo(args: argparse.Namespace) -> int:
             or responses.get_publisher_count() == 0
             or node.count_subscribers(qos.POSE) < 2
             or node.count_subscribers(qos.FLIGHT_ORDER) < 1
+            or any(sub.get_publisher_count() == 0 for sub in watched)  # our table's sources
         ):
             rclpy.spin_once(node, timeout_sec=0.1)
             if time.monotonic() > deadline:
