@@ -19,7 +19,9 @@ Pacing: a dedicated thread wakes at absolute monotonic deadlines k / publish_rat
 advances the flight by real_time_factor / publish_rate of simulated time (the integrator keeps
 its own fixed step), so there is no drift; a tick that comes late is still published, with its
 scheduled stamp, and counted as an overrun on /diagnostics. All messages of one tick carry the
-same stamp. After the landing the landed state is republished at ``hold_rate`` (0 = never).
+same stamp. After publishing, a tick integrates the next tick's sample, so that the next tick
+publishes at its deadline whatever the integration costs (in place instead when the flight
+changed meanwhile or the simulated camera is on). After the landing the landed state is republished at ``hold_rate`` (0 = never).
 
 Threads: the pacing thread is the only one that integrates and publishes state, markers, /clock
 and /diagnostics; the executor thread serves orders, services, parameters and a 1 Hz check for
@@ -264,6 +266,7 @@ class SimulatorNode(Node):
         self._run: _FlightRun | None = None
         self._last_order: FlightOrder | None = None
         self._paused = False
+        self._ahead = None  # (run, t, sample): the next tick's sample, integrated ahead
         self._sim_clock_ns = 0
         self._events: _Events = _Events()  # (level, event, message) to report
         self.stats = {'ticks': 0, 'overruns': 0, 'skipped': 0, 'max_late_ms': 0.0}
@@ -524,9 +527,11 @@ class SimulatorNode(Node):
                 return
             run, t = run_t
             self._observation.tick(run, stamp, t)  # simulated camera (observation_hook.py)
-            sample = run.flight.sample(
-                t
-            )  # outside the lock: many steps at a high real-time factor
+            ahead, self._ahead = self._ahead, None
+            if ahead is not None and ahead[0] is run and ahead[1] == t:
+                sample = ahead[2]
+            else:  # outside the lock: many steps at a high real-time factor
+                sample = run.flight.sample(t)
             problem = self._runaway(run, sample)
             if problem:
                 self._end_flight(run, problem)
@@ -551,6 +556,26 @@ class SimulatorNode(Node):
         self._check_validity(run, sample)
         self._publish_state(run, sample, stamp, at_rest)
         self._maybe_publish_markers(run, sample, stamp, wall_stamp_ns, force=landed_now)
+        self._integrate_ahead(run)
+
+    def _integrate_ahead(self, run: _FlightRun) -> None:
+        """
+        Sample the next tick's time now, after publishing.
+
+        The next tick then publishes at its deadline whatever the integration costs. Used by the next tick only if it flies the same run at the same time. Not while the
+        simulated camera is on: it captures at times before the next tick's, and a flight
+        only integrates forward.
+        """
+        with self._lock:
+            if (
+                self._run is not run
+                or run.landed_reported
+                or run.ended is not None
+                or self.observation_rate > 0.0
+            ):
+                return
+            t = run.time
+        self._ahead = (run, t, run.flight.sample(t))
 
     def _select_run(self, wall_stamp_ns: int) -> tuple[_FlightRun, float] | None:
         """Return the run to publish this tick and its time [s], or None (lock held by caller)."""
