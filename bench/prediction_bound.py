@@ -1,0 +1,210 @@
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Information limit of the landing prediction on the prediction benchmark's own flights (headless).
+
+For each flight of bench/prediction_benchmark.py (same generator, seeds, camera phase, 60 Hz,
+2 cm, 20 ms latency), the fixes delivered by ``lead`` s before the true landing give a Bayesian
+Cramer-Rao bound (the Laplace / Gauss-Newton posterior at the true throw, see
+football_ros.estimation.bound) of the landing point (x, y on z = 0). Unknowns: the release
+position, speed, elevation, azimuth (flat priors), the axis offsets alpha0, beta0, the spin, the
+drag and lift scales kd, kl. Priors:
+- benchmark: the benchmark's own distribution: alpha0, beta0 ~ N(0, 1.5 deg), axis rates 0
+  (known), |spin| uniform 400-800 rpm (its variance: sigma 115 rpm), hand known; kd, kl sigma
+  0.3 (the tracker's; the truth is 1 for the defaults, 1.3 / 0.7 for the others);
+- tracker: the tracker's own prior widths instead (axis 0.05 rad, spin 0.3 x 600 rpm);
+each with the spin known, the coefficients known (sigma -> 0) and both known.
+Per flight, the 2x2 covariance C gives the expected median of |e| under N(0, C) (exact); per
+set, the median of these over flights, and the median over flights of one draw per flight
+(what a benchmark of these flights would report for an estimator at the bound; mean +/- sd
+over draws), overall and by flight time (< 2.2 / 2.2-2.8 / > 2.8 s). ``--tracker`` also replays
+the benchmark's fixes into the tracker (told nothing, the spin, the coefficients, both) on the
+same flights and prints its median error beside the bound, with the tracker's error per flight
+over the bound's sigma.
+
+    .venv/bin/python bench/prediction_bound.py [--flights 60] [--seed 1] [--all-cases]
+        [--tracker] [--lead 1.0]
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import sys
+import time
+
+from football_ros.estimation import Camera, CameraSettings, FlightTracker, TrackerSettings
+from football_ros.estimation.bound import (
+    central_jacobian,
+    FD_STEPS,
+    pooled_median,
+    posterior_covariance,
+    radial_median,
+    ThrowModel,
+)
+from football_ros.physics import Flight
+from football_ros.physics.aero import AeroModel
+from football_ros.physics.release import RPM
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from prediction_benchmark import CASES, LATENCY, NOISE, RATE, random_releases  # noqa: E402
+
+CLASSES = (('< 2.2 s', 0.0, 2.2), ('2.2-2.8 s', 2.2, 2.8), ('> 2.8 s', 2.8, math.inf))
+PRIORS = {
+    # name: (axis offset sigma [rad], spin sigma [rad/s], scale sigma)
+    'benchmark': (math.radians(1.5), 400.0 / math.sqrt(12.0) * RPM, 0.3),
+    'tracker': (0.05, 0.3 * 600.0 * RPM, 0.3),
+}
+KNOWN = {
+    'neither known': (),
+    'spin known': ('spin',),
+    'coefs known': ('kd', 'kl'),
+    'both known': ('spin', 'kd', 'kl'),
+}
+TRACKER_ROWS = ('neither known', 'spin known', 'coefs known', 'both known')
+
+
+def flight_setup(release, seed: int, lead: float):
+    """Return (t_land, xy_land, camera phase, number of fixes delivered by the lead)."""
+    truth = Flight.from_release(release).simulate(rate=100.0, duration=20.0)
+    t_land = float(truth.times[-1])
+    phase = float(np.random.default_rng(seed).uniform(0.0, 1.0 / RATE))  # as run_flight's
+    t_eval = t_land - lead
+    count = 0
+    while True:  # the Camera's own arithmetic: stamp = release + k / rate, + latency
+        stamp = phase + count / RATE
+        if not (stamp + LATENCY <= t_eval and stamp < t_land):
+            break
+        count += 1
+    return t_land, truth.positions[-1, :2], phase, count
+
+
+def bound_rows(release, phase: float, count: int, xy_land) -> dict:
+    """Covariances (2, 2) of the landing point per (prior, known) set, for one flight."""
+    model = ThrowModel(phase, 1.0 / RATE, count, aero=AeroModel())
+    theta = model.theta_of(release)
+    steps = [FD_STEPS[n] for n in model.names]
+    f0, jac = central_jacobian(model.evaluate, theta, steps)
+    if np.linalg.norm(f0[-3:-1] - xy_land) > 1e-6:
+        raise RuntimeError(f'the model misses the true landing by {f0[-3:-1] - xy_land}')
+    jf, g = jac[: 3 * count], jac[3 * count: 3 * count + 2]
+    out = {}
+    for pname, (axis_s, spin_s, scale_s) in PRIORS.items():
+        sig = {'alpha0': axis_s, 'beta0': axis_s, 'spin': spin_s, 'kd': scale_s, 'kl': scale_s}
+        for kname, known in KNOWN.items():
+            keep = [i for i, n in enumerate(model.names) if n not in known]
+            prior = np.diag([1.0 / sig[model.names[i]] ** 2 if model.names[i] in sig else 0.0
+                             for i in keep])
+            cov = posterior_covariance(jf[:, keep], NOISE, prior)
+            out[(pname, kname)] = g[:, keep] @ cov @ g[:, keep].T
+    return out
+
+
+def tracker_errors(release, seed: int, t_land: float, xy_land, lead: float) -> dict:
+    """Landing error [m] of the tracker told nothing / the spin / the coefficients / both."""
+    flight = Flight.from_release(release)
+    rng = np.random.default_rng(seed)
+    cam = Camera(CameraSettings(rate=RATE, noise=NOISE, latency=LATENCY, seed=seed))
+    cam.restart(float(rng.uniform(0.0, 1.0 / RATE)))
+    obs = [o for o in cam.step(t_land + 1.0, lambda t: flight.state_at(t)[:3]) if o.stamp < t_land]
+    spin = dict(spin_rpm=abs(release.spin_rpm), spin_sigma=0.01)
+    coefs = dict(scale_sigma=0.01, aero=release.aero_model())
+    settings = {
+        'neither known': TrackerSettings(),
+        'spin known': TrackerSettings(**spin),
+        'coefs known': TrackerSettings(**coefs),
+        'both known': TrackerSettings(**spin, **coefs),
+    }
+    out = {}
+    for name, s in settings.items():
+        tracker = FlightTracker(s)
+        for o in obs:
+            if o.delivery <= t_land - lead:
+                tracker.update(o.stamp, o.position)
+        pred = tracker.predict_landing()
+        out[name] = math.nan if pred is None else float(np.linalg.norm(pred.position[:2] - xy_land))
+    return out
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
+    ap.add_argument('--flights', type=int, default=60, help='flights per case')
+    ap.add_argument('--seed', type=int, default=1)
+    ap.add_argument('--lead', type=float, default=1.0, help='lead time before the landing [s]')
+    ap.add_argument('--all-cases', action='store_true', help='also the 30 %%-off cases')
+    ap.add_argument('--tracker', action='store_true', help='replay the fixes into the tracker')
+    ap.add_argument('--draws', type=int, default=4000)
+    args = ap.parse_args()
+    cases = list(CASES) if args.all_cases else ['defaults']
+    print(
+        f'camera {RATE:g} Hz, noise {NOISE * 100:g} cm, latency {LATENCY * 1000:g} ms; '
+        f'lead {args.lead:g} s; {args.flights} flights per case, seed {args.seed}'
+    )
+    for case in cases:
+        ci = list(CASES).index(case)
+        releases = random_releases(np.random.default_rng(args.seed * 1000 + ci), args.flights,
+                                   CASES[case])
+        t0 = time.perf_counter()
+        t_lands, covs, trk, fixes = [], [], [], []
+        for k, release in enumerate(releases):
+            seed = args.seed * 100000 + ci * 1000 + k
+            t_land, xy_land, phase, count = flight_setup(release, seed, args.lead)
+            t_lands.append(t_land)
+            fixes.append(count)
+            covs.append(bound_rows(release, phase, count, xy_land))
+            if args.tracker:
+                trk.append(tracker_errors(release, seed, t_land, xy_land, args.lead))
+        t_lands = np.array(t_lands)
+        print(f'\ncase: true coefficients {case} ({time.perf_counter() - t0:.0f} s; fixes per '
+              f'flight {min(fixes)}-{max(fixes)})')
+        masks = [('all', np.ones(t_lands.size, bool))] + [
+            (name, (t_lands >= lo) & (t_lands < hi)) for name, lo, hi in CLASSES
+        ]
+        head = ''.join(f'{f"{name} (n={m.sum()})":>26}' for name, m in masks)
+        print(f'{"landing error [cm]":>36}{head}')
+        print(f'{"":>36}' + f'{"med(med)  pooled +/- sd":>26}' * len(masks))
+        for pname in PRIORS:
+            for kname in KNOWN:
+                c = np.array([cv[(pname, kname)] for cv in covs])
+                meds = np.array([radial_median(x) for x in c])
+                cells = ''
+                for _, m in masks:
+                    if not m.any():
+                        cells += f'{"-":>26}'
+                        continue
+                    mean, sd = pooled_median(c[m], args.draws, seed=1)
+                    cells += f'{np.median(meds[m]) * 100:>10.2f}{mean * 100:>9.2f} +/-{sd * 100:>4.1f}'
+                print(f'{"bound, " + pname + " prior, " + kname:>36}{cells}')
+        if args.tracker:
+            for kname in TRACKER_ROWS:
+                err = np.array([t[kname] for t in trk])
+                c = np.array([cv[('benchmark', kname)] for cv in covs])
+                # The tracker's error over the bound's per-flight median: 1 at the limit.
+                ratio = err / np.array([radial_median(x) for x in c])
+                cells = ''
+                for _, m in masks:
+                    if not m.any():
+                        cells += f'{"-":>26}'
+                        continue
+                    cells += (f'{np.nanmedian(err[m]) * 100:>10.2f}{"x":>6}'
+                              f'{np.nanmedian(ratio[m]):>5.1f}{"":>5}')
+                print(f'{"tracker, " + kname:>36}{cells}')
+            print(f'{"":>36}(tracker: median error [cm], x median of error / bound median)')
+
+
+if __name__ == '__main__':
+    main()
