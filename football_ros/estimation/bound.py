@@ -35,7 +35,7 @@ import math
 from typing import Callable, Sequence
 
 import numpy as np
-from scipy import integrate, optimize, stats
+from scipy import integrate, optimize
 
 from ..physics.aero import AeroModel
 from ..physics.flight import DEFAULT_STEP, Flight
@@ -55,6 +55,9 @@ FD_STEPS = {
     'alpha_rate': 1e-4, 'beta_rate': 1e-4,
 }
 """Central-difference steps per parameter (units of :data:`THETA`)."""
+SQRT_2PI = math.sqrt(2.0 * math.pi)
+QUARTILE = 0.6744897501960817
+"""Upper quartile of the standard normal: the median of |X|."""
 
 
 class ThrowModel:
@@ -185,14 +188,14 @@ def radial_median(cov: np.ndarray) -> float:
     if l1 <= 0.0:
         return 0.0
     if l2 <= 1e-14 * l1:
-        return math.sqrt(l1) * stats.norm.ppf(0.75)
+        return math.sqrt(l1) * QUARTILE
 
     def cdf(m: float) -> float:
         a = m / math.sqrt(l1)
 
-        def inner(x: float) -> float:
+        def inner(x: float) -> float:  # density of X times P(|Y| <= sqrt((m^2 - l1 x^2) / l2))
             rest = max(m * m - l1 * x * x, 0.0)
-            return stats.norm.pdf(x) * (2.0 * stats.norm.cdf(math.sqrt(rest / l2)) - 1.0)
+            return math.exp(-0.5 * x * x) / SQRT_2PI * math.erf(math.sqrt(rest / (2.0 * l2)))
 
         return integrate.quad(inner, -a, a, epsabs=1e-12, epsrel=1e-10)[0]
 
