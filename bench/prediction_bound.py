@@ -52,9 +52,11 @@ from football_ros.estimation.bound import (
     FD_STEPS,
     pooled_median,
     posterior_covariance,
+    QUARTILE,
     radial_median,
     ThrowModel,
 )
+from football_ros.estimation.tracker import X_H, X_S
 from football_ros.physics import Flight
 from football_ros.physics.aero import AeroModel
 from football_ros.physics.release import RPM
@@ -93,29 +95,51 @@ def flight_setup(release, seed: int, lead: float):
     return t_land, truth.positions[-1, :2], phase, count
 
 
-def bound_rows(release, phase: float, count: int, xy_land) -> dict:
-    """Covariances (2, 2) of the landing point per (prior, known) set, for one flight."""
+def jacobians(release, phase: float, count: int, xy_land) -> dict:
+    """Return theta's names and the Jacobians of the fixes (3 count, n) and landing (2, n)."""
     model = ThrowModel(phase, 1.0 / RATE, count, aero=AeroModel())
     theta = model.theta_of(release)
     steps = [FD_STEPS[n] for n in model.names]
     f0, jac = central_jacobian(model.evaluate, theta, steps)
     if np.linalg.norm(f0[-3:-1] - xy_land) > 1e-6:
         raise RuntimeError(f'the model misses the true landing by {f0[-3:-1] - xy_land}')
-    jf, g = jac[: 3 * count], jac[3 * count: 3 * count + 2]
-    out = {}
-    for pname, (axis_s, spin_s, scale_s) in PRIORS.items():
-        sig = {'alpha0': axis_s, 'beta0': axis_s, 'spin': spin_s, 'kd': scale_s, 'kl': scale_s}
-        for kname, known in KNOWN.items():
-            keep = [i for i, n in enumerate(model.names) if n not in known]
-            prior = np.diag([1.0 / sig[model.names[i]] ** 2 if model.names[i] in sig else 0.0
-                             for i in keep])
-            cov = posterior_covariance(jf[:, keep], NOISE, prior)
-            out[(pname, kname)] = g[:, keep] @ cov @ g[:, keep].T
-    return out
+    return {'names': model.names, 'fixes': jac[: 3 * count],
+            'landing': jac[3 * count: 3 * count + 2]}
 
 
-def tracker_errors(release, seed: int, t_land: float, xy_land, lead: float) -> dict:
-    """Landing error [m] of the tracker told nothing / the spin / the coefficients / both."""
+def posterior(jac: dict, sigmas: dict) -> tuple[np.ndarray, np.ndarray, list]:
+    """
+    Return the landing covariance (2, 2), the parameters' and their names.
+
+    ``sigmas``: prior sigma per parameter name (0 = known, absent = flat).
+    """
+    names = [n for n in jac['names'] if sigmas.get(n, math.inf) > 0.0]
+    keep = [jac['names'].index(n) for n in names]
+    prior = np.diag([1.0 / sigmas[n] ** 2 if n in sigmas else 0.0 for n in names])
+    cov = posterior_covariance(jac['fixes'][:, keep], NOISE, prior)
+    g = jac['landing'][:, keep]
+    return g @ cov @ g.T, cov, names
+
+
+def prior_sigmas(prior: str, known=(), **changes) -> dict:
+    """Prior sigma per parameter for a :data:`PRIORS` entry, ``known`` ones at 0."""
+    axis_s, spin_s, scale_s = PRIORS[prior]
+    sig = {'alpha0': axis_s, 'beta0': axis_s, 'spin': spin_s, 'kd': scale_s, 'kl': scale_s}
+    sig.update(changes)
+    sig.update({n: 0.0 for n in known})
+    return sig
+
+
+def tracker_errors(
+    release, seed: int, t_land: float, xy_land, lead: float, changes: dict
+) -> dict:
+    """
+    Replay the benchmark's fixes (as run_flight makes them) into the tracker.
+
+    Told nothing / the spin / the coefficients / both (the benchmark's oracle settings), with
+    ``changes`` to every TrackerSettings. Per variant: (landing error [m], |spin| error
+    [rpm], hand right).
+    """
     flight = Flight.from_release(release)
     rng = np.random.default_rng(seed)
     cam = Camera(CameraSettings(rate=RATE, noise=NOISE, latency=LATENCY, seed=seed))
@@ -124,20 +148,38 @@ def tracker_errors(release, seed: int, t_land: float, xy_land, lead: float) -> d
     spin = dict(spin_rpm=abs(release.spin_rpm), spin_sigma=0.01)
     coefs = dict(scale_sigma=0.01, aero=release.aero_model())
     settings = {
-        'neither known': TrackerSettings(),
-        'spin known': TrackerSettings(**spin),
-        'coefs known': TrackerSettings(**coefs),
-        'both known': TrackerSettings(**spin, **coefs),
+        'neither known': {},
+        'spin known': spin,
+        'coefs known': coefs,
+        'both known': {**spin, **coefs},
     }
     out = {}
-    for name, s in settings.items():
-        tracker = FlightTracker(s)
+    for name, kw in settings.items():
+        tracker = FlightTracker(TrackerSettings(**{**kw, **changes}))
         for o in obs:
             if o.delivery <= t_land - lead:
                 tracker.update(o.stamp, o.position)
         pred = tracker.predict_landing()
-        out[name] = math.nan if pred is None else float(np.linalg.norm(pred.position[:2] - xy_land))
+        est = tracker.estimate
+        if pred is None or est is None:
+            out[name] = (math.nan, math.nan, False)
+            continue
+        x = est[1]
+        h1 = float(x[X_H:X_H + 3] @ x[X_S:X_S + 3])
+        spin_rpm = h1 / tracker.ball.inertia_ratio / RPM
+        out[name] = (
+            float(np.linalg.norm(pred.position[:2] - xy_land)),
+            abs(abs(spin_rpm) - abs(release.spin_rpm)),
+            bool(np.sign(spin_rpm) == np.sign(release.spin_rpm)),
+        )
     return out
+
+
+def _value(text: str):
+    try:
+        return int(text)
+    except ValueError:
+        return float(text)
 
 
 def main() -> None:
@@ -147,27 +189,32 @@ def main() -> None:
     ap.add_argument('--lead', type=float, default=1.0, help='lead time before the landing [s]')
     ap.add_argument('--all-cases', action='store_true', help='also the 30 %%-off cases')
     ap.add_argument('--tracker', action='store_true', help='replay the fixes into the tracker')
+    ap.add_argument('--set', nargs='*', default=[], metavar='NAME=VALUE',
+                    help='TrackerSettings changes for the replay, e.g. accel_noise=0')
     ap.add_argument('--draws', type=int, default=4000)
     args = ap.parse_args()
+    changes = {k: _value(v) for k, v in (item.split('=', 1) for item in args.set)}
+    TrackerSettings(**changes)  # validate before the long loop
     cases = list(CASES) if args.all_cases else ['defaults']
     print(
         f'camera {RATE:g} Hz, noise {NOISE * 100:g} cm, latency {LATENCY * 1000:g} ms; '
         f'lead {args.lead:g} s; {args.flights} flights per case, seed {args.seed}'
+        + (f'; tracker settings changed: {changes}' if changes else '')
     )
     for case in cases:
         ci = list(CASES).index(case)
         releases = random_releases(np.random.default_rng(args.seed * 1000 + ci), args.flights,
                                    CASES[case])
         t0 = time.perf_counter()
-        t_lands, covs, trk, fixes = [], [], [], []
+        t_lands, jacs, trk, fixes = [], [], [], []
         for k, release in enumerate(releases):
             seed = args.seed * 100000 + ci * 1000 + k
             t_land, xy_land, phase, count = flight_setup(release, seed, args.lead)
             t_lands.append(t_land)
             fixes.append(count)
-            covs.append(bound_rows(release, phase, count, xy_land))
+            jacs.append(jacobians(release, phase, count, xy_land))
             if args.tracker:
-                trk.append(tracker_errors(release, seed, t_land, xy_land, args.lead))
+                trk.append(tracker_errors(release, seed, t_land, xy_land, args.lead, changes))
         t_lands = np.array(t_lands)
         print(f'\ncase: true coefficients {case} ({time.perf_counter() - t0:.0f} s; fixes per '
               f'flight {min(fixes)}-{max(fixes)})')
@@ -175,35 +222,62 @@ def main() -> None:
             (name, (t_lands >= lo) & (t_lands < hi)) for name, lo, hi in CLASSES
         ]
         head = ''.join(f'{f"{name} (n={m.sum()})":>26}' for name, m in masks)
-        print(f'{"landing error [cm]":>36}{head}')
-        print(f'{"":>36}' + f'{"med(med)  pooled +/- sd":>26}' * len(masks))
+        print(f'{"landing error at the bound [cm]":>40}{head}')
+        print(f'{"":>40}' + f'{"med(med)  pooled +/- sd":>26}' * len(masks))
+
+        def row(label: str, sigmas: dict) -> np.ndarray:
+            c = np.array([posterior(j, sigmas)[0] for j in jacs])
+            meds = np.array([radial_median(x) for x in c])
+            cells = ''
+            for _, m in masks:
+                if not m.any():
+                    cells += f'{"-":>26}'
+                    continue
+                mean, sd = pooled_median(c[m], args.draws, seed=1)
+                cells += f'{np.median(meds[m]) * 100:>10.2f}{mean * 100:>9.2f} +/-{sd * 100:>4.1f}'
+            print(f'{label:>40}{cells}')
+            return meds
+
+        meds = {}
         for pname in PRIORS:
-            for kname in KNOWN:
-                c = np.array([cv[(pname, kname)] for cv in covs])
-                meds = np.array([radial_median(x) for x in c])
-                cells = ''
-                for _, m in masks:
-                    if not m.any():
-                        cells += f'{"-":>26}'
-                        continue
-                    mean, sd = pooled_median(c[m], args.draws, seed=1)
-                    cells += f'{np.median(meds[m]) * 100:>10.2f}{mean * 100:>9.2f} +/-{sd * 100:>4.1f}'
-                print(f'{"bound, " + pname + " prior, " + kname:>36}{cells}')
-        if args.tracker:
-            for kname in TRACKER_ROWS:
-                err = np.array([t[kname] for t in trk])
-                c = np.array([cv[('benchmark', kname)] for cv in covs])
-                # The tracker's error over the bound's per-flight median: 1 at the limit.
-                ratio = err / np.array([radial_median(x) for x in c])
-                cells = ''
-                for _, m in masks:
-                    if not m.any():
-                        cells += f'{"-":>26}'
-                        continue
-                    cells += (f'{np.nanmedian(err[m]) * 100:>10.2f}{"x":>6}'
-                              f'{np.nanmedian(ratio[m]):>5.1f}{"":>5}')
-                print(f'{"tracker, " + kname:>36}{cells}')
-            print(f'{"":>36}(tracker: median error [cm], x median of error / bound median)')
+            for kname, known in KNOWN.items():
+                meds[(pname, kname)] = row(f'{pname} prior, {kname}', prior_sigmas(pname, known))
+        print('sensitivity (benchmark prior, neither known, but):')
+        for scale in (0.2, 0.1, 0.05):
+            row(f'scale sigma {scale:g}', prior_sigmas('benchmark', kd=scale, kl=scale))
+        for frac in (0.5, 0.25):
+            row(f'spin sigma x {frac:g}',
+                prior_sigmas('benchmark', spin=frac * PRIORS['benchmark'][1]))
+        row('release point known (0, 0, 1.8)', prior_sigmas('benchmark', ('x0', 'y0', 'z0')))
+        row('axis offsets known', prior_sigmas('benchmark', ('alpha0', 'beta0')))
+        if not args.tracker:
+            continue
+        print(f'{"tracker replay [cm]":>40}' + f'{"median  (x bound)":>26}' * len(masks))
+        for kname in TRACKER_ROWS:
+            err = np.array([t[kname][0] for t in trk])
+            ratio = err / meds[('benchmark', kname)]  # 1 at the limit
+            cells = ''
+            for _, m in masks:
+                if not m.any():
+                    cells += f'{"-":>26}'
+                    continue
+                cells += f'{np.nanmedian(err[m]) * 100:>16.2f}  (x {np.nanmedian(ratio[m]):.2f})'
+            print(f'{"tracker, " + kname:>40}{cells}')
+        # The spin: the tracker's |spin| error against the bound's (median of |N(0, var)|).
+        spin_err = np.array([t['neither known'][1] for t in trk])
+        spin_bound = []
+        for j in jacs:
+            _, cov, names = posterior(j, prior_sigmas('benchmark'))
+            spin_bound.append(QUARTILE * math.sqrt(cov[names.index('spin'), names.index('spin')]))
+        spin_bound = np.array(spin_bound) / RPM
+        hand = np.array([t['neither known'][2] for t in trk])
+        cells = ''.join(
+            f'{np.nanmedian(spin_err[m]):>16.0f}  (x {np.nanmedian(spin_bound[m]):.0f})'
+            for _, m in masks
+        )
+        print(f'{"|spin| error [rpm] (bound median)":>40}{cells}')
+        print(f'{"hand right (tracker, neither known)":>40}'
+              + ''.join(f'{f"{hand[m].sum()}/{m.sum()}":>26}' for _, m in masks))
 
 
 if __name__ == '__main__':

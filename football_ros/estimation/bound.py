@@ -204,18 +204,22 @@ def radial_median(cov: np.ndarray) -> float:
     return optimize.brentq(lambda m: cdf(m) - 0.5, lo, hi, xtol=1e-12 * hi)
 
 
-def pooled_median(covs: np.ndarray, draws: int = 2000, seed: int = 0) -> tuple[float, float]:
+def pooled_medians(covs: np.ndarray, draws: int = 2000, seed: int = 0) -> np.ndarray:
     """
-    Return the mean and standard deviation of the median over flights of |e_i|.
+    Return (draws,) medians over flights of |e_i|, one e_i ~ N(0, covs[i]) per flight.
 
-    One e_i ~ N(0, covs[i]) per flight (covs (n, 2, 2)), ``draws`` times: what a benchmark of
-    these n flights would report as the median error of an estimator at the bound, and how much
-    it varies from one noise draw to another.
+    ``covs`` (n, 2, 2): what a benchmark of these n flights would report as the median error
+    of an estimator at the bound, once per noise draw.
     """
     covs = np.asarray(covs, dtype=float)
     rng = np.random.default_rng(seed)
     chol = np.array([np.linalg.cholesky(c + 1e-18 * np.eye(2)) for c in covs])
     z = rng.standard_normal((draws, covs.shape[0], 2))
     e = np.einsum('fij,dfj->dfi', chol, z)
-    med = np.median(np.linalg.norm(e, axis=-1), axis=1)
+    return np.median(np.linalg.norm(e, axis=-1), axis=1)
+
+
+def pooled_median(covs: np.ndarray, draws: int = 2000, seed: int = 0) -> tuple[float, float]:
+    """Return the mean and standard deviation of :func:`pooled_medians` over the draws."""
+    med = pooled_medians(covs, draws, seed)
     return float(med.mean()), float(med.std())
