@@ -41,6 +41,7 @@ over the bound's sigma.
 from __future__ import annotations
 
 import argparse
+import importlib
 import math
 import os
 import sys
@@ -51,6 +52,7 @@ from football_ros.estimation.bound import (
     central_jacobian,
     FD_STEPS,
     pooled_median,
+    pooled_medians,
     posterior_covariance,
     QUARTILE,
     radial_median,
@@ -61,9 +63,13 @@ from football_ros.physics import Flight
 from football_ros.physics.aero import AeroModel
 from football_ros.physics.release import RPM
 import numpy as np
+from scipy.optimize import least_squares
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from prediction_benchmark import CASES, LATENCY, NOISE, RATE, random_releases  # noqa: E402
+_benchmark = importlib.import_module('prediction_benchmark')  # its flights, camera and cases
+CASES, LATENCY, NOISE, RATE = (_benchmark.CASES, _benchmark.LATENCY, _benchmark.NOISE,
+                               _benchmark.RATE)
+random_releases = _benchmark.random_releases
 
 CLASSES = (('< 2.2 s', 0.0, 2.2), ('2.2-2.8 s', 2.2, 2.8), ('> 2.8 s', 2.8, math.inf))
 PRIORS = {
@@ -80,24 +86,41 @@ KNOWN = {
 TRACKER_ROWS = ('neither known', 'spin known', 'coefs known', 'both known')
 
 
-def flight_setup(release, seed: int, lead: float):
-    """Return (t_land, xy_land, camera phase, number of fixes delivered by the lead)."""
+def camera_fixes(release, seed: int, t_land: float, lead: float, whole: bool = False) -> list:
+    """
+    Return the camera's fixes of a flight delivered by ``lead`` s before the landing.
+
+    As bench/prediction_benchmark.py's run_flight makes them (same seeds, phase and noise),
+    including its one camera.step call to the landing + 1 s, whose bounded queue (256) keeps
+    only the newest captures of a long flight; ``whole`` steps the camera 0.1 s at a time
+    instead (every capture delivered, the same noise on each).
+    """
+    flight = Flight.from_release(release)
+    rng = np.random.default_rng(seed)
+    cam = Camera(CameraSettings(rate=RATE, noise=NOISE, latency=LATENCY, seed=seed))
+    cam.restart(float(rng.uniform(0.0, 1.0 / RATE)))
+    end = t_land + 1.0
+    nows = np.append(np.arange(0.1, end, 0.1), end) if whole else [end]
+    obs = []
+    for now in nows:
+        obs += cam.step(float(now), lambda t: flight.state_at(t)[:3])
+    return [o for o in obs if o.stamp < t_land and o.delivery <= t_land - lead]
+
+
+def flight_setup(release, seed: int, lead: float, whole: bool = False):
+    """Return (t_land, xy_land, the fixes (:func:`camera_fixes`), their model)."""
     truth = Flight.from_release(release).simulate(rate=100.0, duration=20.0)
     t_land = float(truth.times[-1])
-    phase = float(np.random.default_rng(seed).uniform(0.0, 1.0 / RATE))  # as run_flight's
-    t_eval = t_land - lead
-    count = 0
-    while True:  # the Camera's own arithmetic: stamp = release + k / rate, + latency
-        stamp = phase + count / RATE
-        if not (stamp + LATENCY <= t_eval and stamp < t_land):
-            break
-        count += 1
-    return t_land, truth.positions[-1, :2], phase, count
+    obs = camera_fixes(release, seed, t_land, lead, whole)
+    model = ThrowModel(obs[0].stamp, 1.0 / RATE, len(obs), aero=AeroModel())
+    if not np.allclose(model.times, [o.stamp for o in obs], rtol=0.0, atol=1e-9):
+        raise RuntimeError('the fixes are not on one 60 Hz grid')
+    return t_land, truth.positions[-1, :2], obs, model
 
 
-def jacobians(release, phase: float, count: int, xy_land) -> dict:
+def jacobians(release, model: ThrowModel, xy_land) -> dict:
     """Return theta's names and the Jacobians of the fixes (3 count, n) and landing (2, n)."""
-    model = ThrowModel(phase, 1.0 / RATE, count, aero=AeroModel())
+    count = model.times.size
     theta = model.theta_of(release)
     steps = [FD_STEPS[n] for n in model.names]
     f0, jac = central_jacobian(model.evaluate, theta, steps)
@@ -126,27 +149,20 @@ def prior_sigmas(prior: str, known=(), **changes) -> dict:
     axis_s, spin_s, scale_s = PRIORS[prior]
     sig = {'alpha0': axis_s, 'beta0': axis_s, 'spin': spin_s, 'kd': scale_s, 'kl': scale_s}
     sig.update(changes)
-    sig.update({n: 0.0 for n in known})
+    sig.update(dict.fromkeys(known, 0.0))
     return sig
 
 
-def tracker_errors(
-    release, seed: int, t_land: float, xy_land, lead: float, changes: dict
-) -> dict:
+def tracker_errors(release, obs: list, xy_land, changes: dict) -> dict:
     """
-    Replay the benchmark's fixes (as run_flight makes them) into the tracker.
+    Replay the fixes ``obs`` (:func:`camera_fixes`) into the tracker.
 
     Told nothing / the spin / the coefficients / both (the benchmark's oracle settings), with
     ``changes`` to every TrackerSettings. Per variant: (landing error [m], |spin| error
     [rpm], hand right).
     """
-    flight = Flight.from_release(release)
-    rng = np.random.default_rng(seed)
-    cam = Camera(CameraSettings(rate=RATE, noise=NOISE, latency=LATENCY, seed=seed))
-    cam.restart(float(rng.uniform(0.0, 1.0 / RATE)))
-    obs = [o for o in cam.step(t_land + 1.0, lambda t: flight.state_at(t)[:3]) if o.stamp < t_land]
-    spin = dict(spin_rpm=abs(release.spin_rpm), spin_sigma=0.01)
-    coefs = dict(scale_sigma=0.01, aero=release.aero_model())
+    spin = {'spin_rpm': abs(release.spin_rpm), 'spin_sigma': 0.01}
+    coefs = {'scale_sigma': 0.01, 'aero': release.aero_model()}
     settings = {
         'neither known': {},
         'spin known': spin,
@@ -157,8 +173,7 @@ def tracker_errors(
     for name, kw in settings.items():
         tracker = FlightTracker(TrackerSettings(**{**kw, **changes}))
         for o in obs:
-            if o.delivery <= t_land - lead:
-                tracker.update(o.stamp, o.position)
+            tracker.update(o.stamp, o.position)
         pred = tracker.predict_landing()
         est = tracker.estimate
         if pred is None or est is None:
@@ -175,7 +190,46 @@ def tracker_errors(
     return out
 
 
+def map_errors(release, obs: list, model: ThrowModel, xy_land) -> dict:
+    """
+    Landing error [m] of the batch MAP fit (Gauss-Newton, benchmark prior) on the fixes ``obs``.
+
+    Per :data:`KNOWN` set: theta maximising the posterior (least squares of the fixes and
+    the prior), started at the prior mean for the axis offsets, spin (right hand) and scales
+    and at the truth for the release point and velocity (the fixes hold them tightly); the
+    landing of that theta. Achieving the bound tells that it is tight (the linearisation holds).
+    """
+    z = np.concatenate([o.position for o in obs])
+    truth = model.theta_of(release)
+    mean = {'alpha0': 0.0, 'beta0': 0.0, 'kd': 1.0, 'kl': 1.0,
+            'spin': math.copysign(600.0 * RPM, release.spin_rpm)}
+    out = {}
+    for kname, known in KNOWN.items():
+        sig = prior_sigmas('benchmark', known)
+        free = [i for i, n in enumerate(model.names) if sig.get(n, math.inf) > 0.0]
+        mu = np.array([mean.get(model.names[i], 0.0) for i in free])
+        w = np.array([1.0 / sig[model.names[i]] if model.names[i] in sig else 0.0 for i in free])
+
+        def full(xf, free=free):
+            th = truth.copy()
+            th[free] = xf
+            return th
+
+        def resid(xf, full=full, mu=mu, w=w):
+            f = model.evaluate(full(xf))
+            return np.concatenate([(f[: z.size] - z) / NOISE, w * (xf - mu)])
+
+        steps = [FD_STEPS[model.names[i]] for i in free]
+        x0 = np.where(w > 0.0, mu, truth[free])
+        fit = least_squares(resid, x0, jac=lambda xf: central_jacobian(resid, xf, steps)[1],
+                            method='lm', x_scale='jac')
+        land = model.evaluate(full(fit.x))[-3:-1]
+        out[kname] = float(np.linalg.norm(land - xy_land))
+    return out
+
+
 def _value(text: str):
+    """Parse a --set value (int or float)."""
     try:
         return int(text)
     except ValueError:
@@ -191,6 +245,9 @@ def main() -> None:
     ap.add_argument('--tracker', action='store_true', help='replay the fixes into the tracker')
     ap.add_argument('--set', nargs='*', default=[], metavar='NAME=VALUE',
                     help='TrackerSettings changes for the replay, e.g. accel_noise=0')
+    ap.add_argument('--whole', action='store_true',
+                    help='every capture delivered (no loss in the benchmark camera queue)')
+    ap.add_argument('--map', action='store_true', help='batch MAP fit on the same fixes')
     ap.add_argument('--draws', type=int, default=4000)
     args = ap.parse_args()
     changes = {k: _value(v) for k, v in (item.split('=', 1) for item in args.set)}
@@ -200,21 +257,25 @@ def main() -> None:
         f'camera {RATE:g} Hz, noise {NOISE * 100:g} cm, latency {LATENCY * 1000:g} ms; '
         f'lead {args.lead:g} s; {args.flights} flights per case, seed {args.seed}'
         + (f'; tracker settings changed: {changes}' if changes else '')
+        + ('; every capture delivered (--whole)' if args.whole else
+           "; fixes as the benchmark's camera queue delivers them")
     )
     for case in cases:
         ci = list(CASES).index(case)
         releases = random_releases(np.random.default_rng(args.seed * 1000 + ci), args.flights,
                                    CASES[case])
         t0 = time.perf_counter()
-        t_lands, jacs, trk, fixes = [], [], [], []
+        t_lands, jacs, trk, fixes, maps = [], [], [], [], []
         for k, release in enumerate(releases):
             seed = args.seed * 100000 + ci * 1000 + k
-            t_land, xy_land, phase, count = flight_setup(release, seed, args.lead)
+            t_land, xy_land, obs, model = flight_setup(release, seed, args.lead, args.whole)
             t_lands.append(t_land)
-            fixes.append(count)
-            jacs.append(jacobians(release, phase, count, xy_land))
+            fixes.append(len(obs))
+            jacs.append(jacobians(release, model, xy_land))
             if args.tracker:
-                trk.append(tracker_errors(release, seed, t_land, xy_land, args.lead, changes))
+                trk.append(tracker_errors(release, obs, xy_land, changes))
+            if args.map:
+                maps.append(map_errors(release, obs, model, xy_land))
         t_lands = np.array(t_lands)
         print(f'\ncase: true coefficients {case} ({time.perf_counter() - t0:.0f} s; fixes per '
               f'flight {min(fixes)}-{max(fixes)})')
@@ -242,6 +303,11 @@ def main() -> None:
         for pname in PRIORS:
             for kname, known in KNOWN.items():
                 meds[(pname, kname)] = row(f'{pname} prior, {kname}', prior_sigmas(pname, known))
+        cells = []
+        for kname, known in KNOWN.items():
+            c = np.array([posterior(j, prior_sigmas('benchmark', known))[0] for j in jacs])
+            cells.append(f'{kname} {np.mean(pooled_medians(c, args.draws, 1) <= 0.05):.3f}')
+        print(f'{"P(median <= 5 cm) at the bound":>40}   benchmark prior: ' + ', '.join(cells))
         print('sensitivity (benchmark prior, neither known, but):')
         for scale in (0.2, 0.1, 0.05):
             row(f'scale sigma {scale:g}', prior_sigmas('benchmark', kd=scale, kl=scale))
@@ -250,6 +316,17 @@ def main() -> None:
                 prior_sigmas('benchmark', spin=frac * PRIORS['benchmark'][1]))
         row('release point known (0, 0, 1.8)', prior_sigmas('benchmark', ('x0', 'y0', 'z0')))
         row('axis offsets known', prior_sigmas('benchmark', ('alpha0', 'beta0')))
+        if args.map:
+            print(f'{"batch MAP on the same fixes [cm]":>40}'
+                  + f'{"median  (x bound)":>26}' * len(masks))
+            for kname in KNOWN:
+                err = np.array([mp[kname] for mp in maps])
+                ratio = err / meds[('benchmark', kname)]
+                cells = ''.join(
+                    f'{np.median(err[m]) * 100:>16.2f}  (x {np.median(ratio[m]):.2f})'
+                    if m.any() else f'{"-":>26}' for _, m in masks
+                )
+                print(f'{"MAP, " + kname:>40}{cells}')
         if not args.tracker:
             continue
         print(f'{"tracker replay [cm]":>40}' + f'{"median  (x bound)":>26}' * len(masks))

@@ -98,14 +98,15 @@ class ThrowModel:
         if not math.isclose(a.c_d2, kd * self.aero.c_d2, rel_tol=1e-9):
             raise ValueError('the release scales C_D0 and C_D2 differently: not one drag scale')
         kl = a.c_l_alpha / self.aero.c_l_alpha
-        values = dict(
-            x0=release.position[0], y0=release.position[1], z0=release.position[2],
-            speed=release.speed, elevation=math.radians(release.elevation_deg),
-            azimuth=math.radians(release.azimuth_deg), alpha0=math.radians(release.alpha0_deg),
-            beta0=math.radians(release.beta0_deg), spin=release.spin_rpm * RPM, kd=kd, kl=kl,
-            alpha_rate=math.radians(release.alpha_rate_deg_s),
-            beta_rate=math.radians(release.beta_rate_deg_s),
-        )
+        values = {
+            'x0': release.position[0], 'y0': release.position[1], 'z0': release.position[2],
+            'speed': release.speed, 'elevation': math.radians(release.elevation_deg),
+            'azimuth': math.radians(release.azimuth_deg),
+            'alpha0': math.radians(release.alpha0_deg), 'beta0': math.radians(release.beta0_deg),
+            'spin': release.spin_rpm * RPM, 'kd': kd, 'kl': kl,
+            'alpha_rate': math.radians(release.alpha_rate_deg_s),
+            'beta_rate': math.radians(release.beta_rate_deg_s),
+        }
         return np.array([values[n] for n in self.names], dtype=float)
 
     def flight(self, theta: np.ndarray) -> Flight:
