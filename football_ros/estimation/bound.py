@@ -21,6 +21,9 @@ Near the truth the posterior covariance is Sigma = (J' J / noise^2 + prior)^-1, 
 theta at the fixes, and the landing point's is C = G Sigma G', G = d (x, y)_landing / d theta:
 the Bayesian Cramer-Rao bound of any predictor that uses these fixes and this prior, linearised
 at the flight's true theta (exact for a linear model; no process noise, the model is the truth).
+It holds for Gaussian priors; a bounded one (a uniform spin range) is stood in for by the
+Gaussian of its variance. Whether an estimator reaches it is checked by fitting (see
+bench/prediction_bound.py --map).
 
 :class:`ThrowModel` maps theta (release position, speed, elevation, azimuth, axis offsets,
 spin, drag and lift scales, optionally the axis rates) to the fixes and the landing with the
