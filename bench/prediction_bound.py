@@ -1,0 +1,369 @@
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Information limit of the landing prediction on the prediction benchmark's own flights (headless).
+
+For each flight of bench/prediction_benchmark.py (same generator, seeds, camera phase and
+noise, 60 Hz, 2 cm, 20 ms latency), the fixes delivered by ``lead`` s before the true landing
+(as run_flight delivers them) give a Bayesian Cramer-Rao bound (the Laplace / Gauss-Newton
+posterior at the true throw, football_ros.estimation.bound) of the landing point (x, y on
+z = 0). Unknowns: the release position, speed, elevation, azimuth (flat priors), the axis
+offsets alpha0, beta0, the spin, the drag and lift scales kd, kl; the release instant and the
+hand are taken as known (both favour the bound). Priors:
+- benchmark: the benchmark's own distribution: alpha0, beta0 ~ N(0, 1.5 deg), axis rates 0
+  (known), |spin| uniform 400-800 rpm (a Gaussian of its variance: sigma 115 rpm); kd, kl
+  sigma 0.3 (the tracker's; the truth is 1 for the defaults, 1.3 / 0.7 for the others);
+- tracker: the tracker's own prior widths instead (axis 0.05 rad, spin 0.3 x 600 rpm);
+each with the spin known, the coefficients known (sigma -> 0) and both known, and a few
+sensitivity rows (narrower priors, release point known, axis offsets known).
+Per flight, the 2x2 covariance C gives the median of |e| under N(0, C) (exact); per set, the
+median of these over flights ("med(med)"), and the median over flights of one draw per flight
+("pooled": what a benchmark of these flights reports for an estimator at the bound; mean +/- sd
+over draws), overall and by flight time (< 2.2 / 2.2-2.8 / > 2.8 s), and the probability that
+the pooled median is <= 5 cm (the issue's target).
+``--map`` fits the throw to the same fixes (batch MAP, Gauss-Newton, benchmark prior; hand
+known): an estimator that reaches the bound shows that the bound is tight. ``--tracker``
+replays the same fixes into the tracker (told nothing / the spin / the coefficients / both, as
+the benchmark's oracle; ``--set`` changes TrackerSettings) and prints its median error and the
+median over flights of its error over the bound's per-flight median (1 = at the limit), its
+|spin| error and how often it picked the right hand. ``--whole`` delivers every capture (the
+benchmark's single camera.step call lets the camera's bounded queue drop the first captures of
+flights longer than about 3.25 s).
+
+    .venv/bin/python bench/prediction_bound.py [--flights 60] [--seed 1] [--lead 1.0]
+        [--all-cases] [--map] [--tracker [--set NAME=VALUE ...]] [--whole]
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import math
+import os
+import sys
+import time
+
+from football_ros.estimation import Camera, CameraSettings, FlightTracker, TrackerSettings
+from football_ros.estimation.bound import (
+    central_jacobian,
+    FD_STEPS,
+    pooled_median,
+    pooled_medians,
+    posterior_covariance,
+    QUARTILE,
+    radial_median,
+    ThrowModel,
+)
+from football_ros.estimation.tracker import X_H, X_S
+from football_ros.physics import Flight
+from football_ros.physics.aero import AeroModel
+from football_ros.physics.release import RPM
+import numpy as np
+from scipy.optimize import least_squares
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+_benchmark = importlib.import_module('prediction_benchmark')  # its flights, camera and cases
+CASES, LATENCY, NOISE, RATE = (_benchmark.CASES, _benchmark.LATENCY, _benchmark.NOISE,
+                               _benchmark.RATE)
+random_releases = _benchmark.random_releases
+
+CLASSES = (('< 2.2 s', 0.0, 2.2), ('2.2-2.8 s', 2.2, 2.8), ('> 2.8 s', 2.8, math.inf))
+PRIORS = {
+    # name: (axis offset sigma [rad], spin sigma [rad/s], scale sigma)
+    'benchmark': (math.radians(1.5), 400.0 / math.sqrt(12.0) * RPM, 0.3),
+    'tracker': (0.05, 0.3 * 600.0 * RPM, 0.3),
+}
+KNOWN = {
+    'neither known': (),
+    'spin known': ('spin',),
+    'coefs known': ('kd', 'kl'),
+    'both known': ('spin', 'kd', 'kl'),
+}
+TRACKER_ROWS = ('neither known', 'spin known', 'coefs known', 'both known')
+
+
+def camera_fixes(release, seed: int, t_land: float, lead: float, whole: bool = False) -> list:
+    """
+    Return the camera's fixes of a flight delivered by ``lead`` s before the landing.
+
+    As bench/prediction_benchmark.py's run_flight makes them (same seeds, phase and noise),
+    including its one camera.step call to the landing + 1 s, whose bounded queue (256) keeps
+    only the newest captures of a long flight; ``whole`` steps the camera 0.1 s at a time
+    instead (every capture delivered, the same noise on each).
+    """
+    flight = Flight.from_release(release)
+    rng = np.random.default_rng(seed)
+    cam = Camera(CameraSettings(rate=RATE, noise=NOISE, latency=LATENCY, seed=seed))
+    cam.restart(float(rng.uniform(0.0, 1.0 / RATE)))
+    end = t_land + 1.0
+    nows = np.append(np.arange(0.1, end, 0.1), end) if whole else [end]
+    obs = []
+    for now in nows:
+        obs += cam.step(float(now), lambda t: flight.state_at(t)[:3])
+    return [o for o in obs if o.stamp < t_land and o.delivery <= t_land - lead]
+
+
+def flight_setup(release, seed: int, lead: float, whole: bool = False):
+    """Return (t_land, xy_land, the fixes (:func:`camera_fixes`), their model)."""
+    truth = Flight.from_release(release).simulate(rate=100.0, duration=20.0)
+    t_land = float(truth.times[-1])
+    obs = camera_fixes(release, seed, t_land, lead, whole)
+    model = ThrowModel(obs[0].stamp, 1.0 / RATE, len(obs), aero=AeroModel())
+    if not np.allclose(model.times, [o.stamp for o in obs], rtol=0.0, atol=1e-9):
+        raise RuntimeError('the fixes are not on one 60 Hz grid')
+    return t_land, truth.positions[-1, :2], obs, model
+
+
+def jacobians(release, model: ThrowModel, xy_land) -> dict:
+    """Return theta's names and the Jacobians of the fixes (3 count, n) and landing (2, n)."""
+    count = model.times.size
+    theta = model.theta_of(release)
+    steps = [FD_STEPS[n] for n in model.names]
+    f0, jac = central_jacobian(model.evaluate, theta, steps)
+    if np.linalg.norm(f0[-3:-1] - xy_land) > 1e-6:
+        raise RuntimeError(f'the model misses the true landing by {f0[-3:-1] - xy_land}')
+    return {'names': model.names, 'fixes': jac[: 3 * count],
+            'landing': jac[3 * count: 3 * count + 2]}
+
+
+def posterior(jac: dict, sigmas: dict) -> tuple[np.ndarray, np.ndarray, list]:
+    """
+    Return the landing covariance (2, 2), the parameters' and their names.
+
+    ``sigmas``: prior sigma per parameter name (0 = known, absent = flat).
+    """
+    names = [n for n in jac['names'] if sigmas.get(n, math.inf) > 0.0]
+    keep = [jac['names'].index(n) for n in names]
+    prior = np.diag([1.0 / sigmas[n] ** 2 if n in sigmas else 0.0 for n in names])
+    cov = posterior_covariance(jac['fixes'][:, keep], NOISE, prior)
+    g = jac['landing'][:, keep]
+    return g @ cov @ g.T, cov, names
+
+
+def prior_sigmas(prior: str, known=(), **changes) -> dict:
+    """Prior sigma per parameter for a :data:`PRIORS` entry, ``known`` ones at 0."""
+    axis_s, spin_s, scale_s = PRIORS[prior]
+    sig = {'alpha0': axis_s, 'beta0': axis_s, 'spin': spin_s, 'kd': scale_s, 'kl': scale_s}
+    sig.update(changes)
+    sig.update(dict.fromkeys(known, 0.0))
+    return sig
+
+
+def tracker_errors(release, obs: list, xy_land, changes: dict) -> dict:
+    """
+    Replay the fixes ``obs`` (:func:`camera_fixes`) into the tracker.
+
+    Told nothing / the spin / the coefficients / both (the benchmark's oracle settings), with
+    ``changes`` to every TrackerSettings. Per variant: (landing error [m], |spin| error
+    [rpm], hand right).
+    """
+    spin = {'spin_rpm': abs(release.spin_rpm), 'spin_sigma': 0.01}
+    coefs = {'scale_sigma': 0.01, 'aero': release.aero_model()}
+    settings = {
+        'neither known': {},
+        'spin known': spin,
+        'coefs known': coefs,
+        'both known': {**spin, **coefs},
+    }
+    out = {}
+    for name, kw in settings.items():
+        tracker = FlightTracker(TrackerSettings(**{**kw, **changes}))
+        for o in obs:
+            tracker.update(o.stamp, o.position)
+        pred = tracker.predict_landing()
+        est = tracker.estimate
+        if pred is None or est is None:
+            out[name] = (math.nan, math.nan, False)
+            continue
+        x = est[1]
+        h1 = float(x[X_H:X_H + 3] @ x[X_S:X_S + 3])
+        spin_rpm = h1 / tracker.ball.inertia_ratio / RPM
+        out[name] = (
+            float(np.linalg.norm(pred.position[:2] - xy_land)),
+            abs(abs(spin_rpm) - abs(release.spin_rpm)),
+            bool(np.sign(spin_rpm) == np.sign(release.spin_rpm)),
+        )
+    return out
+
+
+def map_errors(release, obs: list, model: ThrowModel, xy_land) -> dict:
+    """
+    Landing error [m] of the batch MAP fit (Gauss-Newton, benchmark prior) on the fixes ``obs``.
+
+    Per :data:`KNOWN` set: theta maximising the posterior (least squares of the fixes and
+    the prior), started at the prior mean for the axis offsets, spin (right hand) and scales
+    and at the truth for the release point and velocity (the fixes hold them tightly); the
+    landing of that theta. Achieving the bound tells that it is tight (the linearisation holds).
+    """
+    z = np.concatenate([o.position for o in obs])
+    truth = model.theta_of(release)
+    mean = {'alpha0': 0.0, 'beta0': 0.0, 'kd': 1.0, 'kl': 1.0,
+            'spin': math.copysign(600.0 * RPM, release.spin_rpm)}
+    out = {}
+    for kname, known in KNOWN.items():
+        sig = prior_sigmas('benchmark', known)
+        free = [i for i, n in enumerate(model.names) if sig.get(n, math.inf) > 0.0]
+        mu = np.array([mean.get(model.names[i], 0.0) for i in free])
+        w = np.array([1.0 / sig[model.names[i]] if model.names[i] in sig else 0.0 for i in free])
+
+        def full(xf, free=free):
+            th = truth.copy()
+            th[free] = xf
+            return th
+
+        def resid(xf, full=full, mu=mu, w=w):
+            f = model.evaluate(full(xf))
+            return np.concatenate([(f[: z.size] - z) / NOISE, w * (xf - mu)])
+
+        steps = [FD_STEPS[model.names[i]] for i in free]
+        x0 = np.where(w > 0.0, mu, truth[free])
+        fit = least_squares(resid, x0, jac=lambda xf: central_jacobian(resid, xf, steps)[1],
+                            method='lm', x_scale='jac')
+        land = model.evaluate(full(fit.x))[-3:-1]
+        out[kname] = float(np.linalg.norm(land - xy_land))
+    return out
+
+
+def _value(text: str):
+    """Parse a --set value (int or float)."""
+    try:
+        return int(text)
+    except ValueError:
+        return float(text)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
+    ap.add_argument('--flights', type=int, default=60, help='flights per case')
+    ap.add_argument('--seed', type=int, default=1)
+    ap.add_argument('--lead', type=float, default=1.0, help='lead time before the landing [s]')
+    ap.add_argument('--all-cases', action='store_true', help='also the 30 %%-off cases')
+    ap.add_argument('--tracker', action='store_true', help='replay the fixes into the tracker')
+    ap.add_argument('--set', nargs='*', default=[], metavar='NAME=VALUE',
+                    help='TrackerSettings changes for the replay, e.g. accel_noise=0')
+    ap.add_argument('--whole', action='store_true',
+                    help='every capture delivered (no loss in the benchmark camera queue)')
+    ap.add_argument('--map', action='store_true', help='batch MAP fit on the same fixes')
+    ap.add_argument('--draws', type=int, default=4000)
+    args = ap.parse_args()
+    changes = {k: _value(v) for k, v in (item.split('=', 1) for item in args.set)}
+    TrackerSettings(**changes)  # validate before the long loop
+    cases = list(CASES) if args.all_cases else ['defaults']
+    print(
+        f'camera {RATE:g} Hz, noise {NOISE * 100:g} cm, latency {LATENCY * 1000:g} ms; '
+        f'lead {args.lead:g} s; {args.flights} flights per case, seed {args.seed}'
+        + (f'; tracker settings changed: {changes}' if changes else '')
+        + ('; every capture delivered (--whole)' if args.whole else
+           "; fixes as the benchmark's camera queue delivers them")
+    )
+    for case in cases:
+        ci = list(CASES).index(case)
+        releases = random_releases(np.random.default_rng(args.seed * 1000 + ci), args.flights,
+                                   CASES[case])
+        t0 = time.perf_counter()
+        t_lands, jacs, trk, fixes, maps = [], [], [], [], []
+        for k, release in enumerate(releases):
+            seed = args.seed * 100000 + ci * 1000 + k
+            t_land, xy_land, obs, model = flight_setup(release, seed, args.lead, args.whole)
+            t_lands.append(t_land)
+            fixes.append(len(obs))
+            jacs.append(jacobians(release, model, xy_land))
+            if args.tracker:
+                trk.append(tracker_errors(release, obs, xy_land, changes))
+            if args.map:
+                maps.append(map_errors(release, obs, model, xy_land))
+        t_lands = np.array(t_lands)
+        print(f'\ncase: true coefficients {case} ({time.perf_counter() - t0:.0f} s; fixes per '
+              f'flight {min(fixes)}-{max(fixes)})')
+        masks = [('all', np.ones(t_lands.size, bool))] + [
+            (name, (t_lands >= lo) & (t_lands < hi)) for name, lo, hi in CLASSES
+        ]
+        head = ''.join(f'{f"{name} (n={m.sum()})":>26}' for name, m in masks)
+        print(f'{"landing error at the bound [cm]":>40}{head}')
+        print(f'{"":>40}' + f'{"med(med)  pooled +/- sd":>26}' * len(masks))
+
+        def row(label: str, sigmas: dict) -> np.ndarray:
+            c = np.array([posterior(j, sigmas)[0] for j in jacs])
+            meds = np.array([radial_median(x) for x in c])
+            cells = ''
+            for _, m in masks:
+                if not m.any():
+                    cells += f'{"-":>26}'
+                    continue
+                mean, sd = pooled_median(c[m], args.draws, seed=1)
+                cells += f'{np.median(meds[m]) * 100:>10.2f}{mean * 100:>9.2f} +/-{sd * 100:>4.1f}'
+            print(f'{label:>40}{cells}')
+            return meds
+
+        meds = {}
+        for pname in PRIORS:
+            for kname, known in KNOWN.items():
+                meds[(pname, kname)] = row(f'{pname} prior, {kname}', prior_sigmas(pname, known))
+        cells = []
+        for kname, known in KNOWN.items():
+            c = np.array([posterior(j, prior_sigmas('benchmark', known))[0] for j in jacs])
+            cells.append(f'{kname} {np.mean(pooled_medians(c, args.draws, 1) <= 0.05):.3f}')
+        print(f'{"P(median <= 5 cm) at the bound":>40}   benchmark prior: ' + ', '.join(cells))
+        print('sensitivity (benchmark prior, neither known, but):')
+        for scale in (0.2, 0.1, 0.05):
+            row(f'scale sigma {scale:g}', prior_sigmas('benchmark', kd=scale, kl=scale))
+        for frac in (0.5, 0.25):
+            row(f'spin sigma x {frac:g}',
+                prior_sigmas('benchmark', spin=frac * PRIORS['benchmark'][1]))
+        row('release point known (0, 0, 1.8)', prior_sigmas('benchmark', ('x0', 'y0', 'z0')))
+        row('axis offsets known', prior_sigmas('benchmark', ('alpha0', 'beta0')))
+        if args.map:
+            print(f'{"batch MAP on the same fixes [cm]":>40}'
+                  + f'{"median  (x bound)":>26}' * len(masks))
+            for kname in KNOWN:
+                err = np.array([mp[kname] for mp in maps])
+                ratio = err / meds[('benchmark', kname)]
+                cells = ''.join(
+                    f'{np.median(err[m]) * 100:>16.2f}  (x {np.median(ratio[m]):.2f})'
+                    if m.any() else f'{"-":>26}' for _, m in masks
+                )
+                print(f'{"MAP, " + kname:>40}{cells}')
+        if not args.tracker:
+            continue
+        print(f'{"tracker replay [cm]":>40}' + f'{"median  (x bound)":>26}' * len(masks))
+        for kname in TRACKER_ROWS:
+            err = np.array([t[kname][0] for t in trk])
+            ratio = err / meds[('benchmark', kname)]  # 1 at the limit
+            cells = ''
+            for _, m in masks:
+                if not m.any():
+                    cells += f'{"-":>26}'
+                    continue
+                cells += f'{np.nanmedian(err[m]) * 100:>16.2f}  (x {np.nanmedian(ratio[m]):.2f})'
+            print(f'{"tracker, " + kname:>40}{cells}')
+        # The spin: the tracker's |spin| error against the bound's (median of |N(0, var)|).
+        spin_err = np.array([t['neither known'][1] for t in trk])
+        spin_bound = []
+        for j in jacs:
+            _, cov, names = posterior(j, prior_sigmas('benchmark'))
+            spin_bound.append(QUARTILE * math.sqrt(cov[names.index('spin'), names.index('spin')]))
+        spin_bound = np.array(spin_bound) / RPM
+        hand = np.array([t['neither known'][2] for t in trk])
+        cells = ''.join(
+            f'{np.nanmedian(spin_err[m]):>16.0f}  (x {np.nanmedian(spin_bound[m]):.0f})'
+            for _, m in masks
+        )
+        print(f'{"|spin| error [rpm] (bound median)":>40}{cells}')
+        print(f'{"hand right (tracker, neither known)":>40}'
+              + ''.join(f'{f"{hand[m].sum()}/{m.sum()}":>26}' for _, m in masks))
+
+
+if __name__ == '__main__':
+    main()
