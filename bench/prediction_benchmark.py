@@ -37,11 +37,9 @@ axis offsets 1.5 deg, |spin| uniform 400-800 rpm, hand known, drag and lift scal
 at 1 s lead, defaults, 60 flights: 7.6 cm median (an estimator at the bound reports 7.6 +/- 0.9
 cm on these flights, <= 5 cm in under 0.1 % of noise draws); spin known 5.5, coefficients
 known 5.1 to 5.5 (<= 5 cm in half the draws), both 2.2 cm. A batch MAP fit on the same fixes
-reaches it (6.4 / 5.0 / 4.6 / 2.2 cm); the tracker is 1.3 to 1.7 times the bound (10.1 / 7.0
-/ 8.8 / 3.4 cm). The 5 cm target is below what these fixes tell unless the coefficients are
-known. Note: run_flight's one camera.step call to the landing + 1 s keeps the newest 256
-captures (the camera's bounded queue): flights longer than about 3.25 s lose their first
-captures (7 of the 60 defaults flights, up to 0.48 s); the medians hardly change.
+reaches it (6.4 / 5.0 / 4.6 / 2.2 cm); the tracker is 1.2 to 1.8 times the bound (10.1 / 7.0
+/ 8.4 / 3.4 cm). The 5 cm target is below what these fixes tell unless the coefficients are
+known.
 
     .venv/bin/python bench/prediction_benchmark.py [--flights 60] [--seed 1]
 """
@@ -178,15 +176,28 @@ def drag_landing(t: np.ndarray, z: np.ndarray, guess_v: np.ndarray):
 
 
 # --- one flight ---------------------------------------------------------------------------------
-def run_flight(release: Release, seed: int, settings=None, oracle: bool = True):
-    truth = Flight.from_release(release).simulate(rate=100.0, duration=20.0)
-    t_land = float(truth.times[-1])
-    xy_land = truth.positions[-1, :2]
+def camera_fixes(release: Release, seed: int, t_land: float) -> list:
+    """
+    Return the seeded camera's observations of a flight captured before its landing [s].
+
+    The camera runs to the landing + 1 s in 0.1 s steps (its delivery queue is bounded).
+    """
     flight = Flight.from_release(release)
     rng = np.random.default_rng(seed)
     cam = Camera(CameraSettings(rate=RATE, noise=NOISE, latency=LATENCY, seed=seed))
     cam.restart(float(rng.uniform(0.0, 1.0 / RATE)))
-    obs = [o for o in cam.step(t_land + 1.0, lambda t: flight.state_at(t)[:3]) if o.stamp < t_land]
+    end = t_land + 1.0
+    obs = []
+    for now in np.append(np.arange(0.1, end, 0.1), end):
+        obs += cam.step(float(now), lambda t: flight.state_at(t)[:3])
+    return [o for o in obs if o.stamp < t_land]
+
+
+def run_flight(release: Release, seed: int, settings=None, oracle: bool = True):
+    truth = Flight.from_release(release).simulate(rate=100.0, duration=20.0)
+    t_land = float(truth.times[-1])
+    xy_land = truth.positions[-1, :2]
+    obs = camera_fixes(release, seed, t_land)
     tracker = FlightTracker(settings)
     known = FlightTracker(
         TrackerSettings(

@@ -38,12 +38,10 @@ known): an estimator that reaches the bound shows that the bound is tight. ``--t
 replays the same fixes into the tracker (told nothing / the spin / the coefficients / both, as
 the benchmark's oracle; ``--set`` changes TrackerSettings) and prints its median error and the
 median over flights of its error over the bound's per-flight median (1 = at the limit), its
-|spin| error and how often it picked the right hand. ``--whole`` delivers every capture (the
-benchmark's single camera.step call lets the camera's bounded queue drop the first captures of
-flights longer than about 3.25 s).
+|spin| error and how often it picked the right hand.
 
     .venv/bin/python bench/prediction_bound.py [--flights 60] [--seed 1] [--lead 1.0]
-        [--all-cases] [--map] [--tracker [--set NAME=VALUE ...]] [--whole]
+        [--all-cases] [--map] [--tracker [--set NAME=VALUE ...]]
 """
 
 from __future__ import annotations
@@ -55,7 +53,7 @@ import os
 import sys
 import time
 
-from football_ros.estimation import Camera, CameraSettings, FlightTracker, TrackerSettings
+from football_ros.estimation import FlightTracker, TrackerSettings
 from football_ros.estimation.bound import (
     central_jacobian,
     FD_STEPS,
@@ -94,32 +92,17 @@ KNOWN = {
 TRACKER_ROWS = ('neither known', 'spin known', 'coefs known', 'both known')
 
 
-def camera_fixes(release, seed: int, t_land: float, lead: float, whole: bool = False) -> list:
-    """
-    Return the camera's fixes of a flight delivered by ``lead`` s before the landing.
-
-    As bench/prediction_benchmark.py's run_flight makes them (same seeds, phase and noise),
-    including its one camera.step call to the landing + 1 s, whose bounded queue (256) keeps
-    only the newest captures of a long flight; ``whole`` steps the camera 0.1 s at a time
-    instead (every capture delivered, the same noise on each).
-    """
-    flight = Flight.from_release(release)
-    rng = np.random.default_rng(seed)
-    cam = Camera(CameraSettings(rate=RATE, noise=NOISE, latency=LATENCY, seed=seed))
-    cam.restart(float(rng.uniform(0.0, 1.0 / RATE)))
-    end = t_land + 1.0
-    nows = np.append(np.arange(0.1, end, 0.1), end) if whole else [end]
-    obs = []
-    for now in nows:
-        obs += cam.step(float(now), lambda t: flight.state_at(t)[:3])
-    return [o for o in obs if o.stamp < t_land and o.delivery <= t_land - lead]
+def camera_fixes(release, seed: int, t_land: float, lead: float) -> list:
+    """Return the benchmark camera's fixes of a flight delivered by ``lead`` s before landing."""
+    fixes = _benchmark.camera_fixes(release, seed, t_land)
+    return [o for o in fixes if o.delivery <= t_land - lead]
 
 
-def flight_setup(release, seed: int, lead: float, whole: bool = False):
+def flight_setup(release, seed: int, lead: float):
     """Return (t_land, xy_land, the fixes (:func:`camera_fixes`), their model)."""
     truth = Flight.from_release(release).simulate(rate=100.0, duration=20.0)
     t_land = float(truth.times[-1])
-    obs = camera_fixes(release, seed, t_land, lead, whole)
+    obs = camera_fixes(release, seed, t_land, lead)
     model = ThrowModel(obs[0].stamp, 1.0 / RATE, len(obs), aero=AeroModel())
     if not np.allclose(model.times, [o.stamp for o in obs], rtol=0.0, atol=1e-9):
         raise RuntimeError('the fixes are not on one 60 Hz grid')
@@ -253,8 +236,6 @@ def main() -> None:
     ap.add_argument('--tracker', action='store_true', help='replay the fixes into the tracker')
     ap.add_argument('--set', nargs='*', default=[], metavar='NAME=VALUE',
                     help='TrackerSettings changes for the replay, e.g. accel_noise=0')
-    ap.add_argument('--whole', action='store_true',
-                    help='every capture delivered (no loss in the benchmark camera queue)')
     ap.add_argument('--map', action='store_true', help='batch MAP fit on the same fixes')
     ap.add_argument('--draws', type=int, default=4000)
     args = ap.parse_args()
@@ -265,8 +246,6 @@ def main() -> None:
         f'camera {RATE:g} Hz, noise {NOISE * 100:g} cm, latency {LATENCY * 1000:g} ms; '
         f'lead {args.lead:g} s; {args.flights} flights per case, seed {args.seed}'
         + (f'; tracker settings changed: {changes}' if changes else '')
-        + ('; every capture delivered (--whole)' if args.whole else
-           "; fixes as the benchmark's camera queue delivers them")
     )
     for case in cases:
         ci = list(CASES).index(case)
@@ -276,7 +255,7 @@ def main() -> None:
         t_lands, jacs, trk, fixes, maps = [], [], [], [], []
         for k, release in enumerate(releases):
             seed = args.seed * 100000 + ci * 1000 + k
-            t_land, xy_land, obs, model = flight_setup(release, seed, args.lead, args.whole)
+            t_land, xy_land, obs, model = flight_setup(release, seed, args.lead)
             t_lands.append(t_land)
             fixes.append(len(obs))
             jacs.append(jacobians(release, model, xy_land))

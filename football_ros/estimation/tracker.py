@@ -22,18 +22,17 @@ Jacobian; sigma points need none, cost 2n + 1 = 29 compiled propagations per fra
 millisecond), and the same points carry the uncertainty through the nonlinear landing (the
 z = 0 crossing) to give the landing point's covariance and the landing time's variance. The
 measurement (a position) is linear, so the update is the exact Kalman update (Joseph form).
-Evidence that the filter is not the bottleneck: a batch maximum-a-posteriori fit (Gauss-Newton
-over the throw's initial state, spin and scales, all fixes, same priors) predicted the landing
-no better (median 13.7 cm against the filter's 12.7 cm at 1 s lead over 20 benchmark
-flights); what limits the prediction is what the fixes cannot yet tell (spin, axis,
-coefficients), see bench/prediction_benchmark.py's oracle row. With the default priors, at 1 s
-before the landing (benchmark, 40 flights, defaults): the filter told the true spin lands at
-5.3 cm median, told the true coefficients 7.1 cm, both 3.5 cm, neither 10.3 cm; its spin and
-lift scale errors are consistent with their variances (normalised squared error 0.6 to 1.6
-mean over the cases), the spin's median error is 6 to 7 %: the spin is the main unknown left,
-and the fixes do not hold it yet. Short flights dominate the median: by flight time < 2.2 /
-2.2 to 2.8 / > 2.8 s (60 flights) the median at 1 s lead is 26 / 11 / 5.3 cm (oracle 6.1 /
-2.9 / 2.0 cm).
+What limits the prediction is what the fixes cannot yet tell (spin, axis, coefficients): the
+Bayesian Cramer-Rao bound of the landing point (bench/prediction_bound.py: benchmark flights
+and fixes, the benchmark's own priors, hand known), 1 s before the landing, 60 flights,
+defaults: median 7.6 cm (spin known 5.5, coefficients known 5.5, both 2.2), 20 / 8.4 / 3.9 cm
+for flights < 2.2 / 2.2 to 2.8 / > 2.8 s; no predictor using these fixes gets the median
+under 5 cm. This filter: 10.1 cm (26 / 10.7 / 5.0), 1.3 to 1.8 times the bound, spin known
+7.0, coefficients known 8.4, both 3.4 cm; a batch maximum-a-posteriori fit (Gauss-Newton over
+the throw's parameters, all fixes, the benchmark's priors) reaches the bound (6.4 cm), an
+earlier one with this filter's wider priors did no better than the filter (13.7 cm against
+12.7 over 20 flights). The spin's median error is 39 rpm (bound 30 rpm); the hand is right in
+59 of 60 flights.
 Tried and not kept (no gain beyond the 20 to 60 flight noise, 1 cm, or a loss in another
 case): a bank of 5 to 7 filters over the spin size mixed by likelihood (5 to 7 times the cost);
 the lift-spin product kl |h1| as the state instead of kl (the side force measures the
