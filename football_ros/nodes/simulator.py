@@ -21,7 +21,8 @@ its own fixed step), so there is no drift; a tick that comes late is still publi
 scheduled stamp, and counted as an overrun on /diagnostics. All messages of one tick carry the
 same stamp. After publishing, a tick integrates the next tick's sample, so that the next tick
 publishes at its deadline whatever the integration costs (in place instead when the flight
-changed meanwhile or the simulated camera is on). After the landing the landed state is republished at ``hold_rate`` (0 = never).
+changed meanwhile or the simulated camera is on). After the landing the landed state is
+republished at ``hold_rate`` (0 = never).
 
 Threads: the pacing thread is the only one that integrates and publishes state, markers, /clock
 and /diagnostics; the executor thread serves orders, services, parameters and a 1 Hz check for
@@ -562,9 +563,10 @@ class SimulatorNode(Node):
         """
         Sample the next tick's time now, after publishing.
 
-        The next tick then publishes at its deadline whatever the integration costs. Used by the next tick only if it flies the same run at the same time. Not while the
-        simulated camera is on: it captures at times before the next tick's, and a flight
-        only integrates forward.
+        The next tick then publishes at its deadline whatever the integration costs. Used by
+        the next tick only if it flies the same run at the same time. Not while the simulated
+        camera is on: it captures at times before the next tick's, and a flight only
+        integrates forward.
         """
         with self._lock:
             if (
