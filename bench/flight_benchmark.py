@@ -15,12 +15,31 @@
 """
 Headless speed at equal accuracy: one flight, and a batch of flights, against scipy solve_ivp.
 
-    .venv/bin/python bench/flight_benchmark.py [--n 20000] [--model paper|full]
+    .venv/bin/python bench/flight_benchmark.py [--n 20000] [--model paper|full] [--asm|--zmm]
 
 The batch's floating-point work is estimated by counting (FLOPS_* below: the terms of
 dynamics.loads and the DOP853 stage sums; a sqrt or a division counts 1) times the steps its
 blocks take; the machine's peak is measured in the same run as the best of 3 float64 matrix
-products (numpy's BLAS, 2048^2, every core), and the fraction reached is printed.
+products (numpy's BLAS, 2048^2, every core), and the fraction reached is printed, also of the
+256-bit peak: the same product on OpenBLAS's AVX2 kernel (OPENBLAS_CORETYPE=Haswell, in a
+child process), what code kept to 256-bit vectors can reach. ``--asm`` counts the compiled
+kernel's float64 instructions by vector width; ``--zmm`` times the batch with LLVM's default
+vectors and with 512-bit ones (child processes, alternating).
+
+Issue 12.5, measured on 2 cores of an AVX-512 Xeon shared with other work (dgemm 127 GFLOP/s,
+256-bit dgemm 93 GFLOP/s in that run; both vary 2x with the load), the kernel before and after,
+paper model, 20000 balls, each the best of 5 in one run (work: 2774 flop per ball-step, both):
+
+    kernel                          ball-s/s   GFLOP/s  of peak  of 256-bit  angle err [rad]
+    before (loop over A's entries)   2.15e5     23.6      19 %       25 %       6.0e-8
+    after (written-out sums, FMA)    3.91e5     43.0      34 %       46 %       6.0e-8
+    after, 512-bit (--zmm)           x1.11-1.20 of the line above, not the default
+
+1.82x there, 1.8-2.3x over runs (full model 1.6-1.9x). Instructions of the prange body (static):
+before, 531 scalar and 522 ymm packed add/sub/mul/div/sqrt, no FMA, 3 vdivpd + 1 vsqrtpd per 4
+balls in the derivative, stage sums as load-multiply-add-store per coefficient; after, 935 ymm
+FMA (39 mul, 2 div, 2 sqrt packed), the scalar ones in the remainder loops and the per-ball
+bookkeeping; no zmm by default (LLVM's prefer-256-bit on this CPU).
 
 Reference: solve_ivp DOP853 with rtol = atol = 1e-13 on the s/h form of the equations
 (docs/physics.md section 2; written out here independently of football_ros). Every contender's
@@ -100,7 +119,7 @@ def peak_flops() -> float:
 
 def peak_flops_256() -> float:
     """
-    The same dgemm peak with 256-bit vectors only [flop/s] (nan if it cannot be measured).
+    Measure the dgemm peak with 256-bit vectors only [flop/s] (nan if it cannot be measured).
 
     OpenBLAS (numpy's BLAS, built for every x86 core type) is told to use its Haswell kernel
     (AVX2 + FMA, 256-bit) with OPENBLAS_CORETYPE in a child process: the peak that LLVM's code
@@ -241,12 +260,9 @@ def one_flight(baseline_rtol: float) -> list[tuple]:
     ]
 
 
-def batch(
-    n: int, model: str, baseline_rtol: float, n_ivp: int
-) -> tuple[list[tuple], float, float]:
-    rng = np.random.default_rng(7)
-    ball = get_preset('american')
-    st = release_states(
+def batch_states(n: int, rng: np.random.Generator) -> dict:
+    """Return the batch's releases: a nominal spiral pass with spreads."""
+    return release_states(
         27.4 + rng.normal(0, 1.0, n),
         30 + rng.normal(0, 2.0, n),
         rng.normal(0, 1.0, n),
@@ -257,6 +273,51 @@ def batch(
         rng.normal(0, 15.0, n),
         np.zeros(3),
     )
+
+
+def batch_seconds_512(n: int, model: str, rounds: int = 4) -> tuple[float, float]:
+    """
+    Time the batch [s] with LLVM's default vectors and with 512-bit ones, in child processes.
+
+    512-bit: NUMBA_CPU_FEATURES = the host's features with '-prefer-256-bit' (LLVM otherwise
+    keeps to 256-bit vectors on AVX-512 machines), compiled into its own cache (once: ~20 s).
+    The two children alternate ``rounds`` times; each time is the best of 3.
+    """
+    import tempfile
+
+    import llvmlite.binding as llvm
+
+    features = llvm.get_host_cpu_features().flatten() + ',-prefer-256-bit'
+    code = (
+        'import sys, time\n'
+        f'sys.path.insert(0, {os.path.dirname(os.path.abspath(__file__))!r})\n'
+        'import numpy as np\n'
+        'from flight_benchmark import batch_states, best_of\n'
+        'from football_ros.physics import get_preset\n'
+        'from football_ros.physics.batch import simulate_batch\n'
+        f'st = batch_states({n}, np.random.default_rng(7))\n'
+        "ball = get_preset('american')\n"
+        f'simulate_batch(ball, {{k: v[:64] for k, v in st.items()}}, {model!r})\n'
+        f'print(best_of(lambda: simulate_batch(ball, st, {model!r}))[0])\n'
+    )
+    cache = os.path.join(tempfile.gettempdir(), 'football_ros_bench_512')
+    wide = dict(os.environ, NUMBA_CPU_FEATURES=features, NUMBA_CACHE_DIR=cache)
+    best = [float('inf'), float('inf')]
+    for _ in range(rounds):
+        for i, env in enumerate((dict(os.environ), wide)):
+            out = subprocess.run(
+                [sys.executable, '-c', code], env=env, capture_output=True, text=True, check=True
+            )
+            best[i] = min(best[i], float(out.stdout.split()[-1]))
+    return best[0], best[1]
+
+
+def batch(
+    n: int, model: str, baseline_rtol: float, n_ivp: int
+) -> tuple[list[tuple], float, float]:
+    rng = np.random.default_rng(7)
+    ball = get_preset('american')
+    st = batch_states(n, rng)
     simulate_batch(
         ball, {k: v[:64] for k, v in st.items()}, model
     )  # compile / load, start threads
@@ -313,7 +374,19 @@ def main() -> None:
     parser.add_argument(
         '--asm', action='store_true', help="count the kernel's vector instructions and stop"
     )
+    parser.add_argument(
+        '--zmm',
+        action='store_true',
+        help='time the batch with 256-bit and 512-bit vectors (child processes) and stop',
+    )
     args = parser.parse_args()
+    if args.zmm:
+        default, wide = batch_seconds_512(args.n, args.model)
+        print(
+            f'batch of {args.n} ({args.model}): {default:.4f} s with 256-bit vectors, '
+            f'{wide:.4f} s with 512-bit vectors: {default / wide:.2f}x'
+        )
+        return
     if args.asm:
         print('float64 arithmetic instructions of the batch kernel (static, prange body):')
         for key, count in sorted(kernel_census().items()):
