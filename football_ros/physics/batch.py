@@ -24,26 +24,29 @@ fastest rate of each ball's motion (:func:`fastest_rates`, ``STEP_PER_RADIAN``):
 nominal spiral, shorter for strong damping. The maxima of |alpha|, |beta| and delta are taken at
 the steps. The landing is located inside its step on the cubic Hermite interpolant of z.
 
-Speed (issue 12.5; bench/flight_benchmark.py, ratios measured in one run on 2 cores with
-AVX-512). Kept: the stage sums written out with the tableau's non-zero coefficients as literals
+Speed (issue 12.5; bench/flight_benchmark.py, ratios measured in one run on 2 cores with AVX-512).
+Kept: the stage sums written out with the tableau's non-zero coefficients as literals
 (:func:`_block_step_source`; the loop over coefficients read and wrote each stage state once per
-coefficient, and summed the positions' stages and the zero weights), and fast-math contract,
-arcp, nsz, reassoc on the kernel (FMA; one division per ball for u_hat). Together 1.8-2.3x
-ball-seconds per second (paper and full model), 19 % -> 34-35 % of the dgemm peak, ~25 % -> ~50 %
-of the 256-bit one; angles within 2e-14 rad of the previous kernel. LLVM keeps to 256-bit
-vectors here; NUMBA_CPU_FEATURES = host features + ',-prefer-256-bit' gives 512-bit ones and
-1.11-1.20x more, but numba reads it once per process for every kernel (and keys its cache on
-it): not set here (``flight_benchmark.py --zmm`` measures it). Tried without a gain of 10 %:
-BLOCK 8/16/24/40/48/64 (32 is best, within 6 %); a short last block padded to BLOCK so that
-every trip count is a constant (1.07x at 256 bits, none at 512); the per-step bookkeeping (step
-check, angle components) as separate SIMD loops (none; all of it is < 10 % of the time);
-fastmath=True (nnan, ninf too: 1.09x, and the NaN guards would lose their meaning); the paper
-model's zero coefficients folded away (1.08x more on top of that); 1/sqrt from a float32 seed
-and Newton steps (0.9x). Float32 loads: 0.85x, and 4-9e-7 rad after 2.5 s against 1e-8-2e-7
-(the cross product u_hat x s of two nearly parallel unit vectors loses its digits in float32),
-so no margin to the 1e-6 bar. STEP_PER_RADIAN 1.2 / 1.3 would take 9 % / 18 % fewer steps for
-2x / 3.6x the error (2.3e-7 / 4.1e-7 rad on the benchmark's releases, 4.3e-7 / 7.4e-7 on
-wobblier ones over 2.5 s, more over whole flights): kept at 1.1.
+coefficient, and summed the positions' stages and the zero weights), and fast-math contract, arcp,
+nsz, reassoc on the kernel (FMA; one division per ball for u_hat). Together 1.8-2.3x ball-seconds
+per second for the paper model, 1.6-1.9x for the full one; 19 % -> 34 % of the dgemm peak, 25 %
+-> 46-50 % of the 256-bit one; angles within 2e-14 rad of the previous kernel. LLVM keeps to
+256-bit vectors here; NUMBA_CPU_FEATURES = the host's features + ',-prefer-256-bit' gives 512-bit
+ones and 1.11-1.20x more, but numba reads it once per process for every kernel (and keys its cache
+on it): not set here (``flight_benchmark.py --zmm`` measures it). Tried without a gain of 10 %:
+BLOCK 8/16/24/40/48/64 (32 is best, the others within 6 %); a short last block padded to BLOCK so
+that every trip count is a constant (1.07x at 256 bits, none at 512; 3 s less compile time); the
+per-step bookkeeping (step check, angle components) as separate SIMD loops (none; all of it takes
+about 8 % of the time); fastmath=True (nnan, ninf too: 1.09x, and the NaN guards would lose their
+meaning); the paper model's zero coefficients folded away on top of that (1.08x); 1/sqrt from a
+float32 seed and Newton steps (0.9x); positions from the stage accelerations (weights b A; 30 %
+less stage memory: 1.01x); prange in dynamic chunks of 1/4/16 blocks (1.00-1.02x). Float32 loads:
+0.85x, and 4-9e-7 rad after 2.5 s against 4e-8 to 2e-7 (probably the cross product u_hat x s of two
+nearly parallel unit vectors, which loses digits in float32): no margin to the 1e-6 bar.
+STEP_PER_RADIAN 1.2 / 1.3 would take 9 % / 18 % fewer steps for 2x / 3.6x the error (2.3e-7 /
+4.1e-7 rad on the benchmark's releases, 4.3e-7 / 7.4e-7 on wobblier ones over 2.5 s, more over
+whole flights): kept at 1.1. The written-out sums cost compile time once: ``football-ros compile``
+takes 20.6 s for the batch kernels (8.8 s before).
 """
 
 from __future__ import annotations
