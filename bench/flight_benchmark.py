@@ -35,7 +35,7 @@ paper model, 20000 balls, each the best of 5 in one run (work: 2774 flop per bal
     after (written-out sums, FMA)    3.91e5     43.0      34 %       46 %       6.0e-8
     after, 512-bit (--zmm)           x1.11-1.20 of the line above, not the default
 
-1.82x there, 1.8-2.3x over runs (full model 1.6-1.9x). Instructions of the prange body (static):
+1.82x there, 1.8-2.4x over runs (full model 1.6-2.4x). Instructions of the prange body (static):
 before, 531 scalar and 522 ymm packed add/sub/mul/div/sqrt, no FMA, 3 vdivpd + 1 vsqrtpd per 4
 balls in the derivative, stage sums as load-multiply-add-store per coefficient; after, 935 ymm
 FMA (39 mul, 2 div, 2 sqrt packed), the scalar ones in the remainder loops and the per-ball

@@ -28,8 +28,8 @@ Speed (issue 12.5; bench/flight_benchmark.py, ratios measured in one run on 2 co
 Kept: the stage sums written out with the tableau's non-zero coefficients as literals
 (:func:`_block_step_source`; the loop over coefficients read and wrote each stage state once per
 coefficient, and summed the positions' stages and the zero weights), and fast-math contract, arcp,
-nsz, reassoc on the kernel (FMA; one division per ball for u_hat). Together 1.8-2.3x ball-seconds
-per second for the paper model, 1.6-1.9x for the full one; 19 % -> 34 % of the dgemm peak, 25 %
+nsz, reassoc on the kernel (FMA; one division per ball for u_hat). Together 1.8-2.4x ball-seconds
+per second for the paper model, 1.6-2.4x for the full one; 19 % -> 34 % of the dgemm peak, 25 %
 -> 46-50 % of the 256-bit one; angles within 2e-14 rad of the previous kernel. LLVM keeps to
 256-bit vectors here; NUMBA_CPU_FEATURES = the host's features + ',-prefer-256-bit' gives 512-bit
 ones and 1.11-1.20x more, but numba reads it once per process for every kernel (and keys its cache
