@@ -15,12 +15,31 @@
 """
 Headless speed at equal accuracy: one flight, and a batch of flights, against scipy solve_ivp.
 
-    .venv/bin/python bench/flight_benchmark.py [--n 20000] [--model paper|full]
+    .venv/bin/python bench/flight_benchmark.py [--n 20000] [--model paper|full] [--asm|--zmm]
 
 The batch's floating-point work is estimated by counting (FLOPS_* below: the terms of
 dynamics.loads and the DOP853 stage sums; a sqrt or a division counts 1) times the steps its
 blocks take; the machine's peak is measured in the same run as the best of 3 float64 matrix
-products (numpy's BLAS, 2048^2, every core), and the fraction reached is printed.
+products (numpy's BLAS, 2048^2, every core), and the fraction reached is printed, also of the
+256-bit peak: the same product on OpenBLAS's AVX2 kernel (OPENBLAS_CORETYPE=Haswell, in a
+child process), what code kept to 256-bit vectors can reach. ``--asm`` counts the compiled
+kernel's float64 instructions by vector width; ``--zmm`` times the batch with LLVM's default
+vectors and with 512-bit ones (child processes, alternating).
+
+Issue 12.5, measured on 2 cores of an AVX-512 Xeon shared with other work (dgemm 127 GFLOP/s,
+256-bit dgemm 93 GFLOP/s in that run; both vary 2x with the load), the kernel before and after,
+paper model, 20000 balls, each the best of 5 in one run (work: 2774 flop per ball-step, both):
+
+    kernel                          ball-s/s   GFLOP/s  of peak  of 256-bit  angle err [rad]
+    before (loop over A's entries)   2.15e5     23.6      19 %       25 %       6.0e-8
+    after (written-out sums, FMA)    3.91e5     43.0      34 %       46 %       6.0e-8
+    after, 512-bit (--zmm)           x1.11-1.20 of the line above, not the default
+
+1.82x there, 1.8-2.4x over runs (full model 1.6-2.4x). Instructions of the prange body (static):
+before, 531 scalar and 522 ymm packed add/sub/mul/div/sqrt, no FMA, 3 vdivpd + 1 vsqrtpd per 4
+balls in the derivative, stage sums as load-multiply-add-store per coefficient; after, 935 ymm
+FMA (39 mul, 2 div, 2 sqrt packed), the scalar ones in the remainder loops and the per-ball
+bookkeeping; no zmm by default (LLVM's prefer-256-bit on this CPU).
 
 Reference: solve_ivp DOP853 with rtol = atol = 1e-13 on the s/h form of the equations
 (docs/physics.md section 2; written out here independently of football_ros). Every contender's
@@ -33,6 +52,8 @@ from __future__ import annotations
 
 import argparse
 import os
+import subprocess
+import sys
 import time
 
 from football_ros.physics import Flight, frames, get_preset, Release
@@ -42,16 +63,26 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 G = 9.81
-FLOPS_LOADS = 115  # dynamics.loads: air velocity, |u|, u_hat, cos, u_hat x s, forces, moments
+FLOPS_LOADS = 114  # dynamics.loads: air velocity, |u|, u_hat, cos, u_hat x s, forces, moments
 FLOPS_DERIVATIVE = FLOPS_LOADS + 9  # + s' = h x s
 FLOPS_PER_STEP_EXTRA = 90  # projection, landing test, velocity-frame extremes, step check
 
 
 def flops_per_step() -> int:
-    """Floating-point operations of one DOP853 step of one ball in the batch kernel."""
+    """
+    Floating-point operations one DOP853 step of one ball needs (the scheme, not a kernel).
+
+    12 derivatives; the stage sums over the tableau's non-zero coefficients (50 in A, 8 in b;
+    a multiply and an add each), the stages on the 10 components the derivative reads (not the
+    position), the step on all 13. The batch kernel before issue 12 also summed the zero
+    weights and the positions' stages (3190 flop per step counted so): the fractions of peak
+    in the module docstring count this useful work for both kernels.
+    """
     from football_ros.physics import batch as bt
 
-    stage_sums = 2 * bt.N_LEAN * (bt._A_VAL.size + bt._B.size)  # multiply-adds over stages
+    n_a = int(np.count_nonzero(bt._A))
+    n_b = int(np.count_nonzero(bt._B))
+    stage_sums = 2 * ((bt.N_LEAN - 3) * n_a + bt.N_LEAN * n_b)
     return bt._STAGES * FLOPS_DERIVATIVE + stage_sums + FLOPS_PER_STEP_EXTRA
 
 
@@ -84,6 +115,77 @@ def peak_flops() -> float:
     a, b = np.random.rand(2048, 2048), np.random.rand(2048, 2048)
     seconds, _ = best_of(lambda: a @ b)
     return 2 * 2048**3 / seconds
+
+
+def peak_flops_256() -> float:
+    """
+    Measure the dgemm peak with 256-bit vectors only [flop/s] (nan if it cannot be measured).
+
+    OpenBLAS (numpy's BLAS, built for every x86 core type) is told to use its Haswell kernel
+    (AVX2 + FMA, 256-bit) with OPENBLAS_CORETYPE in a child process: the peak that LLVM's code
+    can reach when it keeps to 256-bit vectors, as it does by default on AVX-512 machines.
+    """
+    code = (
+        'import time, numpy as np\n'
+        'a, b = np.random.rand(2048, 2048), np.random.rand(2048, 2048)\n'
+        'best = float("inf")\n'
+        'for _ in range(3):\n'
+        '    t = time.perf_counter(); a @ b; best = min(best, time.perf_counter() - t)\n'
+        'print(2 * 2048**3 / best)\n'
+    )
+    env = dict(os.environ, OPENBLAS_CORETYPE='Haswell')
+    try:
+        out = subprocess.run(
+            [sys.executable, '-c', code], env=env, capture_output=True, text=True, timeout=120
+        )
+        return float(out.stdout.strip())
+    except (OSError, ValueError, subprocess.SubprocessError):
+        return float('nan')
+
+
+def kernel_census() -> dict:
+    """
+    Count the floating-point arithmetic instructions of the compiled batch kernel by width.
+
+    Keys (operation, 'packed'/'scalar', register): operation add/sub/mul/div/sqrt/fma, register
+    xmm (128-bit or scalar), ymm (256), zmm (512); static counts over the prange body (the
+    parfor gufunc), not executed counts. Compiles afresh in a temporary cache (numba cannot
+    show the assembly of cached code): about 20 s.
+    """
+    import re
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as cache:
+        code = (
+            'import numpy as np\n'
+            'from football_ros.physics import get_preset\n'
+            'from football_ros.physics.batch import _integrate_batch, simulate_batch\n'
+            'from football_ros.physics.release import release_states\n'
+            'st = release_states(np.full(40, 27.0), 30.0, 0.0, 600.0, 0.0, 0.0, 0.0, 0.0,'
+            ' np.zeros(3))\n'
+            "simulate_batch(get_preset('american'), st)\n"
+            'print(_integrate_batch.inspect_asm(_integrate_batch.signatures[0]))\n'
+        )
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+        asm = subprocess.run(
+            [sys.executable, '-c', code], env=env, capture_output=True, text=True, check=True
+        ).stdout
+    lines = asm.splitlines()
+    start = next(i for i, line in enumerate(lines) if '__numba_parfor_gufunc' in line
+                 and line.endswith(':') and not line.startswith('__gufunc__'))
+    counts: dict = {}
+    op = re.compile(r'v(f?n?m?)(add|sub|mul|div|sqrt)\w*?(sd|pd)$')
+    for line in lines[start + 1:]:
+        if re.match(r'^[_A-Za-z]\S*:$', line):
+            break  # the next function
+        words = line.split()
+        match = op.match(words[0]) if words else None
+        if match:
+            name = 'fma' if match.group(1) else match.group(2)
+            width = next((r for r in ('zmm', 'ymm') if r in line), 'xmm')
+            key = (name, 'packed' if match.group(3) == 'pd' else 'scalar', width)
+            counts[key] = counts.get(key, 0) + 1
+    return counts
 
 
 def rhs_factory(ball):
@@ -158,12 +260,9 @@ def one_flight(baseline_rtol: float) -> list[tuple]:
     ]
 
 
-def batch(
-    n: int, model: str, baseline_rtol: float, n_ivp: int
-) -> tuple[list[tuple], float, float]:
-    rng = np.random.default_rng(7)
-    ball = get_preset('american')
-    st = release_states(
+def batch_states(n: int, rng: np.random.Generator) -> dict:
+    """Return the batch's releases: a nominal spiral pass with spreads."""
+    return release_states(
         27.4 + rng.normal(0, 1.0, n),
         30 + rng.normal(0, 2.0, n),
         rng.normal(0, 1.0, n),
@@ -174,6 +273,51 @@ def batch(
         rng.normal(0, 15.0, n),
         np.zeros(3),
     )
+
+
+def batch_seconds_512(n: int, model: str, rounds: int = 4) -> tuple[float, float]:
+    """
+    Time the batch [s] with LLVM's default vectors and with 512-bit ones, in child processes.
+
+    512-bit: NUMBA_CPU_FEATURES = the host's features with '-prefer-256-bit' (LLVM otherwise
+    keeps to 256-bit vectors on AVX-512 machines), compiled into its own cache (once: ~20 s).
+    The two children alternate ``rounds`` times; each time is the best of 3.
+    """
+    import tempfile
+
+    import llvmlite.binding as llvm
+
+    features = llvm.get_host_cpu_features().flatten() + ',-prefer-256-bit'
+    code = (
+        'import sys, time\n'
+        f'sys.path.insert(0, {os.path.dirname(os.path.abspath(__file__))!r})\n'
+        'import numpy as np\n'
+        'from flight_benchmark import batch_states, best_of\n'
+        'from football_ros.physics import get_preset\n'
+        'from football_ros.physics.batch import simulate_batch\n'
+        f'st = batch_states({n}, np.random.default_rng(7))\n'
+        "ball = get_preset('american')\n"
+        f'simulate_batch(ball, {{k: v[:64] for k, v in st.items()}}, {model!r})\n'
+        f'print(best_of(lambda: simulate_batch(ball, st, {model!r}))[0])\n'
+    )
+    cache = os.path.join(tempfile.gettempdir(), 'football_ros_bench_512')
+    wide = dict(os.environ, NUMBA_CPU_FEATURES=features, NUMBA_CACHE_DIR=cache)
+    best = [float('inf'), float('inf')]
+    for _ in range(rounds):
+        for i, env in enumerate((dict(os.environ), wide)):
+            out = subprocess.run(
+                [sys.executable, '-c', code], env=env, capture_output=True, text=True, check=True
+            )
+            best[i] = min(best[i], float(out.stdout.split()[-1]))
+    return best[0], best[1]
+
+
+def batch(
+    n: int, model: str, baseline_rtol: float, n_ivp: int
+) -> tuple[list[tuple], float, float]:
+    rng = np.random.default_rng(7)
+    ball = get_preset('american')
+    st = batch_states(n, rng)
     simulate_batch(
         ball, {k: v[:64] for k, v in st.items()}, model
     )  # compile / load, start threads
@@ -227,7 +371,27 @@ def main() -> None:
     parser.add_argument('--n', type=int, default=20000, help='balls in the batch')
     parser.add_argument('--n-ivp', type=int, default=20, help='balls in the solve_ivp loop')
     parser.add_argument('--model', default='paper', choices=('paper', 'full'))
+    parser.add_argument(
+        '--asm', action='store_true', help="count the kernel's vector instructions and stop"
+    )
+    parser.add_argument(
+        '--zmm',
+        action='store_true',
+        help='time the batch with 256-bit and 512-bit vectors (child processes) and stop',
+    )
     args = parser.parse_args()
+    if args.zmm:
+        default, wide = batch_seconds_512(args.n, args.model)
+        print(
+            f'batch of {args.n} ({args.model}): {default:.4f} s with 256-bit vectors, '
+            f'{wide:.4f} s with 512-bit vectors: {default / wide:.2f}x'
+        )
+        return
+    if args.asm:
+        print('float64 arithmetic instructions of the batch kernel (static, prange body):')
+        for key, count in sorted(kernel_census().items()):
+            print(f'  {" ".join(key):<24}{count:>6}')
+        return
     # The baseline gets the loosest solve_ivp tolerance that still meets 1e-6 rad.
     for rtol in (1e-5, 1e-6, 1e-7, 1e-8, 1e-9):
         rows = one_flight(rtol)
@@ -237,6 +401,7 @@ def main() -> None:
         args.n, args.model, rtol, args.n_ivp
     )
     peak = peak_flops()
+    peak_256 = peak_flops_256()
     print(
         f'\nfootball_ros headless speed, {os.cpu_count()} cores '
         '(best of 3; errors vs DOP853 rtol=atol=1e-13)\n'
@@ -261,6 +426,10 @@ def main() -> None:
         f'ball-second -> {flop_rate / 1e9:.1f} GFLOP/s; measured peak (BLAS dgemm, '
         f'{os.cpu_count()} cores) {peak / 1e9:.1f} GFLOP/s: '
         f'{100 * flop_rate / peak:.0f} % of it'
+    )
+    print(
+        f'256-bit peak (the same dgemm on its AVX2 kernel, OPENBLAS_CORETYPE=Haswell): '
+        f'{peak_256 / 1e9:.1f} GFLOP/s: {100 * flop_rate / peak_256:.0f} % of it'
     )
 
 

@@ -122,6 +122,49 @@ def test_batch_angles_within_1e6_of_tight_dop853():
     assert np.max(np.abs(result.samples[0] - ref)) < 1e-6  # ... at the accuracy asked for
 
 
+def test_block_step_is_scipys_dop853_step_of_the_loads():
+    """
+    One step of the kernel's written-out stage sums = the DOP853 step computed here.
+
+    The reference sums scipy's tableau (zeros included, positions included) in numpy on the
+    lean equations of dynamics.loads (its Python source), then restores |s| = 1 and h.s = h1.
+    """
+    from football_ros.physics import batch as bt
+    from scipy.integrate._ivp import dop853_coefficients as tableau
+
+    ball, aero = resolve(get_preset('american'), 'full', AeroModel(wind=(2.0, -1.0, 0.5)))
+    params = make_params(ball, 'sin2delta', aero)
+    rng = np.random.default_rng(5)
+    n, dt = 6, 0.03
+    y = np.empty((n, 13))
+    y[:, 0:3] = rng.normal(0.0, 5.0, (n, 3))
+    y[:, 3:6] = [20.0, 0.0, 15.0] + rng.normal(0.0, 3.0, (n, 3))
+    s = y[:, 3:6] + rng.normal(0.0, 4.0, (n, 3))
+    y[:, 6:9] = s / np.linalg.norm(s, axis=1)[:, None]
+    y[:, 9:12] = rng.normal(0.0, 30.0, (n, 3))
+    y[:, 12] = np.sum(y[:, 9:12] * y[:, 6:9], axis=1)
+
+    def rhs(x):
+        a = dyn.loads.py_func(tuple(x[3:6]), tuple(x[6:9]), tuple(x[9:12]), x[12], params)
+        return np.concatenate([x[3:6], a[:3], np.cross(x[9:12], x[6:9]), a[3:6], [a[6]]])
+
+    stages = tableau.N_STAGES
+    for b in range(n):
+        k = np.zeros((stages, 13))
+        for i in range(stages):
+            k[i] = rhs(y[b] + dt * tableau.A[i, :stages] @ k)
+        ref = y[b] + dt * tableau.B @ k
+        ref[6:9] /= np.linalg.norm(ref[6:9])
+        ref[9:12] += (ref[12] - ref[9:12] @ ref[6:9]) * ref[6:9]
+        y_block = np.ascontiguousarray(y.T)
+        out = np.empty_like(y_block)
+        work = np.empty((stages, 13, n)), np.empty((13, n))
+        bt._block_step(y_block, dt, params, work[0], work[1], out, n)
+        scale = np.abs(ref) + np.abs(y[b]) + 1.0
+        assert np.all(np.abs(out[:, b] - ref) <= 1e-13 * scale), (out[:, b] - ref) / scale
+        assert np.abs(out[:, b] - y[b]).max() > 1e-3  # a real step
+
+
 def test_results_come_back_in_input_order():
     rng = np.random.default_rng(3)
     n = 300  # several blocks, sorted by spin inside

@@ -23,6 +23,30 @@ with numba ``prange`` (blocks of balls, the ball index innermost). The default s
 fastest rate of each ball's motion (:func:`fastest_rates`, ``STEP_PER_RADIAN``): 29 ms for the
 nominal spiral, shorter for strong damping. The maxima of |alpha|, |beta| and delta are taken at
 the steps. The landing is located inside its step on the cubic Hermite interpolant of z.
+
+Speed (issue 12.5; bench/flight_benchmark.py, ratios measured in one run on 2 cores with AVX-512).
+Kept: the stage sums written out with the tableau's non-zero coefficients as literals
+(:func:`_block_step_source`; the loop over coefficients read and wrote each stage state once per
+coefficient, and summed the positions' stages and the zero weights), and fast-math contract, arcp,
+nsz, reassoc on the kernel (FMA; one division per ball for u_hat). Together 1.8-2.4x ball-seconds
+per second for the paper model, 1.6-2.4x for the full one; 19 % -> 34 % of the dgemm peak, 25 %
+-> 46-50 % of the 256-bit one; angles within 2e-14 rad of the previous kernel. LLVM keeps to
+256-bit vectors here; NUMBA_CPU_FEATURES = the host's features + ',-prefer-256-bit' gives 512-bit
+ones and 1.11-1.20x more, but numba reads it once per process for every kernel (and keys its cache
+on it): not set here (``flight_benchmark.py --zmm`` measures it). Tried without a gain of 10 %:
+BLOCK 8/16/24/40/48/64 (32 is best, the others within 6 %); a short last block padded to BLOCK so
+that every trip count is a constant (1.07x at 256 bits, none at 512; 3 s less compile time); the
+per-step bookkeeping (step check, angle components) as separate SIMD loops (none; all of it takes
+about 8 % of the time); fastmath=True (nnan, ninf too: 1.09x, and the NaN guards would lose their
+meaning); the paper model's zero coefficients folded away on top of that (1.08x); 1/sqrt from a
+float32 seed and Newton steps (0.9x); positions from the stage accelerations (weights b A; 30 %
+less stage memory: 1.01x); prange in dynamic chunks of 1/4/16 blocks (1.00-1.02x). Float32 loads:
+0.85x, and 4-9e-7 rad after 2.5 s against 4e-8 to 2e-7 (probably the cross product u_hat x s of two
+nearly parallel unit vectors, which loses digits in float32): no margin to the 1e-6 bar.
+STEP_PER_RADIAN 1.2 / 1.3 would take 9 % / 18 % fewer steps for 2x / 3.6x the error (2.3e-7 /
+4.1e-7 rad on the benchmark's releases, 4.3e-7 / 7.4e-7 on wobblier ones over 2.5 s, more over
+whole flights): kept at 1.1. The written-out sums cost compile time once: ``football-ros compile``
+takes 20.6 s for the batch kernels (8.8 s before).
 """
 
 from __future__ import annotations
@@ -139,7 +163,8 @@ def default_steps(rates: np.ndarray) -> np.ndarray:
 
 # _block_derivative, _block_step and dynamics.loads are inlined into the prange body, where the
 # block arrays are allocated: LLVM then knows they do not alias and vectorises over the balls
-# (measured 2.3x faster than calls).
+# (measured 2.3x faster than calls). Inlined numba IR is compiled with the flags of the function
+# it lands in: _integrate_batch's _FASTMATH, not the fastmath=True written here.
 @njit(cache=True, fastmath=True, inline='always')
 def _block_derivative(y, params, out, nb):
     """d/dt of the lean states in columns 0..nb-1 of y (N_LEAN, BLOCK) into out."""
@@ -158,30 +183,47 @@ def _block_derivative(y, params, out, nb):
         out[12, b] = dh1
 
 
-@njit(cache=True, fastmath=True, inline='always')
-def _block_step(y, dt, params, k, tmp, out, nb):
+def _block_step_source() -> str:
     """
-    One DOP853 (8th-order weights) step of every column, then |s| = 1 and h.s = h1.
+    Source of ``_block_step``: the DOP853 stage sums written out term by term.
 
-    Columns are balls: the inner loops run over balls, so the compiler can use SIMD lanes.
+    The tableau's non-zero coefficients become literals, so that each sum is one expression
+    (fused multiply-adds in registers, one store per state component and ball) instead of a
+    loop over coefficients reading and writing the stage state once per term. The stage states
+    skip the position (the derivative does not read it).
     """
-    for i in range(_STAGES):
-        for j in range(N_LEAN):
-            for b in range(nb):
-                tmp[j, b] = y[j, b]
-            for e in range(_A_ROW[i], _A_ROW[i + 1]):
-                a = dt * _A_VAL[e]
-                col = _A_COL[e]
-                for b in range(nb):
-                    tmp[j, b] += a * k[col, j, b]
-        _block_derivative(tmp, params, k[i], nb)
-    for j in range(N_LEAN):
-        for b in range(nb):
-            out[j, b] = y[j, b]
-        for i in range(_STAGES):
-            a = dt * _B[i]
-            for b in range(nb):
-                out[j, b] += a * k[i, j, b]
+    src = [
+        'def _block_step(y, dt, params, k, tmp, out, nb):',
+        '    for i in range(_STAGES):',  # one derivative in the code, the sums chosen by i
+        '        stage = y',
+    ]
+    for i in range(1, _STAGES):
+        cols = np.nonzero(_A[i])[0]
+        terms = ' + '.join(f'a{c} * k[{c}, j, b]' for c in cols)
+        src += [f'        {"if" if i == 1 else "elif"} i == {i}:']
+        src += [f'            a{c} = dt * {float(_A[i, c])!r}' for c in cols]
+        src += [
+            '            for j in range(3, N_LEAN):',
+            '                for b in range(nb):',
+            f'                    tmp[j, b] = y[j, b] + ({terms})',
+            '            stage = tmp',
+        ]
+    src += ['        _block_derivative(stage, params, k[i], nb)']
+    cols = np.nonzero(_B)[0]
+    src += [f'    a{c} = dt * {float(_B[c])!r}' for c in cols]
+    terms = ' + '.join(f'a{c} * k[{c}, j, b]' for c in cols)
+    src += [
+        '    for j in range(N_LEAN):',
+        '        for b in range(nb):',
+        f'            out[j, b] = y[j, b] + ({terms})',
+        '    _project(out, nb)',
+    ]
+    return '\n'.join(src) + '\n'
+
+
+@njit(cache=True, inline='always')
+def _project(out, nb):
+    """|s| = 1 and h.s = h1 in columns 0..nb-1."""
     for b in range(nb):
         norm = math.sqrt(out[6, b] ** 2 + out[7, b] ** 2 + out[8, b] ** 2)
         out[6, b] /= norm
@@ -193,6 +235,21 @@ def _block_step(y, dt, params, k, tmp, out, nb):
         out[9, b] += err * out[6, b]
         out[10, b] += err * out[7, b]
         out[11, b] += err * out[8, b]
+
+
+_namespace = {
+    '_block_derivative': _block_derivative,
+    '_project': _project,
+    'N_LEAN': N_LEAN,
+    '_STAGES': _STAGES,
+}
+exec(compile(_block_step_source(), '<dop853 block step>', 'exec'), _namespace)
+_block_step = njit(inline='always')(_namespace['_block_step'])
+_block_step.__doc__ = """
+One DOP853 (8th-order weights) step of every column, then |s| = 1 and h.s = h1.
+
+Columns are balls: the inner loops run over balls, so the compiler can use SIMD lanes.
+"""
 
 
 @njit(cache=True)
@@ -274,11 +331,13 @@ def _landing(y, nxt, b, h, params, ground, out):
     return u
 
 
+_FASTMATH = {'contract', 'arcp', 'nsz', 'reassoc'}
+"""Fast-math flags of the kernel: not 'nnan'/'ninf' (the guards test for NaN)."""
 BLOCK = 32
 """Balls integrated together by one thread (SIMD lanes along the ball index)."""
 
 
-@njit(parallel=True, cache=True)
+@njit(parallel=True, cache=True, fastmath=_FASTMATH)
 def _integrate_batch(
     y0, params, steps, max_time, ground, sample_every, samples, results, adaptive
 ):
