@@ -30,6 +30,7 @@ from typing import Sequence
 import yaml
 
 from . import messages as mb
+from .dds import use_package_profile
 from .recorder import TOPICS
 from ..command_line import add_release_options, HelpFormatter, release_from_args, UsageError
 from ..physics import ReleaseError
@@ -63,6 +64,7 @@ def settle_matching(rclpy, node, seconds: float = MATCH_SETTLE_S) -> None:
 def _init(node_name: str):
     import rclpy
 
+    use_package_profile()  # before the participant exists
     rclpy.init()
     return rclpy, rclpy.create_node(node_name)
 
@@ -137,6 +139,11 @@ def throw(argv: Sequence[str] | None = None) -> int:
     parser.add_argument(
         '--timeout', type=float, default=10.0, help='seconds to wait for the answer'
     )
+    parser.add_argument(
+        '--verbose',
+        action='store_true',
+        help='log each step (looking, matched, sent, answered) with its time on stderr',
+    )
     try:
         args = parser.parse_args(argv)
         request = dict(release_from_args(args).to_mapping(), id=args.id)
@@ -149,6 +156,12 @@ def throw(argv: Sequence[str] | None = None) -> int:
     from . import qos
 
     rclpy, node = _init('football_throw')
+
+    def step(text: str) -> None:
+        if args.verbose:
+            node.get_logger().info(text)
+
+    step('looking for the release node')
     answers = []
     responses = node.create_subscription(
         DiagnosticStatus, qos.RELEASE_RESPONSE, answers.append, qos.REQUEST
@@ -167,14 +180,17 @@ def throw(argv: Sequence[str] | None = None) -> int:
                 file=sys.stderr,
             )
             return 1
+        step('matched the release node')
         settle_matching(rclpy, node)
         pub.publish(String(data=json.dumps(request)))
+        step(f"request '{args.id}' sent")
         answer = wait_for_answer(rclpy, node, answers, args.id, end)
         if answer is None:
             print(
                 f'football-ros throw: error: no answer within {args.timeout:g} s', file=sys.stderr
             )
             return 1
+        step(f"answer to '{args.id}' received")
         print(yaml.safe_dump(mb.to_plain(answer), sort_keys=False, width=120).rstrip())
         return 0 if mb.level_of(answer) != 'ERROR' else 1
     finally:
