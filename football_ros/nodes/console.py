@@ -163,17 +163,23 @@ def throw(argv: Sequence[str] | None = None) -> int:
 
     step('looking for the release node')
     answers = []
+    # The answer's way first: by the time the release node knows our request writer (created
+    # only once our reader has matched its response writer), it has long known our reader, so
+    # its answer is not sent before it can reach us. The request needs no such care: it is
+    # reliable and our writer has matched their reader, so a copy that arrives before their
+    # reader knows our writer is sent again once it does.
     responses = node.create_subscription(
         DiagnosticStatus, qos.RELEASE_RESPONSE, answers.append, qos.REQUEST
     )
-    pub = node.create_publisher(String, qos.RELEASE_REQUEST, qos.REQUEST)
     end = time.monotonic() + args.timeout
+    pub = None
     try:
-        while time.monotonic() < end and (
-            pub.get_subscription_count() == 0 or responses.get_publisher_count() == 0
-        ):
-            rclpy.spin_once(node, timeout_sec=0.05)
-        if pub.get_subscription_count() == 0 or responses.get_publisher_count() == 0:
+        while time.monotonic() < end and (pub is None or pub.get_subscription_count() == 0):
+            if pub is None and responses.get_publisher_count() > 0:
+                pub = node.create_publisher(String, qos.RELEASE_REQUEST, qos.REQUEST)
+                continue
+            rclpy.spin_once(node, timeout_sec=0.01)
+        if pub is None or pub.get_subscription_count() == 0:
             print(
                 'football-ros throw: error: no release node is listening on '
                 f'{node.resolve_topic_name(qos.RELEASE_REQUEST)}',
@@ -181,7 +187,6 @@ def throw(argv: Sequence[str] | None = None) -> int:
             )
             return 1
         step('matched the release node')
-        settle_matching(rclpy, node)
         pub.publish(String(data=json.dumps(request)))
         step(f"request '{args.id}' sent")
         answer = wait_for_answer(rclpy, node, answers, args.id, end)
