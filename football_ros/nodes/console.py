@@ -29,9 +29,7 @@ from typing import Sequence
 
 import yaml
 
-from . import messages as mb
 from .dds import use_package_profile
-from .recorder import TOPICS
 from ..command_line import add_release_options, HelpFormatter, release_from_args, UsageError
 from ..physics import ReleaseError
 
@@ -70,6 +68,9 @@ def _init(node_name: str):
 
 
 def echo(argv: Sequence[str] | None = None) -> int:
+    from . import messages as mb
+    from .recorder import TOPICS
+
     parser = argparse.ArgumentParser(
         prog='football-ros echo',
         description='Print messages of a topic as YAML.',
@@ -172,6 +173,10 @@ def throw(argv: Sequence[str] | None = None) -> int:
         DiagnosticStatus, qos.RELEASE_RESPONSE, answers.append, qos.REQUEST
     )
     end = time.monotonic() + args.timeout
+    # Imported while discovery runs (in Fast DDS's threads): geometry_msgs and numpy take about
+    # 0.1 s that throw would otherwise spend before its participant exists.
+    from . import messages as mb
+
     pub = None
     try:
         while time.monotonic() < end and (pub is None or pub.get_subscription_count() == 0):
