@@ -318,7 +318,9 @@ def test_throw_waits_for_the_release_node_then_prints_its_answer(start_node):
     """
     start_node('simulator')
     start_node('release')
-    proc = run('throw', '--verbose', '--id', 'first-throw', '--speed', '20', '--elevation-deg', '40')
+    proc = run(
+        'throw', '--verbose', '--id', 'first-throw', '--speed', '20', '--elevation-deg', '40'
+    )
     answer = yaml.safe_load(proc.stdout)
     assert answer['name'] == 'first-throw' and answer['level'] == 0
     values = {kv['key']: kv['value'] for kv in answer['values']}
