@@ -198,6 +198,7 @@ def throw_trial(domain: int, mode: str, work: Path, index: int) -> dict:
     if proc.returncode != 0 or None in (looking, matched, answer):
         raise RuntimeError(f'throw failed ({proc.returncode}); see {folder}')
     return {
+        'throw: process start -> participant up': looking - spawn,
         'throw: process start -> matched': matched - spawn,
         'throw: participant up -> matched': matched - looking,
         'throw: matched -> answer': answer - matched,
