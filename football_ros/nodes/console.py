@@ -164,11 +164,12 @@ def throw(argv: Sequence[str] | None = None) -> int:
 
     step('looking for the release node')
     answers = []
-    # The answer's way first: by the time the release node knows our request writer (created
-    # only once our reader has matched its response writer), it has long known our reader, so
-    # its answer is not sent before it can reach us. The request needs no such care: it is
-    # reliable and our writer has matched their reader, so a copy that arrives before their
-    # reader knows our writer is sent again once it does.
+    # The answer's way first: our request writer is created only once our reader has matched
+    # the release node's response writer, so the release node learns of our reader in the first
+    # endpoint exchange, before our writer exists, and its answer cannot go out before it knows
+    # where to. The request needs no waiting (formerly a fixed 0.3 s): it is reliable and our
+    # writer has matched their reader, so a copy that arrives before their reader knows our
+    # writer is sent again once it does.
     responses = node.create_subscription(
         DiagnosticStatus, qos.RELEASE_RESPONSE, answers.append, qos.REQUEST
     )
