@@ -166,8 +166,8 @@ def throw(argv: Sequence[str] | None = None) -> int:
     answers = []
     # The answer's way first: our request writer is created only once our reader has matched
     # the release node's response writer, so the release node learns of our reader in the first
-    # endpoint exchange, before our writer exists, and its answer cannot go out before it knows
-    # where to. The request needs no waiting (formerly a fixed 0.3 s): it is reliable and our
+    # endpoint exchange, before our writer exists: normally long before any request reaches it
+    # (an answer sent before that would be lost). The request needs no waiting (formerly a fixed 0.3 s): it is reliable and our
     # writer has matched their reader, so a copy that arrives before their reader knows our
     # writer is sent again once it does.
     responses = node.create_subscription(
