@@ -167,9 +167,9 @@ def throw(argv: Sequence[str] | None = None) -> int:
     # The answer's way first: our request writer is created only once our reader has matched
     # the release node's response writer, so the release node learns of our reader in the first
     # endpoint exchange, before our writer exists: normally long before any request reaches it
-    # (an answer sent before that would be lost). The request needs no waiting (formerly a fixed 0.3 s): it is reliable and our
-    # writer has matched their reader, so a copy that arrives before their reader knows our
-    # writer is sent again once it does.
+    # (an answer sent before that would be lost). The request needs no waiting (formerly a
+    # fixed 0.3 s): it is reliable and our writer has matched their reader, so a copy that
+    # arrives before their reader knows our writer is sent again once it does.
     responses = node.create_subscription(
         DiagnosticStatus, qos.RELEASE_RESPONSE, answers.append, qos.REQUEST
     )
