@@ -35,8 +35,9 @@ start -> participant up ("looking") -> matched the release node -> answer receiv
 baseline trial is a bare rclpy pair of fresh processes (a server with one publisher and one
 subscription, then a client that waits until it has matched both): the same discovery with
 nothing of ours in it (plain rclpy never picks the package's profile, so in both columns it runs
-with the 3 s period: a control of the machine's state in each mode's turn). ``--demo N`` also times N runs of ``football-ros demo`` per mode (its
-nodes' last "ready" -> the release node's answer, and how many requests it sent).
+with the 3 s period: a control of the machine's state in each mode's turn). ``--demo N`` also
+times N runs of ``football-ros demo`` per mode (its nodes' last "ready" -> the release node's
+answer, and how many requests it sent).
 
 The table gives p50, max and the count over 1 s (the issue's target: the answer within 1 s of
 the nodes reporting ready) per mode, and the package/fastdds ratio of p50 and max. Every process
