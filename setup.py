@@ -24,6 +24,8 @@ setup(
     name=package_name,
     version='0.1.0',
     packages=find_packages(exclude=['test', 'bench']),
+    # The Fast DDS profile the package's processes use unless the user has one (nodes/dds.py).
+    package_data={'football_ros.nodes': ['fastdds_profile.xml']},
     data_files=[
         ('share/ament_index/resource_index/packages', [f'resource/{package_name}']),
         (f'share/{package_name}', ['package.xml']),

@@ -23,6 +23,7 @@ import sys
 from football_ros.physics import CSV_HEADER
 import numpy as np
 import pytest
+import yaml
 
 CLI = [sys.executable, '-m', 'football_ros.cli']
 
@@ -304,6 +305,43 @@ def test_echo_with_a_timeout_and_no_publisher_says_so_and_fails():
     assert proc.returncode == 1 and proc.stdout == ''
     assert proc.stderr.strip().splitlines()[-1] == (
         'football-ros echo: error: no publisher on /diagnostics within 0.5 s'
+    )
+
+
+def test_throw_waits_for_the_release_node_then_prints_its_answer(start_node):
+    """
+    A fresh 'throw' next to running nodes: matched, sent, answered, in that order, once.
+
+    The answer is the release node's for this request id, with the vacuum-parabola flight of
+    the pass (torque-only model: the centre flies the parabola), 2 V sin(theta) / g and
+    V cos(theta) t.
+    """
+    start_node('simulator')
+    start_node('release')
+    proc = run(
+        'throw', '--verbose', '--id', 'first-throw', '--speed', '20', '--elevation-deg', '40'
+    )
+    answer = yaml.safe_load(proc.stdout)
+    assert answer['name'] == 'first-throw' and answer['level'] == 0
+    values = {kv['key']: kv['value'] for kv in answer['values']}
+    theta = math.radians(40)
+    flight = 2 * 20 * math.sin(theta) / 9.81
+    assert float(values['time_of_flight']) == pytest.approx(flight, rel=1e-9)
+    assert float(values['range']) == pytest.approx(20 * math.cos(theta) * flight, rel=1e-9)
+    steps = [line.split(']: ', 1)[1] for line in proc.stderr.splitlines() if ']: ' in line]
+    assert steps == [
+        'looking for the release node',
+        'matched the release node',
+        "request 'first-throw' sent",
+        "answer to 'first-throw' received",
+    ]
+
+
+def test_throw_without_a_release_node_names_the_topic_and_fails():
+    proc = run('throw', '--timeout', '0.5', check=False)
+    assert proc.returncode == 1 and proc.stdout == ''
+    assert proc.stderr.strip().splitlines()[-1] == (
+        'football-ros throw: error: no release node is listening on /football/release/request'
     )
 
 

@@ -63,6 +63,7 @@ def test_colcon_build_installs_node_executables(tmp_path):
     assert (share / 'football_ros' / 'rviz' / 'football.rviz').exists()
     # The installed entry point runs from the install space, not from the source tree.
     site = next((tmp_path / 'install' / 'football_ros' / 'lib').glob('python3*/site-packages'))
+    assert (site / 'football_ros' / 'nodes' / 'fastdds_profile.xml').is_file()  # nodes/dds.py
     out = subprocess.run(
         [str(lib / 'football-ros'), 'modes', '--json'],
         cwd=tmp_path,

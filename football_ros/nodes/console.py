@@ -29,8 +29,7 @@ from typing import Sequence
 
 import yaml
 
-from . import messages as mb
-from .recorder import TOPICS
+from .dds import use_package_profile
 from ..command_line import add_release_options, HelpFormatter, release_from_args, UsageError
 from ..physics import ReleaseError
 
@@ -63,11 +62,15 @@ def settle_matching(rclpy, node, seconds: float = MATCH_SETTLE_S) -> None:
 def _init(node_name: str):
     import rclpy
 
+    use_package_profile()  # before the participant exists
     rclpy.init()
     return rclpy, rclpy.create_node(node_name)
 
 
 def echo(argv: Sequence[str] | None = None) -> int:
+    from . import messages as mb
+    from .recorder import TOPICS
+
     parser = argparse.ArgumentParser(
         prog='football-ros echo',
         description='Print messages of a topic as YAML.',
@@ -137,6 +140,11 @@ def throw(argv: Sequence[str] | None = None) -> int:
     parser.add_argument(
         '--timeout', type=float, default=10.0, help='seconds to wait for the answer'
     )
+    parser.add_argument(
+        '--verbose',
+        action='store_true',
+        help='log each step (looking, matched, sent, answered) with its time on stderr',
+    )
     try:
         args = parser.parse_args(argv)
         request = dict(release_from_args(args).to_mapping(), id=args.id)
@@ -149,32 +157,51 @@ def throw(argv: Sequence[str] | None = None) -> int:
     from . import qos
 
     rclpy, node = _init('football_throw')
+
+    def step(text: str) -> None:
+        if args.verbose:
+            node.get_logger().info(text)
+
+    step('looking for the release node')
     answers = []
+    # The answer's way first: our request writer is created only once our reader has matched
+    # the release node's response writer, so the release node learns of our reader in the first
+    # endpoint exchange, before our writer exists: normally long before any request reaches it
+    # (an answer sent before that would be lost). The request needs no waiting (formerly a
+    # fixed 0.3 s): it is reliable and our writer has matched their reader, so a copy that
+    # arrives before their reader knows our writer is sent again once it does.
     responses = node.create_subscription(
         DiagnosticStatus, qos.RELEASE_RESPONSE, answers.append, qos.REQUEST
     )
-    pub = node.create_publisher(String, qos.RELEASE_REQUEST, qos.REQUEST)
     end = time.monotonic() + args.timeout
+    # Imported while discovery runs (in Fast DDS's threads): geometry_msgs and numpy take about
+    # 0.1 s that throw would otherwise spend before its participant exists.
+    from . import messages as mb
+
+    pub = None
     try:
-        while time.monotonic() < end and (
-            pub.get_subscription_count() == 0 or responses.get_publisher_count() == 0
-        ):
-            rclpy.spin_once(node, timeout_sec=0.05)
-        if pub.get_subscription_count() == 0 or responses.get_publisher_count() == 0:
+        while time.monotonic() < end and (pub is None or pub.get_subscription_count() == 0):
+            if pub is None and responses.get_publisher_count() > 0:
+                pub = node.create_publisher(String, qos.RELEASE_REQUEST, qos.REQUEST)
+                continue
+            rclpy.spin_once(node, timeout_sec=0.01)
+        if pub is None or pub.get_subscription_count() == 0:
             print(
                 'football-ros throw: error: no release node is listening on '
                 f'{node.resolve_topic_name(qos.RELEASE_REQUEST)}',
                 file=sys.stderr,
             )
             return 1
-        settle_matching(rclpy, node)
+        step('matched the release node')
         pub.publish(String(data=json.dumps(request)))
+        step(f"request '{args.id}' sent")
         answer = wait_for_answer(rclpy, node, answers, args.id, end)
         if answer is None:
             print(
                 f'football-ros throw: error: no answer within {args.timeout:g} s', file=sys.stderr
             )
             return 1
+        step(f"answer to '{args.id}' received")
         print(yaml.safe_dump(mb.to_plain(answer), sort_keys=False, width=120).rstrip())
         return 0 if mb.level_of(answer) != 'ERROR' else 1
     finally:

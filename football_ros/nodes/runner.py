@@ -43,6 +43,7 @@ from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
 import rclpy.signals
 
+from .dds import use_package_profile
 from .._early_signals import ignore_further_signals
 
 EXIT_USAGE = 2
@@ -159,6 +160,7 @@ def _start_and_spin(factory, argv, program: str, made: list, signals: _Signals) 
     try:
         # rclpy's own signal handlers are left out: they shut the context down under the node
         # and restore the default action, so that a second signal killed the process.
+        use_package_profile()  # Fast DDS reads it when the participant is created
         rclpy.init(args=args, signal_handler_options=rclpy.signals.SignalHandlerOptions.NO)
         made.append(factory())
     except (ParameterException, InvalidParameterTypeException, ValueError) as exc:

@@ -152,6 +152,7 @@ def run_demo(args: argparse.Namespace) -> int:
 
     from ..nodes import qos
     from ..nodes.console import settle_matching, wait_for_answer
+    from ..nodes.dds import use_package_profile
     from ..nodes.messages import level_of
 
     release = release_from_args(args)
@@ -161,6 +162,7 @@ def run_demo(args: argparse.Namespace) -> int:
     run_dir.mkdir(parents=True, exist_ok=False)
     bag = run_dir / 'bag'
     os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
+    use_package_profile()  # for our participant and the children's
     _say(f'run folder: {run_dir}')
     children = [
         _Child(
