@@ -150,13 +150,13 @@ class InitialState:
             arrays.append(arr)
         pos, vel, quat, omega = arrays
         check_position(list(pos))
-        check_range('speed', float(np.linalg.norm(vel)), slack=DERIVED_SLACK)
+        check_range('speed', math.hypot(*vel), slack=DERIVED_SLACK)  # hypot: no overflow
         check_range(
             'elevation_deg',
             math.degrees(float(frames.flight_path_angle(vel))),
             slack=DERIVED_SLACK,
         )
-        norm = np.linalg.norm(quat)
+        norm = math.hypot(*quat)
         if abs(norm - 1.0) > 1e-3:
             raise ReleaseError(f'orientation must be a unit quaternion, |q| = {norm:.6g}')
         quat = quat / norm
@@ -168,7 +168,7 @@ class InitialState:
         transverse = omega - spin * axis
         check_range(
             'transverse angular rate (deg/s)',
-            math.degrees(float(np.linalg.norm(transverse))),
+            math.degrees(math.hypot(*transverse)),
             'transverse_rate_deg_s',
             DERIVED_SLACK,
         )
