@@ -57,6 +57,8 @@ import sys
 import tempfile
 import time
 
+from football_ros.nodes.dds import PROFILE_VARIABLES
+
 CLI = [sys.executable, '-m', 'football_ros.cli']
 LOG_LINE = re.compile(r'\[(?:DEBUG|INFO|WARN|ERROR|FATAL)\] \[(\d+\.\d+)\] \[([^\]]+)\]: (.*)')
 MODES = ('fastdds', 'package')
@@ -72,7 +74,6 @@ FASTDDS_DEFAULTS = """<?xml version="1.0" encoding="UTF-8"?>
 </dds>
 """
 """A user's own profile holding the Fast DDS 2.14 default announcement period (3 s)."""
-PROFILE_VARIABLES = ('FASTRTPS_DEFAULT_PROFILES_FILE', 'FASTDDS_DEFAULT_PROFILES_FILE')
 TARGET_S = 1.0
 
 BARE_SERVER = """
