@@ -37,8 +37,8 @@ axis offsets 1.5 deg, |spin| uniform 400-800 rpm, hand known, drag and lift scal
 at 1 s lead, defaults, 60 flights: 7.6 cm median (an estimator at the bound reports 7.6 +/- 0.9
 cm on these flights, <= 5 cm in under 0.1 % of noise draws); spin known 5.5, coefficients
 known 5.1 to 5.5 (<= 5 cm in half the draws), both 2.2 cm. A batch MAP fit on the same fixes
-reaches it (6.4 / 5.0 / 4.6 / 2.2 cm); the tracker is 1.2 to 1.8 times the bound (10.1 / 7.0
-/ 8.4 / 3.4 cm). The 5 cm target is below what these fixes tell unless the coefficients are
+reaches it (6.4 / 5.0 / 4.6 / 2.2 cm); the tracker reaches 7.5 / 5.9 / 6.7 / 3.4 cm (its error
+over the bound per flight: median 1.2 to 1.6). The 5 cm target is below what these fixes tell unless the coefficients are
 known.
 
     .venv/bin/python bench/prediction_benchmark.py [--flights 60] [--seed 1]

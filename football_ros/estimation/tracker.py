@@ -27,17 +27,19 @@ Bayesian Cramer-Rao bound of the landing point (bench/prediction_bound.py: bench
 and fixes, the benchmark's own priors, hand known), 1 s before the landing, 60 flights,
 defaults: median 7.6 cm (spin known 5.5, coefficients known 5.5, both 2.2), 20 / 8.4 / 3.9 cm
 for flights < 2.2 / 2.2 to 2.8 / > 2.8 s; no predictor using these fixes gets the median
-under 5 cm. This filter: 10.1 cm (26 / 10.7 / 5.0), 1.3 to 1.8 times the bound, spin known
-7.0, coefficients known 8.4, both 3.4 cm; a batch maximum-a-posteriori fit (Gauss-Newton over
-the throw's parameters, all fixes, the benchmark's priors) reaches the bound (6.4 cm), an
-earlier one with this filter's wider priors did no better than the filter (13.7 cm against
-12.7 over 20 flights). The spin's median error is 39 rpm (bound 30 rpm); the hand is right in
-59 of 60 flights.
+under 5 cm. This filter, with the spin prior of real throws (:data:`SPIN_SPREAD`) and drag and
+lift scale priors of sigma 0.2: 7.5 cm (18 / 10.0 / 4.7), the bound's median, its error over
+the bound per flight 1.2 (median); spin known 5.9, coefficients known 6.7, both 3.4 cm. With
+the earlier priors (spin and scale sigma 0.3) 10.1 cm: the 30 % off cases then 9.0 and 12.1
+cm, now 9.3 and 10.3 cm (target 25). A batch maximum-a-posteriori fit (Gauss-Newton over the
+throw's parameters, all fixes, the benchmark's priors) reaches 6.4 cm; an earlier one with
+wider priors did no better than the filter (13.7 cm against 12.7 over 20 flights). The
+spin's median error is 45 rpm (bound 30 rpm); the hand is right in 59 of 60 flights.
 Tried and not kept (no gain beyond the 20 to 60 flight noise, 1 cm, or a loss in another
 case): a bank of 5 to 7 filters over the spin size mixed by likelihood (5 to 7 times the cost);
 the lift-spin product kl |h1| as the state instead of kl (the side force measures the
-product); other spin, axis and scale priors, process noises, and sigma-point spreads (these
-were measured with the uncorrelated prior, the transverse rate's at 2 rad/s).
+product); other axis priors, process noises, and sigma-point spreads, and scale sigma 0.15
+(6.8 cm with the defaults, but 10.5 cm with drag +30 % and lift -30 %).
 
 State x (``N_X`` = 14), in ``field``: position r [m], velocity v [m/s], spin axis s (unit),
 modified angular momentum h = H / I_t [rad/s] (so h1 = h.s is the spin momentum), a drag scale
@@ -57,8 +59,9 @@ correlated with s (the momentum turns with the axis). Without that correlation t
 described balls nutating at h1 delta ~ 2 rad/s, and the filter locked on a wrong spin and lift
 scale with an overconfident covariance: benchmark, 60 flights per case, 1 s before the
 landing, for the defaults / drag +30 % lift -30 % / drag -30 % lift +30 %: landing NEES 3.0 /
-2.6 / 5.3 instead of 2, now 0.9 / 1.3 / 1.4; median error 11.8 / 10.1 / 12.2 cm, now 10.1 /
-9.0 / 12.1 cm; p95 0.5 s before 13 / 11 / 34 cm, now 10 / 11 / 15 cm (and see
+2.6 / 5.3 instead of 2, with it 0.9 / 1.3 / 1.4; median error 11.8 / 10.1 / 12.2 cm, with it
+10.1 / 9.0 / 12.1 cm (with SPIN_SPREAD and scale sigma 0.2 since: NEES 0.9 / 1.4 / 1.5,
+7.5 / 9.3 / 10.3 cm); p95 0.5 s before 13 / 11 / 34 cm, with it 10 / 11 / 15 cm (and see
 test_a_lob_with_more_lift_is_not_locked_on_a_wrong_spin). The price: a throw released exactly
 along its velocity is predicted a little less well (Release() defaults: 2.8 cm instead of
 0.8 cm at 0.5 s before the landing; the uncorrelated prior pinned the axis to the velocity).
@@ -266,6 +269,12 @@ def path_of(x, params, sample_dt, step, ground, horizon):
 
 
 # --- settings and results -----------------------------------------------------------------------
+SPIN_SPREAD = {'american': 0.19, 'rugby': 0.5}
+"""Default ``spin_sigma`` of a ball preset: the standard deviation of |spin| over the nominal,
+from the spread of real throws taken as uniform: spirals 400-800 rpm around 600 (115 rpm),
+screw kicks 60-600 rpm around 300 (156 rpm); 0.3 for another ball."""
+
+
 @dataclass(frozen=True)
 class TrackerSettings:
     """
@@ -275,7 +284,7 @@ class TrackerSettings:
     model-error acceleration; ``axis_noise`` [rad/sqrt(s)] and ``rate_noise``
     [rad/s/sqrt(s)] on s and h; ``scale_rate`` [1/sqrt(s)] random walk of kd and kl; priors
     ``axis_sigma`` [rad], ``rate_sigma`` [rad/s] (transverse), ``spin_sigma`` (fraction of
-    the nominal spin), ``scale_sigma`` (of kd and kl, mean 1); ``spin_rpm`` nominal |spin|
+    the nominal spin; None = the ball's :data:`SPIN_SPREAD`), ``scale_sigma`` (of kd and kl, mean 1); ``spin_rpm`` nominal |spin|
     [rev/min] (None = the ball preset's); ``hand_odds`` likelihood ratio that drops the other
     hand; ``gate`` squared Mahalanobis distance; ``max_lag`` [s] oldest fix accepted behind the
     newest; ``max_future`` [s] newest fix ahead of ``now``; ``max_gap`` [s] silence that ends a
@@ -294,8 +303,8 @@ class TrackerSettings:
     scale_rate: float = 0.003
     axis_sigma: float = 0.05
     rate_sigma: float = 0.3
-    spin_sigma: float = 0.3
-    scale_sigma: float = 0.3
+    spin_sigma: float | None = None
+    scale_sigma: float = 0.2
     spread: float = 0.5
     spin_rpm: float | None = None
     hand_odds: float = 1e6
@@ -341,6 +350,9 @@ class TrackerSettings:
     }
 
     def __post_init__(self) -> None:
+        if self.spin_sigma is None:  # the ball's own (a bad ball is refused below)
+            spread = SPIN_SPREAD.get(self.ball, 0.3) if isinstance(self.ball, str) else 0.3
+            object.__setattr__(self, 'spin_sigma', spread)
         check_numbers('tracker', self, self.LIMITS)
         if self.spin_rpm is not None and (
             isinstance(self.spin_rpm, bool)
