@@ -38,8 +38,8 @@ at 1 s lead, defaults, 60 flights: 7.6 cm median (an estimator at the bound repo
 cm on these flights, <= 5 cm in under 0.1 % of noise draws); spin known 5.5, coefficients
 known 5.1 to 5.5 (<= 5 cm in half the draws), both 2.2 cm. A batch MAP fit on the same fixes
 reaches it (6.4 / 5.0 / 4.6 / 2.2 cm); the tracker reaches 7.5 / 5.9 / 6.7 / 3.4 cm (its error
-over the bound per flight: median 1.2 to 1.6). The 5 cm target is below what these fixes tell unless the coefficients are
-known.
+over the bound per flight: median 1.2 to 1.6). The 5 cm target is below what these fixes
+tell unless the coefficients are known.
 
     .venv/bin/python bench/prediction_benchmark.py [--flights 60] [--seed 1]
 """
@@ -264,13 +264,8 @@ def time_tracker(releases: list[Release], seed: int) -> dict[str, np.ndarray]:
         'update+landing cpu': [],
     }
     for k, release in enumerate(releases):
-        flight = Flight.from_release(release)
-        t_land = float(flight.simulate(rate=100.0, duration=20.0).times[-1])
-        flight.rewind()
-        cam = Camera(CameraSettings(rate=RATE, noise=NOISE, latency=LATENCY, seed=seed + k))
-        obs = [
-            o for o in cam.step(t_land + 1.0, lambda t: flight.state_at(t)[:3]) if o.stamp < t_land
-        ]
+        t_land = float(Flight.from_release(release).simulate(rate=100.0, duration=20.0).times[-1])
+        obs = camera_fixes(release, seed + k, t_land)
         for with_landing in (False, True):
             tracker = FlightTracker()
             key = 'update+landing' if with_landing else 'update'

@@ -280,20 +280,20 @@ class TrackerSettings:
     """
     Filter settings (SI).
 
-    ``noise`` [m] 1-sigma per axis of the fixes; ``accel_noise`` [m/s^2/sqrt(Hz)] white
-    model-error acceleration; ``axis_noise`` [rad/sqrt(s)] and ``rate_noise``
-    [rad/s/sqrt(s)] on s and h; ``scale_rate`` [1/sqrt(s)] random walk of kd and kl; priors
-    ``axis_sigma`` [rad], ``rate_sigma`` [rad/s] (transverse), ``spin_sigma`` (fraction of
-    the nominal spin; None = the ball's :data:`SPIN_SPREAD`), ``scale_sigma`` (of kd and kl, mean 1); ``spin_rpm`` nominal |spin|
-    [rev/min] (None = the ball preset's); ``hand_odds`` likelihood ratio that drops the other
-    hand; ``gate`` squared Mahalanobis distance; ``max_lag`` [s] oldest fix accepted behind the
-    newest; ``max_future`` [s] newest fix ahead of ``now``; ``max_gap`` [s] silence that ends a
-    track; ``min_points``, ``init_window`` [s], ``min_speed`` [m/s] for a new throw;
-    ``spread`` the unscented transform's alpha (points at alpha sqrt(n) sigma);
-    ``reinit_after`` rejected fixes in a row that may start a new throw; ``step`` [s] filter
-    integration step, ``landing_step`` [s] for predictions; ``horizon`` [s] of the landing
-    search; ``ground`` [m] height of the landing plane; ``ball`` preset; ``aero`` the full
-    model's settings the filter assumes (None = the defaults).
+    ``noise`` [m] 1-sigma per axis of the fixes; ``accel_noise`` [m/s^2/sqrt(Hz)] white model-error
+    acceleration; ``axis_noise`` [rad/sqrt(s)] and ``rate_noise`` [rad/s/sqrt(s)] on s and h;
+    ``scale_rate`` [1/sqrt(s)] random walk of kd and kl; priors ``axis_sigma`` [rad],
+    ``rate_sigma`` [rad/s] (transverse), ``spin_sigma`` (fraction of the nominal spin; None = the
+    ball's :data:`SPIN_SPREAD`), ``scale_sigma`` (of kd and kl, mean 1); ``spin_rpm`` nominal
+    |spin| [rev/min] (None = the ball preset's); ``hand_odds`` likelihood ratio that drops the
+    other hand; ``gate`` squared Mahalanobis distance; ``max_lag`` [s] oldest fix accepted behind
+    the newest; ``max_future`` [s] newest fix ahead of ``now``; ``max_gap`` [s] silence that ends a
+    track; ``min_points``, ``init_window`` [s], ``min_speed`` [m/s] for a new throw; ``spread`` the
+    unscented transform's alpha (points at alpha sqrt(n) sigma); ``reinit_after`` rejected fixes in
+    a row that may start a new throw; ``step`` [s] filter integration step, ``landing_step`` [s]
+    for predictions; ``horizon`` [s] of the landing search; ``ground`` [m] height of the landing
+    plane; ``ball`` preset; ``aero`` the full model's settings the filter assumes (None = the
+    defaults).
     """
 
     noise: float = 0.02
