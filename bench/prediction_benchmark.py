@@ -180,16 +180,13 @@ def camera_fixes(release: Release, seed: int, t_land: float) -> list:
     """
     Return the seeded camera's observations of a flight captured before its landing [s].
 
-    The camera runs to the landing + 1 s in 0.1 s steps (its delivery queue is bounded).
+    The camera runs to the landing + 1 s (:meth:`Camera.record`: nothing dropped).
     """
     flight = Flight.from_release(release)
     rng = np.random.default_rng(seed)
     cam = Camera(CameraSettings(rate=RATE, noise=NOISE, latency=LATENCY, seed=seed))
     cam.restart(float(rng.uniform(0.0, 1.0 / RATE)))
-    end = t_land + 1.0
-    obs = []
-    for now in np.append(np.arange(0.1, end, 0.1), end):
-        obs += cam.step(float(now), lambda t: flight.state_at(t)[:3])
+    obs = cam.record(t_land + 1.0, lambda t: flight.state_at(t)[:3])
     return [o for o in obs if o.stamp < t_land]
 
 

@@ -159,3 +159,20 @@ class Camera:
         while self._queue and self._queue[0].delivery <= now + 1e-12:
             out.append(self._queue.popleft())
         return out
+
+    def record(self, end: float, position_at: Callable[[float], np.ndarray]) -> list[Observation]:
+        """
+        Return every observation delivered up to ``end`` [s], for an offline replay.
+
+        :meth:`step` in strides of half the queue's depth, so that the bounded queue drops
+        none (one :meth:`step` to a far ``now`` keeps only the newest QUEUE_DEPTH, as a
+        stalled camera would); the same observations as stepping frame by frame.
+        """
+        out = []
+        rate = self.settings.rate
+        if rate > 0.0:
+            now = self._release + self._next_k / rate
+            while now < end:
+                now = min(now + 0.5 * QUEUE_DEPTH / rate, end)
+                out += self.step(now, position_at)
+        return out + self.step(end, position_at)
