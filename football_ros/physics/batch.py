@@ -91,11 +91,6 @@ _dop853 = _dop853_tableau()
 _STAGES = _dop853.N_STAGES
 _A = _dop853.A[:_STAGES, :_STAGES]
 _B = np.ascontiguousarray(_dop853.B)
-# The non-zero entries of A, row by row (50 of 66):
-# stage i uses _A_VAL/_A_COL[_A_ROW[i]:_A_ROW[i+1]].
-_A_ROW = np.concatenate([[0], np.cumsum((_A != 0).sum(axis=1))]).astype(np.int64)
-_A_COL = np.nonzero(_A)[1].astype(np.int64)
-_A_VAL = _A[np.nonzero(_A)]
 N_LEAN = 13  # r, v, s, h, h1
 STEP_PER_RADIAN = 1.1
 """Default step = STEP_PER_RADIAN / (fastest rate, :func:`fastest_rates`), at most MAX_STEP:
