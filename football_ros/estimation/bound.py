@@ -42,9 +42,8 @@ from scipy import integrate, optimize
 
 from ..physics.aero import AeroModel
 from ..physics.flight import DEFAULT_STEP, Flight
-from ..physics.frames import attitude_with_axis
 from ..physics.presets import get_preset
-from ..physics.release import InitialState, Release, release_states, RPM
+from ..physics.release import initial_state_of, Release, release_states, RPM
 
 THETA = (
     'x0', 'y0', 'z0', 'speed', 'elevation', 'azimuth', 'alpha0', 'beta0', 'spin', 'kd', 'kl'
@@ -121,11 +120,7 @@ class ThrowModel:
             math.degrees(p.get('alpha_rate', 0.0)), math.degrees(p.get('beta_rate', 0.0)),
             np.array([p['x0'], p['y0'], p['z0']]),
         )
-        axis = st['axis'][0]
-        initial = InitialState(
-            st['position'][0], st['velocity'][0], axis, st['transverse_rate'][0],
-            float(st['spin'][0]), attitude_with_axis(axis),
-        )
+        initial = initial_state_of(st)
         aero = dataclasses.replace(
             self.aero,
             c_d0=self.aero.c_d0 * p['kd'],

@@ -305,25 +305,18 @@ class Release:
 
     def initial_state(self) -> InitialState:
         """Return the rigid-body state in ``field`` this release means (docs/physics.md sec. 1)."""
-        st = release_states(
-            self.speed,
-            self.elevation_deg,
-            self.azimuth_deg,
-            self.spin_rpm,
-            self.alpha0_deg,
-            self.beta0_deg,
-            self.alpha_rate_deg_s,
-            self.beta_rate_deg_s,
-            np.array(self.position, dtype=float),
-        )
-        axis = st['axis'][0]
-        return InitialState(
-            st['position'][0],
-            st['velocity'][0],
-            axis,
-            st['transverse_rate'][0],
-            float(st['spin'][0]),
-            frames.attitude_with_axis(axis),
+        return initial_state_of(
+            release_states(
+                self.speed,
+                self.elevation_deg,
+                self.azimuth_deg,
+                self.spin_rpm,
+                self.alpha0_deg,
+                self.beta0_deg,
+                self.alpha_rate_deg_s,
+                self.beta_rate_deg_s,
+                np.array(self.position, dtype=float),
+            )
         )
 
     def replace(self, **changes: Any) -> 'Release':
@@ -384,3 +377,16 @@ def release_states(
         'transverse_rate': np.cross(axis, axis_rate),
         'spin': spin_rpm * RPM,
     }
+
+
+def initial_state_of(states: dict[str, np.ndarray], i: int = 0) -> InitialState:
+    """Return release ``i`` of :func:`release_states` as an :class:`InitialState` (unchecked)."""
+    axis = states['axis'][i]
+    return InitialState(
+        states['position'][i],
+        states['velocity'][i],
+        axis,
+        states['transverse_rate'][i],
+        float(states['spin'][i]),
+        frames.attitude_with_axis(axis),
+    )
