@@ -15,10 +15,15 @@
 """ament_python package football_ros (also pip-installable without ROS)."""
 
 from glob import glob
+import os
+import runpy
 
 from setuptools import find_packages, setup
 
 package_name = 'football_ros'
+# The one list of the package's programs (a file without imports, read without the package).
+programs = runpy.run_path(os.path.join(os.path.dirname(os.path.abspath(__file__)),
+                                       package_name, 'programs.py'))
 
 setup(
     name=package_name,
@@ -41,7 +46,7 @@ setup(
         'scipy>=1.10',
         'numba>=0.59',
         'PyYAML>=6.0',
-        'rosbags>=0.10',
+        'rosbags>=0.11,<0.12',  # football_ros/bagfile.py extends its storage writers
         'matplotlib>=3.7',
     ],
     extras_require={
@@ -94,13 +99,5 @@ setup(
         'for ROS 2 Jazzy'
     ),
     license='Apache-2.0',
-    entry_points={
-        'console_scripts': [
-            'football-ros = football_ros.cli:main',
-            'simulator = football_ros.nodes.simulator:main',
-            'release = football_ros.nodes.release:main',
-            'recorder = football_ros.nodes.recorder:main',
-            'tracker = football_ros.nodes.tracker:main',
-        ],
-    },
+    entry_points={'console_scripts': programs['console_scripts']()},
 )

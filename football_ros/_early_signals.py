@@ -16,22 +16,22 @@
 Clean exit for a signal while a node program is still importing.
 
 Before nodes/runner.py takes over, the program then ends with exit code 0 and no traceback.
-Installed by the package's ``__init__`` only when the process is a node program
-(``simulator``, ``release``, ``recorder`` console scripts, or ``football-ros
-simulator|release|record``), never for library users.
+Installed by the package's ``__init__`` only when the process is a node program (a node's
+console script, ``python -m`` of a node module, or ``football-ros NODE``; the list:
+:mod:`football_ros.programs`), never for library users.
 """
 
 from __future__ import annotations
 
 import os
 import signal
+import sys
 from typing import Sequence
 
-NODE_SCRIPTS = ('simulator', 'release', 'recorder')
-NODE_COMMANDS = ('simulator', 'release', 'record')
+from .programs import node_command_names, NODES
 
-
-NODE_MODULES = tuple(f'football_ros.nodes.{name}' for name in ('simulator', 'release', 'recorder'))
+NODE_COMMANDS = node_command_names()
+NODE_MODULES = tuple(NODES.values())
 
 
 def is_node_program(argv: Sequence[str], orig_argv: Sequence[str] = ()) -> bool:
@@ -51,7 +51,7 @@ def is_node_program(argv: Sequence[str], orig_argv: Sequence[str] = ()) -> bool:
     if not argv:
         return False
     name = os.path.basename(argv[0])
-    if name in NODE_SCRIPTS:
+    if name in NODES:
         return True
     return name in ('football-ros', 'cli.py') and len(argv) > 1 and argv[1] in NODE_COMMANDS
 
@@ -68,8 +68,20 @@ def ignore_further_signals() -> None:
 
 
 def _exit_quietly(_signum, _frame) -> None:
+    """
+    End the process at once, exit code 0.
+
+    Nothing needs cleaning up before the runner takes over (no node, no file yet), and an
+    exception raised here could land in a callback that swallows it (importlib's module-lock
+    callbacks do), so the process ends without unwinding.
+    """
     ignore_further_signals()
-    raise SystemExit(0)
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError, AttributeError):
+            pass
+    os._exit(0)
 
 
 def install() -> None:

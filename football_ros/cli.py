@@ -30,8 +30,9 @@ import os
 import sys
 from typing import Sequence, TYPE_CHECKING
 
-from .command_line import add_release_options, Parser, plain, release_from_args, UsageError
+from .command_line import add_release_options, Parser, release_from_args, UsageError
 from .physics import PRESETS, Release, ReleaseError
+from .programs import ros_commands
 
 if TYPE_CHECKING:
     from .physics import Flight
@@ -39,15 +40,8 @@ if TYPE_CHECKING:
 EXIT_USAGE = 2
 DESCRIPTION = 'football-ros: a spinning American football or rugby ball in flight (ROS 2 Jazzy).'
 
-NODE_COMMANDS = {  # command -> (module, function); these need rclpy and parse their own options
-    'simulator': ('football_ros.nodes.simulator', 'main'),
-    'tracker': ('football_ros.nodes.tracker', 'main'),
-    'release': ('football_ros.nodes.release', 'main'),
-    'record': ('football_ros.nodes.recorder', 'main'),
-    'demo': ('football_ros.tools.demo', 'main'),
-    'echo': ('football_ros.nodes.console', 'echo'),
-    'throw': ('football_ros.nodes.console', 'throw'),
-}
+NODE_COMMANDS = ros_commands()
+"""Command -> (module, function) of the commands that need rclpy and parse their own options."""
 
 
 def modes_report(release: Release) -> dict:
@@ -428,12 +422,6 @@ def _main(argv: Sequence[str] | None) -> int:
         import importlib
 
         module_name, function = NODE_COMMANDS[argv[0]]
-        own = argv[1:argv.index('--ros-args')] if '--ros-args' in argv else argv[1:]
-        if argv[0] in ('simulator', 'release', 'tracker') and ({'-h', '--help'} & set(own)):
-            print(f'usage: football-ros {argv[0]} [--ros-args -p NAME:=VALUE ...]\n')
-            print(plain(importlib.import_module(module_name).__doc__))
-            print('Parameters, topics and QoS: config/football.yaml and msg_docs/.')
-            return 0
         return getattr(importlib.import_module(module_name), function)(argv[1:]) or 0
     try:
         args = build_parser().parse_args(argv)

@@ -21,6 +21,7 @@ import shutil
 import subprocess
 import sys
 
+from football_ros.programs import CLI_SCRIPT, NODES
 import pytest
 
 REPO = Path(__file__).resolve().parents[1]
@@ -53,7 +54,7 @@ def test_colcon_build_installs_node_executables(tmp_path):
     )
     assert proc.returncode == 0, proc.stdout + proc.stderr
     lib = tmp_path / 'install' / 'football_ros' / 'lib' / 'football_ros'
-    for exe in ('simulator', 'release', 'recorder', 'football-ros'):
+    for exe in (*NODES, CLI_SCRIPT):  # every node and the command (ros2 run football_ros ...)
         assert os.access(lib / exe, os.X_OK), f'{exe} missing from {lib}'
     share = tmp_path / 'install' / 'football_ros' / 'share'
     assert (share / 'ament_index' / 'resource_index' / 'packages' / 'football_ros').exists()

@@ -14,6 +14,7 @@
 
 """Recorder, bag round trips (rosbags and, independently, mcap), signal safety, figures, demo."""
 
+from pathlib import Path
 import signal
 import subprocess
 import sys
@@ -23,11 +24,11 @@ import types
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from football_ros.nodes import qos
 from football_ros.nodes import recorder as recorder_node
+from football_ros.nodes.topics import STATE_TOPICS
 from football_ros.physics import Flight, Release
-from geometry_msgs.msg import PoseStamped, Vector3Stamped
+from geometry_msgs.msg import PoseStamped
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from nav_msgs.msg import Odometry
 import numpy as np
 import pytest
 from rosbags.highlevel import AnyReader
@@ -35,14 +36,7 @@ from rosbags.typesys import get_typestore, Stores
 from rosutil import landed_event, order_flight
 import yaml
 
-STATE = {
-    qos.POSE: PoseStamped,
-    qos.ODOM: Odometry,
-    qos.SPIN_AXIS: Vector3Stamped,
-    qos.AERO_ANGLES: Vector3Stamped,
-    qos.AERO_ANGLES_LINEAR: Vector3Stamped,
-    qos.AERO_ANGLES_QUASI_STEADY: Vector3Stamped,
-}
+STATE = STATE_TOPICS
 
 
 def read_bag(path):
@@ -81,9 +75,16 @@ def test_records_every_message_of_a_1khz_flight(start_node, collector, tmp_path)
     for topic in STATE:
         assert counts['/' + topic] == len(expected.times), (topic, counts)
     assert np.max(np.abs(aero - expected.aero_angles[:, :2])) < 1e-6
-    assert 'geometry_msgs/Vector3 vector' in msgdefs['/football/aero_angles']
+    assert '\nVector3 vector\n' in msgdefs['/football/aero_angles']  # the .msg as written
+    assert '\nMSG: geometry_msgs/Vector3\n' in msgdefs['/football/aero_angles']
     meta = yaml.safe_load((bag / 'metadata.yaml').read_text())['rosbag2_bagfile_information']
     assert meta['storage_identifier'] == 'mcap' and meta['message_count'] == sum(counts.values())
+    assert meta['relative_file_paths'] == ['bag_0.mcap']  # as ros2 bag record names it
+    # The definitions as rosbag2_cpp stores them: the installed .msg files with their comments.
+    share = Path(sys.prefix) / 'share'
+    pose_msg = (share / 'geometry_msgs' / 'msg' / 'PoseStamped.msg').read_text()
+    assert msgdefs['/football/pose'].startswith(pose_msg + '\n' + '=' * 80 + '\n')
+    assert msgdefs['/football/pose'].count('MSG: ') == 5  # Pose, Point, Quaternion, Header, Time
     topics = {
         t['topic_metadata']['name']: t['topic_metadata'] for t in meta['topics_with_message_count']
     }
@@ -217,6 +218,13 @@ def test_flight_data_from_bag_matches_headless(tmp_path, start_node, collector):
     assert np.max(np.abs(record.velocity - expected.velocities)) < 1e-6
     assert np.max(np.abs(record.axis - expected.axes)) < 1e-9
     assert np.median(record.spin) == pytest.approx(600 * 2 * np.pi / 60, rel=1e-9)
+    # The quasi-steady theory is in the bag as in a CSV (so plot draws it from either).
+    quasi = expected.aero_angles_quasi_steady
+    assert np.max(np.abs(record.alpha_quasi_steady - quasi[:, 0])) < 1e-9
+    assert np.max(np.abs(record.beta_quasi_steady - quasi[:, 1])) < 1e-9
+    from football_ros.tools.figures import describe, flight_info
+
+    assert describe(flight_info(record, None, None)).endswith('(bag: football/flight/order)')
 
 
 def test_plot_rejects_unknown_sources(tmp_path):
@@ -263,8 +271,6 @@ def test_demo_end_to_end(tmp_path):
 
 
 def _config():
-    from pathlib import Path
-
     return Path(__file__).resolve().parents[1] / 'config' / 'football.yaml'
 
 
@@ -478,7 +484,7 @@ def test_file_size_limit_drops_only_what_is_not_on_disk(tmp_path, monkeypatch):
             failed = exc
             break
     assert failed is not None and failed.errno == errno.EFBIG
-    assert (tmp_path / 'bag' / 'bag.mcap').stat().st_size <= limit
+    assert (tmp_path / 'bag' / 'bag_0.mcap').stat().st_size <= limit
     lost, error = writer.close_after_error()
     assert error is None and 0 < lost < written
     meta, counts = check_bag_consistent(tmp_path / 'bag')

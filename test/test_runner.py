@@ -53,7 +53,7 @@ def _two_sigints(proc, gap=0.02):
 
 # Delays after the spawn cover the interpreter start, the imports, rclpy.init, the node's
 # construction and its warm-up (the simulator is ready after about 1-2 s here).
-@pytest.mark.parametrize('command', ['simulator', 'release'])
+@pytest.mark.parametrize('command', ['simulator', 'release', 'tracker'])
 @pytest.mark.parametrize('delay', [0.1, 0.3, 0.6, 0.9, 1.2, 1.6])
 def test_two_sigints_during_start_up_exit_cleanly(command, delay):
     proc = _spawn(command)

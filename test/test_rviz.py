@@ -18,6 +18,7 @@ import inspect
 from pathlib import Path
 
 from football_ros.nodes import messages, qos
+from football_ros.nodes.topics import TOPICS, type_name
 from football_ros.physics.frames import FIELD_FRAME
 from rclpy.qos import ReliabilityPolicy
 import yaml
@@ -28,10 +29,6 @@ DISPLAY_TYPES = {
     'rviz_default_plugins/MarkerArray': 'visualization_msgs/msg/MarkerArray',
     'rviz_default_plugins/Pose': 'geometry_msgs/msg/PoseStamped',
 }
-TOPIC_TYPES = {
-    qos.MARKERS: 'visualization_msgs/msg/MarkerArray',
-    qos.POSE: 'geometry_msgs/msg/PoseStamped',
-}
 
 
 def displays(items):
@@ -41,11 +38,7 @@ def displays(items):
 
 
 def package_topics():
-    return {
-        value
-        for name, value in vars(qos).items()
-        if name.isupper() and isinstance(value, str) and not name.endswith('SERVICE')
-    }
+    return set(TOPICS)
 
 
 def resolve(name, namespace='/'):
@@ -66,9 +59,9 @@ def test_rviz_config_loads_and_every_topic_exists():
         topic = display['Topic']['Value']
         assert resolve(topic) in topics, topic
         assert not topic.startswith('/')  # relative, so a pushed namespace applies
-        assert DISPLAY_TYPES[display['Class']] == TOPIC_TYPES[topic]
+        cls, profile = TOPICS[topic]
+        assert DISPLAY_TYPES[display['Class']] == type_name(cls)
         # The subscription's QoS must match what the simulator offers.
-        profile = {qos.MARKERS: qos.MARKERS_QOS, qos.POSE: qos.STATE}[topic]
         offered = (
             'Reliable' if profile.reliability == ReliabilityPolicy.RELIABLE else 'Best Effort'
         )

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 import time
 from typing import Sequence
@@ -32,6 +33,7 @@ import yaml
 from .dds import use_package_profile
 from ..command_line import add_release_options, HelpFormatter, release_from_args, UsageError
 from ..physics import ReleaseError
+from ..requests import check_id
 
 
 def wait_for_answer(rclpy, node, answers: list, request_id: str, deadline: float):
@@ -69,7 +71,7 @@ def _init(node_name: str):
 
 def echo(argv: Sequence[str] | None = None) -> int:
     from . import messages as mb
-    from .recorder import TOPICS
+    from .topics import TOPICS
 
     parser = argparse.ArgumentParser(
         prog='football-ros echo',
@@ -136,7 +138,10 @@ def throw(argv: Sequence[str] | None = None) -> int:
         description='send one release request and print the answer',
     )
     add_release_options(parser)
-    parser.add_argument('--id', default=f'throw-{int(time.time())}', help='correlation id')
+    parser.add_argument(
+        '--id',
+        help='correlation id (default: throw-<8 random hex digits>, which no other client uses)',
+    )
     parser.add_argument(
         '--timeout', type=float, default=10.0, help='seconds to wait for the answer'
     )
@@ -147,8 +152,11 @@ def throw(argv: Sequence[str] | None = None) -> int:
     )
     try:
         args = parser.parse_args(argv)
-        request = dict(release_from_args(args).to_mapping(), id=args.id)
-    except (UsageError, ReleaseError) as exc:
+        args.id = f'throw-{os.urandom(4).hex()}' if args.id is None else args.id
+        request = dict(release_from_args(args).to_mapping(), id=check_id(args.id))
+        if not args.timeout > 0.0:
+            raise UsageError(f'--timeout must be > 0 s, got {args.timeout:g}')
+    except (UsageError, ReleaseError, ValueError) as exc:
         print(f'football-ros throw: error: {exc}', file=sys.stderr)
         return 2
     from diagnostic_msgs.msg import DiagnosticStatus

@@ -30,37 +30,40 @@ from geometry_msgs.msg import Point, PointStamped
 
 from . import messages as mb
 from . import qos
-from .params import declare
+from .params import ParamSpec
 from ..estimation.sensor import Camera, CameraSettings, LIMITS
 
-PARAMETERS = (  # name, default, description, range
-    (
-        'observation_rate',
-        0.0,
-        'Simulated camera frames per second of flight time [Hz], 0 = off',
-        LIMITS['rate'],
-    ),
-    ('observation_noise', 0.02, 'Camera position noise, 1 sigma per axis [m]', LIMITS['noise']),
-    ('observation_latency', 0.02, 'Delay from capture to publication [s]', LIMITS['latency']),
-    ('observation_dropout', 0.0, 'Probability that a frame is lost', LIMITS['dropout']),
-    (
-        'observation_outlier_rate',
-        0.0,
-        'Probability that a frame is an outlier',
-        LIMITS['outlier_rate'],
-    ),
-    (
-        'observation_outlier_size',
-        2.0,
-        'Distance of an outlier from the ball [m]',
-        LIMITS['outlier_size'],
-    ),
-    (
-        'observation_seed',
-        0,
-        "Seed of the camera's noise (each flight restarts it)",
-        (0, 2**31 - 1),
-    ),
+PARAMETERS = tuple(
+    ParamSpec(*row)
+    for row in (
+        (
+            'observation_rate',
+            0.0,
+            'Simulated camera frames per second of flight time [Hz], 0 = off',
+            LIMITS['rate'],
+        ),
+        ('observation_noise', 0.02, 'Camera noise, 1 sigma per axis [m]', LIMITS['noise']),
+        ('observation_latency', 0.02, 'Delay from capture to publication [s]', LIMITS['latency']),
+        ('observation_dropout', 0.0, 'Probability that a frame is lost', LIMITS['dropout']),
+        (
+            'observation_outlier_rate',
+            0.0,
+            'Probability that a frame is an outlier',
+            LIMITS['outlier_rate'],
+        ),
+        (
+            'observation_outlier_size',
+            2.0,
+            'Distance of an outlier from the ball [m]',
+            LIMITS['outlier_size'],
+        ),
+        (
+            'observation_seed',
+            0,
+            "Seed of the camera's noise (each flight restarts it)",
+            (0, 2**31 - 1),
+        ),
+    )
 )
 
 
@@ -68,8 +71,8 @@ class ObservationHook:
     """Owns the camera and the ``football/observation`` publisher of a simulator node."""
 
     def __init__(self, node) -> None:
-        for name, default, description, limits in PARAMETERS:
-            setattr(node, name, declare(node, name, default, description, limits))
+        for spec in PARAMETERS:
+            setattr(node, spec.name, spec.declare(node))
         self._node = node
         self._pub = node.create_publisher(PointStamped, qos.OBSERVATION, qos.STATE)
         self._camera: Camera | None = None
@@ -94,7 +97,7 @@ class ObservationHook:
         Capture and publish what is due at this tick.
 
         ``run``: the simulator's flight run, ``stamp``: the tick's builtin_interfaces/Time.
-        Call before the tick samples the flight. Call before the tick samples the flight.
+        Call before the tick samples the flight.
         """
         node = self._node
         stamp_ns = stamp.sec * 1_000_000_000 + stamp.nanosec

@@ -12,67 +12,235 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""Parameter declaration with descriptors (description, ranges): one helper for every node."""
+"""
+Node parameters: one table (:class:`ParamSpec` rows) per node, the source of everything.
+
+From a node's ``PARAMETERS`` table come its declarations (descriptor: description, range,
+choices, read-only), its start-up checks, its ``--help`` lines (nodes/runner.py) and the
+parameter reference (msg_docs/parameters.md, written by :func:`markdown`). Integers are taken
+for float parameters, at start-up (``-p publish_rate:=200``) and at run time (``ros2 param set
+/football_simulator publish_rate 200``), as rclcpp users expect.
+"""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Sequence
 
-from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
+from rcl_interfaces.msg import (
+    FloatingPointRange,
+    IntegerRange,
+    ParameterDescriptor,
+    ParameterType,
+    SetParametersResult,
+)
+from rclpy.exceptions import InvalidParameterTypeException
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
-
-def declare(
-    node: Node,
-    name: str,
-    default,
-    description: str,
-    limits: tuple[float, float] | None = None,
-    read_only: bool = False,
-):
-    """
-    Declare ``name`` with a descriptor; numeric ``limits`` become an enforced range.
-
-    Returns the value in force (the default or a --ros-args override, which rclpy checks
-    against the range before the node starts). An integer override of a float parameter
-    (``publish_rate:=1000``) is taken as that float.
-    """
-    override = node._parameter_overrides.get(name)
-    if (
-        isinstance(default, float)
-        and override is not None
-        and override.type_ == Parameter.Type.INTEGER
-    ):
-        node._parameter_overrides[name] = Parameter(
-            name, Parameter.Type.DOUBLE, float(override.value)
-        )
-    descriptor = ParameterDescriptor(description=description, read_only=read_only)
-    if limits is not None:
-        lo, hi = limits
-        if isinstance(default, bool):
-            raise TypeError('a bool parameter takes no range')
-        if isinstance(default, int):
-            descriptor.integer_range = [IntegerRange(from_value=int(lo), to_value=int(hi), step=1)]
-        else:
-            descriptor.floating_point_range = [
-                FloatingPointRange(from_value=float(lo), to_value=float(hi), step=0.0)
-            ]
-    return node.declare_parameter(name, default, descriptor).value
+MAX_STRING = 256
+"""Characters a string parameter may hold (frame ids, names, paths): a bound on every copy."""
 
 
 @dataclass(frozen=True)
 class ParamSpec:
-    """One parameter of a node: the single source for its declaration and its ``--help`` line."""
+    """
+    One parameter: name, default (its type is the parameter's), description, rules.
+
+    ``limits``: inclusive numeric range (enforced by the descriptor); ``choices``: the values a
+    string may take (listed in the descriptor's additional_constraints, checked on every set);
+    ``read_only``: fixed after start-up; ``non_empty``: a string that must not be '';
+    ``optional``: may be left unset (``null`` or ``[]`` in a params file), meaning the default.
+    """
 
     name: str
     default: object
     description: str
     limits: tuple[float, float] | None = None
+    choices: tuple[str, ...] | None = None
+    read_only: bool = False
+    non_empty: bool = False
+    optional: bool = False
+
+    def descriptor(self) -> ParameterDescriptor:
+        """Return the ParameterDescriptor that ``ros2 param describe`` shows."""
+        descriptor = ParameterDescriptor(
+            description=self.description, read_only=self.read_only, dynamic_typing=self.optional
+        )
+        if self.choices:
+            descriptor.additional_constraints = f'one of: {", ".join(self.choices)}'
+        elif self.non_empty:
+            descriptor.additional_constraints = 'must not be empty'
+        if self.limits is not None:
+            lo, hi = self.limits
+            if isinstance(self.default, bool) or not isinstance(self.default, (int, float)):
+                raise TypeError(f'{self.name}: only a number takes a range')
+            if isinstance(self.default, int):
+                descriptor.integer_range = [
+                    IntegerRange(from_value=int(lo), to_value=int(hi), step=1)
+                ]
+            else:
+                descriptor.floating_point_range = [
+                    FloatingPointRange(from_value=float(lo), to_value=float(hi), step=0.0)
+                ]
+        return descriptor
+
+    def check(self, value: object) -> str | None:
+        """Why ``value`` is refused (the rules the descriptor cannot enforce), or None."""
+        if isinstance(value, list):
+            return next(filter(None, (self.check(v) for v in value)), None)
+        if isinstance(value, str):
+            if len(value) > MAX_STRING:
+                return f"'{self.name}' must be at most {MAX_STRING} characters"
+            if self.choices and value not in self.choices:
+                return (
+                    f"'{self.name}' must be one of {', '.join(self.choices)}, "
+                    f'got {value[:40]!r}'
+                )
+            if self.non_empty and not value:
+                return f"'{self.name}' must not be empty"
+        return None
 
     def declare(self, node: Node):
-        return declare(node, self.name, self.default, self.description, self.limits)
+        """
+        Declare on ``node``; return the value in force (default or override).
+
+        Raises ValueError naming the parameter for a value the rules refuse.
+        """
+        descriptor = self.descriptor()
+        try:
+            value = node.declare_parameter(self.name, self.default, descriptor).value
+            if self.optional:
+                value = self._typed(value)
+        except InvalidParameterTypeException:
+            if not isinstance(self.default, float):
+                raise
+            value = _integer_override(node, self, descriptor)
+        reason = self.check(value)
+        if reason:
+            raise ValueError(f'parameter {reason}')
+        return value
+
+    def _typed(self, value: object) -> object:
+        """Return an optional parameter's value: the default when unset, else of its type."""
+        if value is None:
+            return self.default
+        if isinstance(self.default, list) and isinstance(value, str):
+            value = [value]  # one name for a list of names
+        if isinstance(self.default, list):
+            ok = isinstance(value, list) and all(isinstance(v, str) for v in value)
+        else:
+            ok = type(value) is type(self.default)
+        if not ok:
+            kind = 'a list of strings' if isinstance(self.default, list) else 'a string'
+            raise ValueError(f"parameter '{self.name}' must be {kind}, got {value!r:.60}")
+        return value
 
     def help_line(self) -> str:
-        limits = f' [{self.limits[0]:g} .. {self.limits[1]:g}]' if self.limits else ''
-        return f'  {self.name} (default {self.default!r}{limits}): {self.description}'
+        """One ``--help`` line: name, default, range or choices, description."""
+        return f'  {self.name} (default {self.default!r}{self._rules()}): {self.description}'
+
+    def _rules(self) -> str:
+        rules = []
+        if self.limits:
+            rules.append(f'{_number(self.limits[0])} .. {_number(self.limits[1])}')
+        if self.choices:
+            rules.append(' | '.join(self.choices))
+        if self.read_only:
+            rules.append('read-only')
+        return f' [{", ".join(rules)}]' if rules else ''
+
+
+def _number(x: float) -> str:
+    return str(int(x)) if float(x).is_integer() and abs(x) < 1e15 else f'{x:g}'
+
+
+def _integer_override(node: Node, spec: ParamSpec, descriptor: ParameterDescriptor):
+    """
+    Take an integer override of a float parameter as that float.
+
+    The override is read through a dynamically typed declaration that is then replaced by the
+    typed one (public rclpy API only); any other type is refused as rclpy refuses it.
+    """
+    probe = node.declare_parameter(
+        spec.name, spec.default, ParameterDescriptor(dynamic_typing=True)
+    ).value
+    node.undeclare_parameter(spec.name)
+    if isinstance(probe, bool) or not isinstance(probe, (int, float)):
+        raise InvalidParameterTypeException(
+            Parameter(spec.name, value=probe), Parameter.Type.DOUBLE.name
+        )
+    return node.declare_parameter(
+        spec.name, float(probe), descriptor, ignore_override=True
+    ).value
+
+
+def declare_all(node: Node, specs: Sequence[ParamSpec]) -> dict[str, object]:
+    """
+    Declare every row of ``specs`` on ``node`` and set each value as an attribute of it.
+
+    Also installs the checks of :meth:`ParamSpec.check` on every later set, the callback
+    that takes integers for float parameters, and one that sets the attributes of what a set
+    put in force. Returns {name: value}.
+    """
+    values = {}
+    for spec in specs:
+        values[spec.name] = spec.declare(node)
+        setattr(node, spec.name, values[spec.name])
+    table = {spec.name: spec for spec in specs}
+
+    def check(params: list[Parameter]) -> SetParametersResult:
+        for p in params:
+            spec = table.get(p.name)
+            reason = spec.check(p.value) if spec is not None else None
+            if reason:
+                return SetParametersResult(successful=False, reason=reason)
+        return SetParametersResult(successful=True)
+
+    def apply(params: list[Parameter]) -> None:
+        for p in params:
+            if p.name in table:
+                setattr(node, p.name, p.value)
+
+    node.add_on_set_parameters_callback(check)
+    node.add_post_set_parameters_callback(apply)
+    accept_integers_for_floats(node)
+    return values
+
+
+def accept_integers_for_floats(node: Node) -> None:
+    """Turn an integer set on a float parameter into that float before rclpy's type check."""
+    if getattr(node, '_football_ros_integers_accepted', False):
+        return
+    node._football_ros_integers_accepted = True
+
+    def convert(params: list[Parameter]) -> list[Parameter]:
+        out = []
+        for p in params:
+            if p.type_ == Parameter.Type.INTEGER and node.has_parameter(p.name):
+                declared = node.describe_parameter(p.name)
+                if declared.type == ParameterType.PARAMETER_DOUBLE:
+                    p = Parameter(p.name, Parameter.Type.DOUBLE, float(p.value))
+            out.append(p)
+        return out
+
+    node.add_pre_set_parameters_callback(convert)
+
+
+def markdown(tables: dict[str, Sequence[ParamSpec]]) -> str:
+    """Return the parameter reference of every node (msg_docs/parameters.md)."""
+    lines = [
+        '# Parameters',
+        '',
+        "Generated from the nodes' parameter tables (`python -m football_ros.nodes.reference`);",
+        "do not edit by hand. Each node's `--help` prints the same table. Integers are accepted",
+        'for float parameters (`-p publish_rate:=200`, `ros2 param set ... publish_rate 200`).',
+    ]
+    for node, specs in tables.items():
+        lines += ['', f'## {node}', '', '| name | default | range / choices | description |',
+                  '|---|---|---|---|']
+        for spec in specs:
+            rules = spec._rules().strip(' []').replace('|', '\\|')
+            default = repr(spec.default).replace('|', '\\|')
+            lines.append(f'| `{spec.name}` | `{default}` | {rules} | {spec.description} |')
+    return '\n'.join(lines) + '\n'

@@ -60,10 +60,11 @@ CLOCK_QOS = QoSProfile(
     reliability=ReliabilityPolicy.BEST_EFFORT,
     durability=DurabilityPolicy.VOLATILE,
 )
-# /tf as tf2_ros's DynamicBroadcasterQoS / DynamicListenerQoS: reliable, volatile, 100 deep.
+# /tf as tf2_ros's DynamicBroadcasterQoS / DynamicListenerQoS (reliable, volatile), but 1000
+# deep like the state topics: a 1 s stall of a subscriber at 1 kHz loses no transform.
 TF_QOS = QoSProfile(
     history=HistoryPolicy.KEEP_LAST,
-    depth=100,
+    depth=1000,
     reliability=ReliabilityPolicy.RELIABLE,
     durability=DurabilityPolicy.VOLATILE,
 )

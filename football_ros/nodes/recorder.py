@@ -37,23 +37,16 @@ full disk, the recorder keeps an 8 MiB reserve file in the bag folder while reco
 from __future__ import annotations
 
 import argparse
-from collections import defaultdict
 import datetime
-from io import BytesIO
 import os
 from pathlib import Path
 import signal
 import sqlite3
-import struct
 import sys
 import threading
-import time
 from typing import Sequence
 
-from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
-from geometry_msgs.msg import PoseStamped, Vector3Stamped
-from nav_msgs.msg import Odometry
-from rcl_interfaces.msg import ParameterDescriptor
+from diagnostic_msgs.msg import DiagnosticArray
 from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.qos import QoSProfile
@@ -65,67 +58,23 @@ from rosbags.interfaces import (
     QosReliability,
     QosTime,
 )
-from rosbags.rosbag2 import StoragePlugin, Writer
+from rosbags.rosbag2 import StoragePlugin
 from rosbags.rosbag2.errors import WriterError
-from rosbags.rosbag2.storage_mcap import (
-    Channel,
-    McapWriter,
-    PendingChunk,
-    write_channel,
-    write_string,
-)
-from rosbags.rosbag2.storage_sqlite3 import Sqlite3Writer
 from rosbags.typesys import get_typestore, Stores
-from rosgraph_msgs.msg import Clock
-from std_msgs.msg import String
-from visualization_msgs.msg import MarkerArray
 
 from . import messages as mb
 from . import qos
+from .params import declare_all, ParamSpec
 from .runner import run_node
-
-try:  # tf2_msgs: the real package on a Jazzy install, a local build on the pip ROS (setup.sh)
-    from tf2_msgs.msg import TFMessage
-except ImportError:  # pragma: no cover - without tf2_msgs /tf is simply not recordable
-    TFMessage = None
+from .topics import TOPICS, type_name
+from ..bagfile import BAG_VERSION, BagWriter
 
 NODE_NAME = 'football_recorder'
 DIAGNOSTIC_NAME = 'football_ros: recorder'
-BAG_VERSION = 9  # rosbag2 metadata version written by Jazzy
-ROS_DISTRO = 'jazzy'
 RESERVE_NAME = '.football_ros_reserve'
 RESERVE_BYTES = 8 << 20  # > one mcap chunk (1 MiB + one message) + summary + metadata.yaml
-SQLITE_COMMIT_S = 0.2  # sqlite3: commit at most this often (a write error loses at most this)
 EXIT_WRITE_ERROR = 1
-
-# topic -> (message class, QoS to subscribe with; matches what the football_ros nodes offer)
-TOPICS = {
-    **{
-        topic: (cls, qos.STATE)
-        for topic, cls in (
-            (qos.POSE, PoseStamped),
-            (qos.ODOM, Odometry),
-            (qos.SPIN_AXIS, Vector3Stamped),
-            (qos.AERO_ANGLES, Vector3Stamped),
-            (qos.AERO_ANGLES_LINEAR, Vector3Stamped),
-            (qos.AERO_ANGLES_QUASI_STEADY, Vector3Stamped),
-        )
-    },
-    qos.MARKERS: (MarkerArray, qos.MARKERS_QOS),
-    qos.DIAGNOSTICS: (DiagnosticArray, qos.DIAGNOSTICS_QOS),
-    qos.CLOCK: (Clock, qos.CLOCK_QOS),
-    qos.RELEASE_REQUEST: (String, qos.REQUEST),
-    qos.RELEASE_RESPONSE: (DiagnosticStatus, qos.REQUEST),
-    qos.RELEASE_STATE: (Odometry, qos.REQUEST),
-    qos.FLIGHT_ORDER: (String, qos.ORDER),
-    **({qos.TF: (TFMessage, qos.TF_QOS)} if TFMessage is not None else {}),
-}
-
-
-def type_name(cls) -> str:
-    """'geometry_msgs/msg/PoseStamped' for a generated message class."""
-    module = cls.__module__.split('.')
-    return f'{module[0]}/msg/{cls.__name__}'
+STORAGES = ('mcap', 'sqlite3')
 
 
 def _bag_qos(profile: QoSProfile) -> Qos:
@@ -150,254 +99,31 @@ def default_bag_name() -> str:
     return datetime.datetime.now().strftime('football_%Y%m%d_%H%M%S')
 
 
-def _jazzy(metadata: str) -> str:
-    """Rosbags writes ``ros_distro: rosbags``; the bag is a Jazzy one."""
-    return metadata.replace('ros_distro: rosbags', f'ros_distro: {ROS_DISTRO}')
-
-
-class _File:
-    """
-    Unbuffered binary file that writes everything or raises (no silent short writes).
-
-    So that after a write error the file can be cut back to its last complete record.
-    """
-
-    def __init__(self, path: Path, position: int) -> None:
-        self._fd = os.open(path, os.O_WRONLY)
-        self._pos = os.lseek(self._fd, position, os.SEEK_SET)
-
-    def write(self, data) -> int:
-        view = memoryview(data).cast('B')
-        done = 0
-        while done < len(view):
-            done += os.write(self._fd, view[done:])
-        self._pos += done
-        return done
-
-    def tell(self) -> int:
-        return self._pos
-
-    def truncate(self, size: int) -> None:
-        os.ftruncate(self._fd, size)
-        self._pos = os.lseek(self._fd, size, os.SEEK_SET)
-
-    def flush(self) -> None:
-        pass
-
-    def close(self) -> None:
-        if self._fd >= 0:
-            os.close(self._fd)
-            self._fd = -1
-
-
-class _Mcap(McapWriter):
-    """
-    rosbags' mcap writer with rosbag2 (jazzy) channel metadata and write-error recovery.
-
-    Chunks are flushed by ``checkpoint()`` (outside ``Writer.write``, so the writer's counts
-    always match the messages it holds); a failed flush cuts the file back to its last
-    complete record and keeps the chunk in memory for ``close()`` or ``drop_pending()``.
-    """
-
-    def __init__(self, path: Path, compression) -> None:
-        super().__init__(path, compression)
-        self.bio.flush()
-        position = self.bio.tell()
-        self.bio.close()
-        self.bio = _File(self.path, position)
-        self._flush_due = False
-        self._in_write = False
-
-    def add_connection(self, connection, offered_qos_profiles: str) -> None:
-        metadata = BytesIO()
-        for key, value in (
-            ('offered_qos_profiles', offered_qos_profiles),
-            ('topic_type_hash', connection.digest),
-        ):
-            write_string(metadata, key)
-            write_string(metadata, value)
-        self.channels.append(
-            Channel(
-                connection.id,
-                connection.msgtype,
-                connection.topic,
-                connection.ext.serialization_format,
-                metadata.getvalue(),
-            )
-        )
-        self.channel_stats[connection.id] = 0
-        write_channel(self.chunk.bio, self.channels[-1], self.schemas)
-
-    def write(self, connection, timestamp: int, data) -> None:
-        self._in_write = True
-        try:
-            super().write(connection, timestamp, data)
-        finally:
-            self._in_write = False
-
-    def close_chunk(self) -> None:
-        if self._in_write:
-            self._flush_due = True
-            return
-        start = self.bio.tell()
-        try:
-            super().close_chunk()
-        except OSError:
-            self.bio.truncate(start)
-            raise
-        self._flush_due = False
-
-    def checkpoint(self) -> None:
-        """Write the pending chunk to the file if it is full (raises OSError on failure)."""
-        if self._flush_due:
-            self.close_chunk()
-
-    def drop_pending(self) -> dict[int, int]:
-        """Forget the messages not yet on disk; returns their count per connection id."""
-        dropped = {cid: len(msgs) for cid, msgs in self.chunk.msgs.items()}
-        for cid, count in dropped.items():
-            self.channel_stats[cid] -= count
-        # Schema and channel records of the dropped chunk are in the summary written by close().
-        self.chunk = PendingChunk(2**63 - 1, 0, BytesIO(), defaultdict(list))
-        ends = [struct.unpack_from('<QQ', rec.getbuffer())[1] for rec in self.chunks]
-        self.message_end_time = max(ends, default=0)
-        if not ends:
-            self.message_start_time = 2**63 - 1
-        return dropped
-
-    def close(self, version: int, metadata: str) -> None:
-        if self.chunk.bio.tell():
-            self.close_chunk()  # on its own: a failure cuts back only this chunk
-        start = self.bio.tell()
-        try:
-            super().close(version, _jazzy(metadata))
-        except OSError:
-            self.bio.truncate(start)
-            raise
-        self.bio.close()
-
-
-class _Sqlite3(Sqlite3Writer):
-    """
-    rosbags' sqlite3 writer that commits every SQLITE_COMMIT_S and says ``ros_distro: jazzy``.
-
-    rosbags commits only at the end: a failure would roll the whole recording back.
-    """
-
-    SQLITE_SCHEMA = Sqlite3Writer.SQLITE_SCHEMA.replace("(4, 'rosbags')", f"(4, '{ROS_DISTRO}')")
-
-    def __init__(self, path: Path, compression) -> None:
-        super().__init__(path, compression)
-        self._pending: dict[int, int] = defaultdict(int)
-        self._last_commit = time.monotonic()
-
-    def write(self, connection, timestamp: int, data) -> None:
-        super().write(connection, timestamp, data)
-        self._pending[connection.id] += 1
-
-    def checkpoint(self) -> None:
-        if time.monotonic() - self._last_commit >= SQLITE_COMMIT_S:
-            self.conn.commit()
-            self._pending.clear()
-            self._last_commit = time.monotonic()
-
-    def drop_pending(self) -> dict[int, int]:
-        self.conn.rollback()
-        dropped, self._pending = dict(self._pending), defaultdict(int)
-        return dropped
-
-    def close(self, version: int, metadata: str) -> None:
-        super().close(version, _jazzy(metadata))
-
-
-class BagWriter(Writer):
-    """
-    rosbags Writer whose bags match ``ros2 bag record`` (jazzy).
-
-    They match in ros_distro, channel metadata and type hashes; the writer can close cleanly
-    after a write error.
-    """
-
-    STORAGE_PLUGINS = {StoragePlugin.MCAP: _Mcap, StoragePlugin.SQLITE3: _Sqlite3}
-
-    def checkpoint(self) -> None:
-        self.storage.checkpoint()
-
-    def drop_pending(self) -> int:
-        """Forget the messages that are not on disk yet; returns how many."""
-        dropped = self.storage.drop_pending()
-        for cid, count in dropped.items():
-            self.counts[cid] -= count
-        return sum(dropped.values())
-
-    def close_after_error(self) -> tuple[int, Exception | None]:
-        """
-        Close after a write error with what can be kept.
-
-        The pending messages too if there is room, else only what is on disk. Returns
-        (messages lost, error if not closed).
-        """
-        lost = 0
-        try:
-            if isinstance(self.storage, _Sqlite3):  # sqlite may have rolled back more
-                lost = self.drop_pending()
-            self.close()
-            return lost, None
-        except (OSError, sqlite3.Error):
-            pass
-        if self.storage is None:  # the storage is closed; metadata.yaml could not be written
-            return lost, OSError('metadata.yaml could not be written')
-        try:
-            lost += self.drop_pending()
-            self.close()
-            return lost, None
-        except (OSError, sqlite3.Error) as exc:
-            return lost, exc
-
-    def close(self) -> None:
-        super().close()
-        text = self.metapath.read_text('utf8')
-        tmp = self.metapath.with_suffix('.yaml.tmp')
-        tmp.write_text(_jazzy(text), 'utf8')
-        tmp.replace(self.metapath)
-
-
-def _string_param(node: Node, name: str, default: str, description: str) -> str:
-    """Declare a read-only string parameter; unset (null in a params file) means ``default``."""
-    value = node.declare_parameter(
-        name,
-        None,
-        ParameterDescriptor(description=description, read_only=True, dynamic_typing=True),
-    ).value
-    if value is None:
-        return default
-    if not isinstance(value, str):
-        raise ValueError(f"parameter '{name}' must be a string, got {value!r}")
-    return value
-
-
-def _topics_param(node: Node) -> list[str]:
-    """``topics``: a string array; unset, [] (which rcl reads as unset) or [""] = all."""
-    value = node.declare_parameter(
+PARAMETERS = (
+    ParamSpec(
+        'output',
+        '',
+        "Bag folder to create; unset or '' = football_<date>_<time>",
+        read_only=True,
+        optional=True,
+    ),
+    ParamSpec(
+        'storage', 'mcap', 'Storage plugin', choices=STORAGES, read_only=True, optional=True
+    ),
+    ParamSpec(
         'topics',
-        None,
-        ParameterDescriptor(
-            description="Topics to record; unset, [] or [''] = every football_ros topic",
-            read_only=True,
-            dynamic_typing=True,
-        ),
-    ).value
-    if value is None:
-        return []
-    if isinstance(value, str):
-        value = [value]
-    if not isinstance(value, list) or not all(isinstance(t, str) for t in value):
-        raise ValueError(f"parameter 'topics' must be a list of topic names, got {value!r}")
-    return [t for t in value if t]
+        [''],
+        "Topics to record; unset, [] or [''] = every topic the package publishes",
+        read_only=True,
+        optional=True,
+    ),
+)
 
 
 class RecorderNode(Node):
     """Subscribes (serialized) to the football_ros topics and writes a rosbag2 bag."""
+
+    PARAMETERS = PARAMETERS
 
     def __init__(
         self,
@@ -410,16 +136,10 @@ class RecorderNode(Node):
         self._lock = threading.Lock()
         self._closed = True  # until the bag is open
         self.exit_code = 0
-        out = _string_param(
-            self, 'output', '', "Bag folder to create; '' = football_<date>_<time>"
-        )
-        store = _string_param(self, 'storage', 'mcap', 'Storage plugin: mcap or sqlite3')
-        wanted = _topics_param(self)
-        out = output or out or default_bag_name()
-        store = storage or store
-        wanted = [t for t in (topics or wanted) if t]
-        if store not in ('mcap', 'sqlite3'):
-            raise ValueError(f"parameter 'storage' must be 'mcap' or 'sqlite3', got '{store}'")
+        declare_all(self, PARAMETERS)
+        out = output or self.output or default_bag_name()
+        store = storage or self.storage
+        wanted = [t for t in (topics or self.topics) if t]
         resolved = {self.resolve_topic_name(t): t for t in TOPICS}
         selected = {}
         for name in wanted or list(TOPICS):
@@ -466,12 +186,8 @@ class RecorderNode(Node):
 
     def _connection(self, topic: str, cls, profile: QoSProfile):
         offered = [info.qos_profile for info in self.get_publishers_info_by_topic(topic)]
-        conn = self._writer.add_connection(
-            topic,
-            type_name(cls),
-            typestore=self._typestore,
-            serialization_format='cdr',
-            offered_qos_profiles=[_bag_qos(p) for p in offered or [profile]],
+        conn = self._writer.add_ros_connection(
+            topic, type_name(cls), self._typestore, [_bag_qos(p) for p in offered or [profile]]
         )
         self._connections[topic] = conn
         self.get_logger().info(f"recording '{topic}' (first message received)")
@@ -575,12 +291,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     ros_args = argv[argv.index('--ros-args'):] if '--ros-args' in argv else []
     own = argv[: len(argv) - len(ros_args)]
     parser = argparse.ArgumentParser(
-        prog='football-ros record', description=__doc__.splitlines()[0].replace('``', '')
+        prog='football-ros record',
+        description=__doc__.splitlines()[0].replace('``', ''),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog='parameters (--ros-args -p NAME:=VALUE; the options above win):\n'
+        + '\n'.join(spec.help_line() for spec in PARAMETERS),
     )
     parser.add_argument('--out', help='bag folder to create (default: football_<date>_<time>)')
-    parser.add_argument(
-        '--storage', choices=('mcap', 'sqlite3'), help='storage plugin (default mcap)'
-    )
+    parser.add_argument('--storage', choices=STORAGES, help='storage plugin (default mcap)')
     parser.add_argument(
         '--topics', nargs='+', help='topics to record (default: all football_ros topics)'
     )

@@ -41,21 +41,20 @@ import traceback
 from diagnostic_msgs.msg import DiagnosticStatus
 from nav_msgs.msg import Odometry
 import numpy as np
-from rcl_interfaces.msg import SetParametersResult
 from rclpy.node import Node
 from std_msgs.msg import String
 
 from . import messages as mb
 from . import qos
-from .params import declare
+from .params import declare_all, ParamSpec
 from .runner import run_node
-from ..physics import compile_ahead, Flight, get_preset, InitialState, ReleaseError
+from ..physics import compile_ahead, Flight, InitialState, PRESETS, ReleaseError
+from ..physics.flight import flight_summary
 from ..physics.frames import BODY_FRAME, FIELD_FRAME, quaternion_to_matrix
 from ..physics.release import MODELS, MOMENT_CURVES
 from ..requests import (
     brief,
     capped,
-    flight_summary,
     FlightOrder,
     MAX_REQUEST_BYTES,
     read_request,
@@ -115,70 +114,56 @@ class _Pending:
     values: dict
 
 
+PARAMETERS = (
+    ParamSpec(
+        'max_request_bytes',
+        MAX_REQUEST_BYTES,
+        'Largest accepted request text [bytes]',
+        (64, 1 << 20),
+    ),
+    ParamSpec(
+        'integration_step', 0.001, 'Integration step of the landing prediction [s]', (5e-4, 0.01)
+    ),
+    ParamSpec(
+        'ack_timeout',
+        1.0,
+        "Wall time to wait for the simulator's acknowledgement [s]",
+        (0.1, 10.0),
+    ),
+    ParamSpec(
+        'queue_depth',
+        64,
+        'Requests waiting for the worker at most; more are answered busy',
+        (1, 1000),
+        read_only=True,
+    ),
+    ParamSpec(
+        'state_ball',
+        'american',
+        'Ball preset of releases given as an Odometry on football/release/state',
+        choices=tuple(PRESETS),
+    ),
+    ParamSpec('state_model', 'paper', 'Model of Odometry releases', choices=MODELS),
+    ParamSpec(
+        'state_moment', 'linear', 'Moment curve of Odometry releases', choices=MOMENT_CURVES
+    ),
+    ParamSpec(
+        'body_frame_id',
+        BODY_FRAME,
+        'Body frame an Odometry release may give its twist in',
+        non_empty=True,
+    ),
+)
+
+
 class ReleaseNode(Node):
     """Validates release requests, orders accepted flights and answers each request once."""
 
+    PARAMETERS = PARAMETERS
+
     def __init__(self) -> None:
         super().__init__(NODE_NAME)
-        self.max_request_bytes = declare(
-            self,
-            'max_request_bytes',
-            MAX_REQUEST_BYTES,
-            'Largest accepted request text [bytes]',
-            (64, 1 << 20),
-        )
-        self.integration_step = declare(
-            self,
-            'integration_step',
-            0.001,
-            'Integration step of the landing prediction [s]',
-            (5e-4, 0.01),
-        )
-        self.ack_timeout = declare(
-            self,
-            'ack_timeout',
-            1.0,
-            "Wall time to wait for the simulator's acknowledgement [s]",
-            (0.1, 10.0),
-        )
-        self.queue_depth = declare(
-            self,
-            'queue_depth',
-            64,
-            'Requests waiting for the worker at most; more are answered busy',
-            (1, 1000),
-            read_only=True,
-        )
-        self.state_ball = declare(
-            self,
-            'state_ball',
-            'american',
-            'Ball preset of releases given as an Odometry on football/release/state',
-        )
-        self.state_model = declare(
-            self, 'state_model', 'paper', 'Model of Odometry releases: paper or full'
-        )
-        self.state_moment = declare(
-            self,
-            'state_moment',
-            'linear',
-            'Moment curve of Odometry releases: linear or sin2delta',
-        )
-        self.body_frame_id = declare(
-            self,
-            'body_frame_id',
-            BODY_FRAME,
-            'Body frame an Odometry release may give its twist in',
-        )
-        for name, value in (
-            ('state_ball', self.state_ball),
-            ('state_model', self.state_model),
-            ('state_moment', self.state_moment),
-        ):
-            problem = self._check_choice(name, value)
-            if problem:
-                raise ValueError(problem)
-        self.add_on_set_parameters_callback(self._on_parameters)
+        declare_all(self, PARAMETERS)
         self._token = os.urandom(3).hex()  # order ids unique across release nodes on a domain
         self._sequence = 0
         self._lock = threading.Lock()  # pending orders and the response publisher
@@ -206,31 +191,6 @@ class ReleaseNode(Node):
             f"'{self.resolve_topic_name(qos.RELEASE_STATE)}', answers on "
             f"'{self.resolve_topic_name(qos.RELEASE_RESPONSE)}'"
         )
-
-    # --- parameters ------------------------------------------------------------------------
-    @staticmethod
-    def _check_choice(name: str, value) -> str | None:
-        choices = {'state_ball': None, 'state_model': MODELS, 'state_moment': MOMENT_CURVES}
-        if name == 'state_ball':
-            try:
-                get_preset(value)
-            except ValueError as exc:
-                return f'{name}: {exc}'
-        elif name in choices and value not in choices[name]:
-            return f'{name} must be one of {", ".join(choices[name])}, got {brief(value)}'
-        return None
-
-    def _on_parameters(self, params) -> SetParametersResult:
-        for p in params:
-            problem = self._check_choice(p.name, p.value)
-            if p.name == 'body_frame_id' and not p.value:
-                problem = 'body_frame_id must not be empty'
-            if problem:
-                return SetParametersResult(successful=False, reason=problem)
-        for p in params:
-            if p.name != 'use_sim_time':
-                setattr(self, p.name, p.value)
-        return SetParametersResult(successful=True)
 
     # --- executor thread: read, check, queue -------------------------------------------------
     def _on_request(self, msg: String) -> None:
@@ -340,8 +300,7 @@ class ReleaseNode(Node):
                 order = FlightOrder.from_release(work.request_id, release, order_id)
             else:
                 order = replace(order, order_id=order_id)
-            text = order.to_json()
-            FlightOrder.from_json(text)  # the simulator's own rules: one validation, one truth
+            text = order.to_json()  # the order is valid by construction: the simulator's rules
             flight = order.flight(self.integration_step)
         except ValueError as exc:
             self._reject(work.request_id, str(exc))

@@ -22,11 +22,12 @@ the node without a traceback and with exit code 0; from then on SIGINT and SIGTE
 clean-up and the interpreter's shutdown finish; SIGKILL still ends a stuck process. The node's
 ``close()`` (if any) runs before the node is destroyed, so threads stop and files are flushed.
 A callback that raises is logged with its traceback and the node goes on. A start-up error
-(a parameter out of range) is one line on stderr and exit code 2.
+(an option other than ``-h`` before ``--ros-args``, ROS arguments rcl cannot parse, a
+parameter out of range, DDS security that cannot start) is one line on stderr and exit code 2.
 
-``-h``/``--help`` before ``--ros-args`` prints the node's description and parameters (name,
-default, range, description, from the node class's ``PARAMETERS`` table when it has one) and
-exits 0 without starting anything.
+``-h``/``--help`` before ``--ros-args`` prints the node's description and parameters (the node
+class's ``PARAMETERS`` table: name, default, range or choices, description) and exits 0
+without starting anything.
 """
 
 from __future__ import annotations
@@ -44,7 +45,9 @@ from rclpy.node import Node
 import rclpy.signals
 
 from .dds import use_package_profile
+from .params import accept_integers_for_floats
 from .._early_signals import ignore_further_signals
+from ..command_line import plain
 
 EXIT_USAGE = 2
 SPIN_WAIT_S = 0.1
@@ -97,23 +100,22 @@ def print_help(factory: Callable[[], Node], program: str, out=sys.stdout) -> Non
         f'usage: {program} [-h] [--ros-args -p NAME:=VALUE ... | --params-file FILE]\n', file=out
     )
     if doc:
-        print(doc + '\n', file=out)
-    specs = getattr(factory, 'PARAMETERS', None)
-    if specs:
-        print('parameters (name, default, range: description):', file=out)
-        for spec in specs:
-            print(spec.help_line(), file=out)
-    else:
-        print('parameters: see config/football.yaml', file=out)
+        print(plain(doc) + '\n', file=out)
+    print('parameters (name, default [range, choices]: description):', file=out)
+    for spec in getattr(factory, 'PARAMETERS', ()):
+        print(spec.help_line(), file=out)
     print('\ntopics, frames, units and QoS: msg_docs/ (installed in share/football_ros)', file=out)
+
+
+def own_options(args: Sequence[str]) -> list[str]:
+    """Return the options before ``--ros-args`` (a node takes only ``-h``/``--help``)."""
+    own = list(args)
+    return own[: own.index('--ros-args')] if '--ros-args' in own else own
 
 
 def wants_help(args: Sequence[str]) -> bool:
     """Tell whether ``-h``/``--help`` comes before any ``--ros-args``."""
-    own = list(args)
-    if '--ros-args' in own:
-        own = own[: own.index('--ros-args')]
-    return bool({'-h', '--help'} & set(own))
+    return bool({'-h', '--help'} & set(own_options(args)))
 
 
 def run_node(factory: Callable[[], Node], argv: Sequence[str] | None, program: str) -> int:
@@ -157,16 +159,30 @@ def _start_and_spin(factory, argv, program: str, made: list, signals: _Signals) 
 
             os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
+    unknown = [a for a in own_options(args[1:]) if a not in ('-h', '--help')]
+    if unknown:
+        signals.clean_up_begins()
+        print(
+            f'{program}: error: unrecognized arguments: {" ".join(unknown)[:200]} (parameters '
+            'go after --ros-args: --ros-args -p NAME:=VALUE; --help lists them)',
+            file=sys.stderr,
+        )
+        return EXIT_USAGE
     try:
         # rclpy's own signal handlers are left out: they shut the context down under the node
         # and restore the default action, so that a second signal killed the process.
         use_package_profile()  # Fast DDS reads it when the participant is created
         rclpy.init(args=args, signal_handler_options=rclpy.signals.SignalHandlerOptions.NO)
         made.append(factory())
+        accept_integers_for_floats(made[0])
     except (ParameterException, InvalidParameterTypeException, ValueError) as exc:
         # A start-up error (a parameter override out of range, ...): one clear line.
         signals.clean_up_begins()
         print(f'{program}: error: {exc}', file=sys.stderr)
+        return EXIT_USAGE
+    except RCLError as exc:  # unparsable ROS arguments, DDS security without its keys, ...
+        signals.clean_up_begins()
+        print(f'{program}: error: cannot start: {_rcl_reason(exc)}', file=sys.stderr)
         return EXIT_USAGE
     executor = SingleThreadedExecutor()
     executor.add_node(made[0])
@@ -183,6 +199,20 @@ def _start_and_spin(factory, argv, program: str, made: list, signals: _Signals) 
                 f'a callback failed (the node goes on):\n{traceback.format_exc()}'
             )
     return 0
+
+
+def _rcl_reason(exc: Exception) -> str:
+    """Return the rcl error without its source location, with a hint for DDS security."""
+    import os
+
+    reason = str(exc).split(', at /')[0]
+    if os.environ.get('ROS_SECURITY_ENABLE', '').lower() == 'true':
+        keystore = os.environ.get('ROS_SECURITY_KEYSTORE') or '(ROS_SECURITY_KEYSTORE unset)'
+        reason += (
+            f'; ROS_SECURITY_ENABLE=true: is the keystore {keystore} there, with an enclave '
+            'for this node (ros2 security create_enclave; README, section "Security")?'
+        )
+    return reason
 
 
 def _clean_up(node: Node | None) -> None:

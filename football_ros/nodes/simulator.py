@@ -63,8 +63,8 @@ from visualization_msgs.msg import MarkerArray
 
 from . import messages as mb
 from . import qos
-from .observation_hook import ObservationHook
-from .params import declare, ParamSpec
+from .observation_hook import ObservationHook, PARAMETERS as OBSERVATION_PARAMETERS
+from .params import ParamSpec
 from .runner import run_node
 from ..physics import limits, Release
 from ..physics.aero import max_valid_delta, out_of_validity
@@ -136,7 +136,13 @@ PARAMETERS = (
         'model',
         'release',
         "Equations of motion: 'release' (as each release asks), 'paper' or 'full'",
+        choices=MODEL_CHOICES,
     ),
+)
+PUBLISH_TF = ParamSpec(
+    'publish_tf',
+    mb.TFMessage is not None,
+    'Publish the ball on /tf (frame_id -> child_frame_id)',
 )
 
 
@@ -211,7 +217,7 @@ class SimulatorNode(Node):
     diagnostics of the ball in flight, paced in real time.
     """
 
-    PARAMETERS = PARAMETERS
+    PARAMETERS = PARAMETERS + (PUBLISH_TF,) + OBSERVATION_PARAMETERS
 
     def __init__(self) -> None:
         super().__init__(NODE_NAME)
@@ -222,12 +228,7 @@ class SimulatorNode(Node):
             raise ValueError(reason)
         self._use_sim_time = bool(self.get_parameter('use_sim_time').value)
         # --- TF hook: the ball as the frame child_frame_id in frame_id on /tf ---
-        self.publish_tf = declare(
-            self,
-            'publish_tf',
-            mb.TFMessage is not None,
-            'Publish the ball on /tf (frame_id -> child_frame_id)',
-        )
+        self.publish_tf = PUBLISH_TF.declare(self)
         self._tf_pub = (
             None
             if mb.TFMessage is None

@@ -37,7 +37,7 @@ from .aero import AeroModel, resolve
 from .limits import check_flyable
 from .linear_theory import linear_modes, LinearModes, quasi_steady_components, QuasiSteadyTracker
 from .presets import BallPreset
-from .release import InitialState, MODELS, Release
+from .release import check_choice, InitialState, MODELS, MOMENT_CURVES, Release
 
 DEFAULT_STEP = 1e-3
 """Default integration step [s]: RK4 error on alpha/beta stays below 1e-6 rad over a pass."""
@@ -211,8 +211,8 @@ class Flight:
         step: float = DEFAULT_STEP,
         aero: AeroModel | None = None,
     ) -> None:
-        if model not in MODELS:
-            raise ValueError(f"unknown model '{model}' (known: {', '.join(MODELS)})")
+        check_choice('model', model, MODELS)
+        check_choice('moment', moment, MOMENT_CURVES)
         if not (0.0 < step <= 0.05):
             raise ValueError(f'integration step must be in (0, 0.05] s, got {step}')
         ball, self.aero = resolve(ball, model, aero)
@@ -352,3 +352,18 @@ class BallSample:
     aero_angles_quasi_steady: np.ndarray = dataclasses.field(
         default_factory=lambda: np.full(2, np.nan)
     )
+
+
+def flight_summary(times: np.ndarray, positions: np.ndarray, landed: bool) -> dict[str, float]:
+    """
+    Time_of_flight [s], range [m] (horizontal, from the release), apex height [m].
+
+    Of samples ``times`` (N,) and ``positions`` (N, 3) in ``field``; NaN time and range when
+    the flight had not landed.
+    """
+    horizontal = positions[-1, :2] - positions[0, :2]
+    return {
+        'time_of_flight': float(times[-1]) if landed else math.nan,
+        'range': float(np.hypot(*horizontal)) if landed else math.nan,
+        'apex_height': float(np.max(positions[:, 2])),
+    }

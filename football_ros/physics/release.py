@@ -87,6 +87,43 @@ def check_range(name: str, value: Any, limits_key: str | None = None, slack: flo
     return min(max(value, lo), hi)
 
 
+def check_choice(name: str, value: Any, choices: tuple[str, ...]) -> str:
+    """Return ``value`` if it is one of ``choices``, else raise ReleaseError naming ``name``."""
+    if not isinstance(value, str) or value not in choices:
+        raise ReleaseError(f"'{name}' must be one of {', '.join(choices)}, got {_brief(value)}")
+    return value
+
+
+def check_settings(
+    ball: Any, ball_params: Any, model: Any, moment: Any, aero: Any
+) -> tuple[BallPreset, AeroModel | None]:
+    """
+    Check a flight's settings (the one check): ball preset and overrides, model, moment, aero.
+
+    Returns the ball with its overrides and the full model's settings (None for the paper's
+    model); raises ReleaseError naming the field.
+    """
+    check_choice('model', model, MODELS)
+    check_choice('moment', moment, MOMENT_CURVES)
+    if not isinstance(ball, str):
+        raise ReleaseError(f"'ball' must be a preset name, got {_brief(ball)}")
+    for key, value in (('ball_params', ball_params), ('aero', aero)):
+        if not isinstance(value, Mapping):
+            raise ReleaseError(f"'{key}' must be a mapping, got {_brief(value)}")
+    try:
+        preset = get_preset(ball, ball_params)
+    except (ValueError, TypeError) as exc:
+        raise ReleaseError(str(exc)) from None
+    if model != 'full':
+        if aero:
+            raise ReleaseError("'aero' settings need model: full")
+        return preset, None
+    try:
+        return preset, AeroModel.from_mapping(aero)
+    except (ValueError, TypeError) as exc:
+        raise ReleaseError(str(exc)) from None
+
+
 def _brief(value: Any, limit: int = 60) -> str:
     text = repr(value)
     return text if len(text) <= limit else text[: limit - 3] + '...'
@@ -220,7 +257,7 @@ class Release:
     )
 
     def __post_init__(self) -> None:
-        preset = self.preset()  # validates ball and ball_params
+        preset = self.preset()  # validates ball, ball_params, model, moment and aero
         for name, default in (
             ('speed', preset.speed),
             ('elevation_deg', preset.elevation_deg),
@@ -237,15 +274,8 @@ class Release:
         ):
             object.__setattr__(self, name, check_range(name, getattr(self, name)))
         object.__setattr__(self, 'position', check_position(self.position))
-        if self.model not in MODELS:
-            raise ReleaseError(f"unknown model '{self.model}' (known: {', '.join(MODELS)})")
-        if self.moment not in MOMENT_CURVES:
-            raise ReleaseError(
-                f"unknown moment curve '{self.moment}' (known: {', '.join(MOMENT_CURVES)})"
-            )
         if self.position[2] <= 0.0 and self.elevation_deg <= 0.0:
             raise ReleaseError('a release on the ground (z = 0) must go up (positive elevation)')
-        self.aero_model()  # validates aero
         # The combined limits (total axis offset, transverse rate) of the state it starts: the
         # rules the simulator applies to every flight order, so that one truth decides.
         st = self.initial_state()
@@ -253,27 +283,14 @@ class Release:
 
     def aero_model(self) -> AeroModel | None:
         """Return the full model's settings (None for the paper's model)."""
-        if not isinstance(self.aero, Mapping):
-            raise ReleaseError(f"'aero' must be a mapping, got {_brief(self.aero)}")
-        if self.model != 'full':
-            if self.aero:
-                raise ReleaseError("'aero' settings need model: full")
-            return None
-        try:
-            return AeroModel.from_mapping(self.aero)
-        except (ValueError, TypeError) as exc:
-            raise ReleaseError(str(exc)) from None
+        return self._settings()[1]
 
     def preset(self) -> BallPreset:
         """Return the ball with ``ball_params`` applied."""
-        if not isinstance(self.ball, str):
-            raise ReleaseError(f"'ball' must be a preset name, got {_brief(self.ball)}")
-        if not isinstance(self.ball_params, Mapping):
-            raise ReleaseError(f"'ball_params' must be a mapping, got {_brief(self.ball_params)}")
-        try:
-            return get_preset(self.ball, self.ball_params)
-        except (ValueError, TypeError) as exc:
-            raise ReleaseError(str(exc)) from None
+        return self._settings()[0]
+
+    def _settings(self) -> tuple[BallPreset, AeroModel | None]:
+        return check_settings(self.ball, self.ball_params, self.model, self.moment, self.aero)
 
     @classmethod
     def from_mapping(cls, data: Mapping[str, Any]) -> 'Release':
@@ -284,9 +301,6 @@ class Release:
                 f'unknown key(s) {_brief(", ".join(map(repr, unknown)))}; '
                 f'known: {", ".join(cls.FIELDS)}'
             )
-        for key in ('ball', 'model', 'moment'):
-            if key in data and not isinstance(data[key], str):
-                raise ReleaseError(f"'{key}' must be a string, got {_brief(data[key])}")
         kwargs = dict(data)
         for key in ('ball_params', 'aero'):
             if key in kwargs and kwargs[key] is None:
