@@ -64,7 +64,7 @@ from football_ros.estimation.bound import (
     radial_median,
     ThrowModel,
 )
-from football_ros.estimation.tracker import X_H, X_S
+from football_ros.estimation.motion import X_H, X_S
 from football_ros.physics import Flight
 from football_ros.physics.aero import AeroModel
 from football_ros.physics.release import RPM
@@ -345,4 +345,6 @@ def main() -> None:
 
 
 if __name__ == '__main__':
-    main()
+    import results  # bench/results.py: the figures go to bench/RESULTS.md
+
+    raise SystemExit(results.recorded('prediction bound', main))

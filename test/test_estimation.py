@@ -17,7 +17,7 @@
 import math
 
 from football_ros.estimation import Camera, CameraSettings, FlightTracker, TrackerSettings
-from football_ros.estimation.tracker import X_H, X_KD, X_KL, X_S
+from football_ros.estimation.motion import X_H, X_KD, X_KL, X_S
 from football_ros.physics import dynamics as dyn
 from football_ros.physics import Flight, Release
 from football_ros.physics.aero import AeroModel

@@ -17,54 +17,32 @@ Track a thrown ball from noisy position fixes and predict where and when it land
 
 Filter: an unscented Kalman filter (scaled sigma points x +/- alpha sqrt(n) L_i, alpha =
 ``spread``, beta = 2). Why not an EKF: the motion model is the package's compiled full model
-(:func:`football_ros.physics.dynamics.loads`), which changes as the physics evolves and has no
-Jacobian; sigma points need none, cost 2n + 1 = 29 compiled propagations per frame (about a
-millisecond), and the same points carry the uncertainty through the nonlinear landing (the
-z = 0 crossing) to give the landing point's covariance and the landing time's variance. The
+(:mod:`.motion`, on :func:`football_ros.physics.dynamics.loads`), which changes as the physics
+evolves and has no Jacobian; sigma points need none (2n + 1 = 29 compiled propagations per
+frame), and the same points carry the uncertainty through the nonlinear landing (the z = 0
+crossing) to give the landing point's covariance and the landing time's variance. The
 measurement (a position) is linear, so the update is the exact Kalman update (Joseph form).
 What limits the prediction is what the fixes cannot yet tell (spin, axis, coefficients): the
-Bayesian Cramer-Rao bound of the landing point (bench/prediction_bound.py: benchmark flights
-and fixes, the benchmark's own priors, hand known), 1 s before the landing, 60 flights,
-defaults: median 7.6 cm (spin known 5.5, coefficients known 5.5, both 2.2), 20 / 8.4 / 3.9 cm
-for flights < 2.2 / 2.2 to 2.8 / > 2.8 s; no predictor using these fixes gets the median
-under 5 cm. This filter, with the spin prior of real throws (:data:`SPIN_SPREAD`) and drag and
-lift scale priors of sigma 0.2: 7.5 cm (18 / 10.0 / 4.7), the bound's median, its error over
-the bound per flight 1.2 (median); spin known 5.9, coefficients known 6.7, both 3.4 cm. With
-the earlier priors (spin and scale sigma 0.3) 10.1 cm: the 30 % off cases then 9.0 and 12.1
-cm, now 9.3 and 10.3 cm (target 25). A batch maximum-a-posteriori fit (Gauss-Newton over the
-throw's parameters, all fixes, the benchmark's priors) reaches 6.4 cm; an earlier one with
-wider priors did no better than the filter (13.7 cm against 12.7 over 20 flights). The
-spin's median error is 45 rpm (bound 30 rpm); the hand is right in 59 of 60 flights.
-Tried and not kept (no gain beyond the 20 to 60 flight noise, 1 cm, or a loss in another
-case): a bank of 5 to 7 filters over the spin size mixed by likelihood (5 to 7 times the cost);
-the lift-spin product kl |h1| as the state instead of kl (the side force measures the
-product); other axis priors, process noises, and sigma-point spreads, and scale sigma 0.15
-(6.8 cm with the defaults, but 10.5 cm with drag +30 % and lift -30 %).
+Bayesian Cramer-Rao bound of the landing point (:mod:`.bound`, bench/prediction_bound.py)
+says how close any predictor can get; bench/prediction_benchmark.py measures this filter
+against it and against simpler predictors (figures: bench/RESULTS.md).
 
 State x (``N_X`` = 14), in ``field``: position r [m], velocity v [m/s], spin axis s (unit),
 modified angular momentum h = H / I_t [rad/s] (so h1 = h.s is the spin momentum), a drag scale
 ``kd`` (multiplies C_D0 and C_D2) and a lift scale ``kl`` (multiplies C_Lalpha). The motion is
-the full model's, term by term: r' = v, v' = a, s' = h x s, h' from ``loads`` (the spin angle
-is not needed). Why carry the attitude: the side force is the lift of the yaw of repose, which
-lags the equilibrium of the linear theory and swings with the slow (precession) mode; a
-quasi-steady axis (the equilibrium sideslip beta = g cos(Phi) h1 / (k U^3)) was tried first and
-misses the landing by 7 to 25 cm at 1 s lead even with the true state and spin.
+the full model's (the spin angle is not needed). Why carry the attitude: the side force is the
+lift of the yaw of repose, which lags the equilibrium of the linear theory and swings with the
+slow (precession) mode; a quasi-steady axis (the equilibrium sideslip) misses the landing by
+decimetres even with the true state and spin.
 
 The axis and spin are not observable from positions at first. A throw starts with the axis
 along the velocity (``axis_sigma``), no mean transverse rate (``rate_sigma``, about its
-physical spread at track start: ``min_points`` fixes, ~70 ms after the release, the
-overturning moment k U^2 delta has built 0.15 to 0.35 rad/s from a release 0 to 2 deg off the
-velocity) and |h1| = the ball preset's nominal spin (``spin_sigma``), with h = h1 s + h_perp
-correlated with s (the momentum turns with the axis). Without that correlation the prior
-described balls nutating at h1 delta ~ 2 rad/s, and the filter locked on a wrong spin and lift
-scale with an overconfident covariance: benchmark, 60 flights per case, 1 s before the
-landing, for the defaults / drag +30 % lift -30 % / drag -30 % lift +30 %: landing NEES 3.0 /
-2.6 / 5.3 instead of 2, with it 0.9 / 1.3 / 1.4; median error 11.8 / 10.1 / 12.2 cm, with it
-10.1 / 9.0 / 12.1 cm (with SPIN_SPREAD and scale sigma 0.2 since: NEES 0.9 / 1.4 / 1.5,
-7.5 / 9.3 / 10.3 cm); p95 0.5 s before 13 / 11 / 34 cm, with it 10 / 11 / 15 cm (and see
-test_a_lob_with_more_lift_is_not_locked_on_a_wrong_spin). The price: a throw released exactly
-along its velocity is predicted a little less well (Release() defaults: 2.8 cm instead of
-0.8 cm at 0.5 s before the landing; the uncorrelated prior pinned the axis to the velocity).
+physical spread at track start: ``min_points`` fixes after the release the overturning moment
+has built a few tenths of a rad/s) and |h1| = the ball preset's nominal spin (``spin_sigma``,
+by default the spread of real throws, :data:`SPIN_SPREAD`), with h = h1 s + h_perp correlated
+with s (the momentum turns with the axis). Without that correlation the prior describes balls
+nutating at h1 delta, and the filter locks on a wrong spin and lift scale with an
+overconfident covariance (see test_a_lob_with_more_lift_is_not_locked_on_a_wrong_spin).
 The hand is unknown, so two filters run (right- and left-handed spin) and the one whose
 innovations are the more likely is reported; the other is dropped once the odds exceed
 ``hand_odds`` (the lateral drift tells the hands apart within a few tenths of a second).
@@ -85,187 +63,16 @@ import collections
 from dataclasses import dataclass, field
 import math
 
-from numba import njit
 import numpy as np
 
+from .motion import land_points, N_X, path_of, propagate_points, X_H, X_KD, X_KL, X_S
 from .sensor import check_numbers
 from ..physics import dynamics as dyn
 from ..physics.aero import AeroModel, resolve
 from ..physics.presets import get_preset
 from ..physics.release import RPM
 
-X_R, X_V, X_S, X_H, X_KD, X_KL = 0, 3, 6, 9, 12, 13
-N_X = 14
-N_DYN = 12
 CHI2_3_9999 = 21.11  # chi-square 3 dof, 99.99 %
-
-
-# --- compiled motion model ----------------------------------------------------------------------
-@njit(cache=True)
-def _deriv(y, p, out):
-    """d/dt of (r, v, s, h) (12,) with the full model's loads (s used normalised)."""
-    ns = math.sqrt(y[6] * y[6] + y[7] * y[7] + y[8] * y[8])
-    sx, sy, sz = y[6] / ns, y[7] / ns, y[8] / ns
-    hx, hy, hz = y[9], y[10], y[11]
-    h1 = hx * sx + hy * sy + hz * sz
-    ax, ay, az, dhx, dhy, dhz, _dh1 = dyn.loads(
-        (y[3], y[4], y[5]), (sx, sy, sz), (hx, hy, hz), h1, p
-    )
-    out[0], out[1], out[2] = y[3], y[4], y[5]
-    out[3], out[4], out[5] = ax, ay, az
-    out[6], out[7], out[8] = hy * sz - hz * sy, hz * sx - hx * sz, hx * sy - hy * sx
-    out[9], out[10], out[11] = dhx, dhy, dhz
-
-
-@njit(cache=True)
-def _rk4(y, dt, p, out, k1, k2, k3, k4, tmp):
-    """One RK4 step of (r, v, s, h) into ``out`` (may alias ``y``); s renormalised."""
-    _deriv(y, p, k1)
-    for i in range(N_DYN):
-        tmp[i] = y[i] + 0.5 * dt * k1[i]
-    _deriv(tmp, p, k2)
-    for i in range(N_DYN):
-        tmp[i] = y[i] + 0.5 * dt * k2[i]
-    _deriv(tmp, p, k3)
-    for i in range(N_DYN):
-        tmp[i] = y[i] + dt * k3[i]
-    _deriv(tmp, p, k4)
-    for i in range(N_DYN):
-        out[i] = y[i] + dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
-    ns = math.sqrt(out[6] * out[6] + out[7] * out[7] + out[8] * out[8])
-    out[6], out[7], out[8] = out[6] / ns, out[7] / ns, out[8] / ns
-
-
-@njit(cache=True)
-def _scaled(params, kd, kl):
-    p = params.copy()
-    kd = max(kd, 0.0)
-    p[dyn.P_CD0] *= kd
-    p[dyn.P_CD2] *= kd
-    p[dyn.P_CLA] *= kl
-    return p
-
-
-@njit(cache=True)
-def propagate_points(points, dt, params, step):
-    """Advance each row of ``points`` (m, N_X) by ``dt`` [s] in place (RK4, steps <= ``step``)."""
-    if dt <= 0.0:
-        return
-    n = max(1, int(math.ceil(dt / step - 1e-9)))
-    h = dt / n
-    y = np.empty(N_DYN)
-    k1, k2, k3, k4, tmp = (
-        np.empty(N_DYN),
-        np.empty(N_DYN),
-        np.empty(N_DYN),
-        np.empty(N_DYN),
-        np.empty(N_DYN),
-    )
-    for i in range(points.shape[0]):
-        p = _scaled(params, points[i, X_KD], points[i, X_KL])
-        for j in range(N_DYN):
-            y[j] = points[i, j]
-        for _ in range(n):
-            _rk4(y, h, p, y, k1, k2, k3, k4, tmp)
-        for j in range(N_DYN):
-            points[i, j] = y[j]
-
-
-@njit(cache=True)
-def _ground_time(y, dt, p, ground, k1, k2, k3, k4, tmp):
-    """Time in [0, dt] at which z reaches ``ground`` in the step from ``y`` (bisection)."""
-    lo, hi = 0.0, dt
-    nxt = np.empty(N_DYN)
-    for _ in range(50):
-        mid = 0.5 * (lo + hi)
-        _rk4(y, mid, p, nxt, k1, k2, k3, k4, tmp)
-        if nxt[2] > ground:
-            lo = mid
-        else:
-            hi = mid
-    return hi
-
-
-@njit(cache=True)
-def land_points(points, params, step, ground, horizon):
-    """
-    Landing of each row of ``points`` (m, N_X).
-
-    (m, 4) rows of time from now [s], x, y [m] and 1.0 if it lands within ``horizon`` [s] (else
-    NaN, NaN, NaN, 0.0).
-    """
-    out = np.full((points.shape[0], 4), np.nan)
-    out[:, 3] = 0.0
-    y = np.empty(N_DYN)
-    nxt = np.empty(N_DYN)
-    k1, k2, k3, k4, tmp = (
-        np.empty(N_DYN),
-        np.empty(N_DYN),
-        np.empty(N_DYN),
-        np.empty(N_DYN),
-        np.empty(N_DYN),
-    )
-    n_max = int(math.ceil(horizon / step))
-    for i in range(points.shape[0]):
-        p = _scaled(params, points[i, X_KD], points[i, X_KL])
-        for j in range(N_DYN):
-            y[j] = points[i, j]
-        if y[2] <= ground:
-            out[i, 0], out[i, 1], out[i, 2], out[i, 3] = 0.0, y[0], y[1], 1.0
-            continue
-        for k in range(n_max):
-            _rk4(y, step, p, nxt, k1, k2, k3, k4, tmp)
-            if nxt[2] <= ground:
-                tau = _ground_time(y, step, p, ground, k1, k2, k3, k4, tmp)
-                _rk4(y, tau, p, nxt, k1, k2, k3, k4, tmp)
-                out[i, 0], out[i, 1], out[i, 2], out[i, 3] = k * step + tau, nxt[0], nxt[1], 1.0
-                break
-            for j in range(N_DYN):
-                y[j] = nxt[j]
-    return out
-
-
-@njit(cache=True)
-def path_of(x, params, sample_dt, step, ground, horizon):
-    """
-    Return positions (m, 3) [m] and times (m,) [s] from now of the state ``x``'s path.
-
-    Positions every ``sample_dt`` [s] from now until the ground (the last row is on it) or
-    ``horizon`` [s]; times (m,) [s] from now.
-    """
-    n_max = int(math.ceil(horizon / sample_dt)) + 1
-    times = np.empty(n_max)
-    pos = np.empty((n_max, 3))
-    p = _scaled(params, x[X_KD], x[X_KL])
-    y = x[:N_DYN].copy()
-    nxt = np.empty(N_DYN)
-    k1, k2, k3, k4, tmp = (
-        np.empty(N_DYN),
-        np.empty(N_DYN),
-        np.empty(N_DYN),
-        np.empty(N_DYN),
-        np.empty(N_DYN),
-    )
-    times[0] = 0.0
-    pos[0] = y[:3]
-    sub = max(1, int(math.ceil(sample_dt / step - 1e-9)))
-    h = sample_dt / sub
-    t = 0.0
-    for k in range(1, n_max):
-        for _ in range(sub):
-            _rk4(y, h, p, nxt, k1, k2, k3, k4, tmp)
-            if nxt[2] <= ground:
-                tau = _ground_time(y, h, p, ground, k1, k2, k3, k4, tmp)
-                _rk4(y, tau, p, nxt, k1, k2, k3, k4, tmp)
-                times[k] = t + tau
-                pos[k] = nxt[:3]
-                pos[k, 2] = ground
-                return times[: k + 1], pos[: k + 1]
-            y[:] = nxt
-            t += h
-        times[k] = t
-        pos[k] = y[:3]
-    return times, pos
 
 
 # --- settings and results -----------------------------------------------------------------------

@@ -36,10 +36,10 @@ from rclpy.node import Node
 
 from . import messages as mb
 from . import qos
-from .params import declare
+from .params import declare_all, ParamSpec
 from .runner import run_node
 from ..estimation import FlightTracker, TrackerSettings
-from ..estimation.tracker import X_H, X_S, X_V
+from ..estimation.motion import X_H, X_S, X_V
 from ..physics.frames import attitude_with_axis, FIELD_FRAME
 from ..physics.presets import PRESETS
 
@@ -56,83 +56,51 @@ def _seconds_msg(seconds: float):
     return mb.time_msg(int(round(seconds * 1e9)))
 
 
-class TrackerNode(Node):
-    """Thin adapter: fixes in, estimate, landing and path out."""
-
-    def __init__(self) -> None:
-        super().__init__(NODE_NAME)
-        self.frame_id = declare(
-            self,
-            'frame_id',
-            FIELD_FRAME,
-            'World frame of the fixes and of every output',
-            None,
-            True,
-        )
-        ball = declare(
-            self,
-            'ball',
-            'american',
-            f'Ball preset the filter assumes: {", ".join(PRESETS)}',
-            None,
-            True,
-        )
-        noise = declare(
-            self, 'observation_noise', 0.02, 'Fix noise, 1 sigma per axis [m]', (1e-4, 10.0), True
-        )
-        spin = declare(
-            self,
-            'spin_rpm',
-            0.0,
-            "Nominal |spin| [rev/min] of a throw, 0 = the preset's",
-            (0.0, 3000.0),
-            True,
-        )
-        gate = declare(
-            self, 'gate', 21.11, 'Outlier gate: squared Mahalanobis distance', (1.0, 10000.0), True
-        )
-        max_lag = declare(
-            self, 'max_lag', 0.5, 'Oldest fix accepted behind the newest [s]', (0.0, 10.0), True
-        )
-        max_gap = declare(
-            self, 'max_gap', 0.5, 'Silence that ends a throw [s]', (0.01, 100.0), True
-        )
-        self.max_future = declare(
-            self,
+PARAMETERS = (
+    ParamSpec(
+        'frame_id',
+        FIELD_FRAME,
+        'World frame of the fixes and of every output',
+        read_only=True,
+        non_empty=True,
+    ),
+) + tuple(
+    ParamSpec(*row, read_only=True)  # the filter is built once, at start-up
+    for row in (
+        ('ball', 'american', 'Ball preset the filter assumes', None, tuple(PRESETS)),
+        ('observation_noise', 0.02, 'Fix noise, 1 sigma per axis [m]', (1e-4, 10.0)),
+        ('spin_rpm', 0.0, "Nominal |spin| [rev/min] of a throw, 0 = the preset's", (0.0, 3000.0)),
+        ('gate', 21.11, 'Outlier gate: squared Mahalanobis distance', (1.0, 10000.0)),
+        ('max_lag', 0.5, 'Oldest fix accepted behind the newest [s]', (0.0, 10.0)),
+        ('max_gap', 0.5, 'Silence that ends a throw [s]', (0.01, 100.0)),
+        (
             'max_future',
             0.5,
             'Fixes stamped more than this ahead of the node clock are refused [s], 0 = no check',
             (0.0, 100.0),
-            True,
-        )
-        self.path_step = declare(
-            self,
-            'path_step',
-            0.05,
-            'Time between poses of the predicted path [s]',
-            (0.005, 1.0),
-            True,
-        )
-        self.prediction_rate = declare(
-            self,
-            'prediction_rate',
-            30.0,
-            'Landing and path predictions per second [Hz]',
-            (0.1, 1000.0),
-            True,
-        )
-        if ball not in PRESETS:
-            raise ValueError(f"parameter ball must be one of {', '.join(PRESETS)}, got '{ball}'")
-        if not self.frame_id:
-            raise ValueError('parameter frame_id must not be empty')
+        ),
+        ('path_step', 0.05, 'Time between poses of the predicted path [s]', (0.005, 1.0)),
+        ('prediction_rate', 30.0, 'Landing and path predictions per second [Hz]', (0.1, 1000.0)),
+    )
+)
+
+
+class TrackerNode(Node):
+    """Thin adapter: fixes in, estimate, landing and path out."""
+
+    PARAMETERS = PARAMETERS
+
+    def __init__(self) -> None:
+        super().__init__(NODE_NAME)
+        declare_all(self, PARAMETERS)
         self.tracker = FlightTracker(
             TrackerSettings(
-                noise=noise,
-                ball=ball,
-                spin_rpm=spin or None,
-                gate=gate,
-                max_lag=max_lag,
-                max_gap=max_gap,
+                noise=self.observation_noise,
+                ball=self.ball,
+                spin_rpm=self.spin_rpm or None,
+                gate=self.gate,
+                max_lag=self.max_lag,
+                max_gap=self.max_gap,
                 max_future=max(self.max_future, 1e-9),
             )
         )
@@ -146,7 +114,7 @@ class TrackerNode(Node):
         _warm_up(self.tracker)
         self.get_logger().info(
             f"ready: tracking '{self.resolve_topic_name(qos.OBSERVATION)}' in "
-            f"'{self.frame_id}' ({ball}, noise {noise:g} m)"
+            f"'{self.frame_id}' ({self.ball}, noise {self.observation_noise:g} m)"
         )
 
     def _on_fix(self, msg: PointStamped) -> None:

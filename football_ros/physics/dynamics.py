@@ -160,8 +160,16 @@ def _project(y: np.ndarray) -> None:
 @njit(cache=True)
 def rk4_step(y: np.ndarray, dt: float, params: np.ndarray, out: np.ndarray) -> None:
     """One RK4 step of length ``dt`` [s] from ``y`` into ``out`` (may alias ``y``), projected."""
+    rk4_step_with(y, dt, params, out, np.empty((5, y.size)))
+
+
+@njit(cache=True)
+def rk4_step_with(
+    y: np.ndarray, dt: float, params: np.ndarray, out: np.ndarray, work: np.ndarray
+) -> None:
+    """:func:`rk4_step` with caller-owned scratch ``work`` (5, N_STATE): no allocation."""
     n = y.size
-    k1, k2, k3, k4, tmp = (np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n))
+    k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
     derivative(y, params, k1)
     for i in range(n):
         tmp[i] = y[i] + 0.5 * dt * k1[i]
@@ -189,9 +197,10 @@ def landing_time_in_step(y: np.ndarray, dt: float, params: np.ndarray, ground: f
     """Time [s] in [0, dt] at which z reaches ``ground`` in the step from ``y`` (bisection)."""
     lo, hi = 0.0, dt
     tmp = np.empty(y.size)
+    work = np.empty((5, y.size))
     for _ in range(60):
         mid = 0.5 * (lo + hi)
-        rk4_step(y, mid, params, tmp)
+        rk4_step_with(y, mid, params, tmp, work)
         if tmp[R + 2] > ground:
             lo = mid
         else:
