@@ -537,3 +537,22 @@ def test_a_release_from_the_ground_pushed_down_at_once_lands_in_both(aero, alpha
     assert single.landed and result.landed[0]
     assert single.times[-1] < 0.02 and single.positions[-1, 2] == 0.0
     assert result.time_of_flight[0] == pytest.approx(single.times[-1], abs=2e-4)
+
+
+def test_the_owned_dop853_tableau_is_the_published_one():
+    """Quadrature conditions of an 8th-order method hold, and the digits are scipy's."""
+    from football_ros.physics import batch as bt
+
+    c = bt._A.sum(axis=1)
+    for k in range(1, 9):  # sum_j b_j c_j^(k-1) = 1/k up to order 8
+        assert bt._B @ c ** (k - 1) == pytest.approx(1.0 / k, abs=1e-14)
+    for i in range(1, bt._STAGES):  # explicit: stage i uses stages before it only
+        assert not np.any(bt._A[i, i:])
+    try:
+        from scipy.integrate._ivp import dop853_coefficients as tableau
+    except ImportError:  # a scipy that has moved the file: the conditions above still hold
+        return
+    n = tableau.N_STAGES
+    assert np.array_equal(bt._A, tableau.A[:n, :n])
+    assert np.array_equal(bt._B, tableau.B)
+    assert np.allclose(c, tableau.C[:n], rtol=0, atol=1e-15)

@@ -17,36 +17,19 @@ Many flights at once: arrays of releases in, arrays of landings and wobble stati
 
 The kernel integrates each ball with the forces and moments of
 :func:`football_ros.physics.dynamics.loads` (the same physics as the real-time kernel) on the
-lean state (r, v, s, h, h1), with the 8th-order Dormand-Prince weights (scipy's DOP853 tableau)
-at a fixed step, |s| = 1 and h.s = h1 restored after every step, balls spread over the cores
+lean state (r, v, s, h, h1), with the 8th-order Dormand-Prince weights (:mod:`.dop853`) at a
+fixed step, |s| = 1 and h.s = h1 restored after every step, balls spread over the cores
 with numba ``prange`` (blocks of balls, the ball index innermost). The default step follows the
 fastest rate of each ball's motion (:func:`fastest_rates`, ``STEP_PER_RADIAN``): 29 ms for the
 nominal spiral, shorter for strong damping. The maxima of |alpha|, |beta| and delta are taken at
 the steps. The landing is located inside its step on the cubic Hermite interpolant of z.
 
-Speed (issue 12.5; bench/flight_benchmark.py, ratios measured in one run on 2 cores with AVX-512).
-Kept: the stage sums written out with the tableau's non-zero coefficients as literals
-(:func:`_block_step_source`; the loop over coefficients read and wrote each stage state once per
-coefficient, and summed the positions' stages and the zero weights), and fast-math contract, arcp,
-nsz, reassoc on the kernel (FMA; one division per ball for u_hat). Together 1.8-2.4x ball-seconds
-per second for the paper model, 1.6-2.4x for the full one; 19 % -> 34 % of the dgemm peak, 25 %
--> 46-50 % of the 256-bit one; angles within 2e-14 rad of the previous kernel. LLVM keeps to
-256-bit vectors here; NUMBA_CPU_FEATURES = the host's features + ',-prefer-256-bit' gives 512-bit
-ones and 1.11-1.20x more, but numba reads it once per process for every kernel (and keys its cache
-on it): not set here (``flight_benchmark.py --zmm`` measures it). Tried without a gain of 10 %:
-BLOCK 8/16/24/40/48/64 (32 is best, the others within 6 %); a short last block padded to BLOCK so
-that every trip count is a constant (1.07x at 256 bits, none at 512; 3 s less compile time); the
-per-step bookkeeping (step check, angle components) as separate SIMD loops (none; all of it takes
-about 8 % of the time); fastmath=True (nnan, ninf too: 1.09x, and the NaN guards would lose their
-meaning); the paper model's zero coefficients folded away on top of that (1.08x); 1/sqrt from a
-float32 seed and Newton steps (0.9x); positions from the stage accelerations (weights b A; 30 %
-less stage memory: 1.01x); prange in dynamic chunks of 1/4/16 blocks (1.00-1.02x). Float32 loads:
-0.85x, and 4-9e-7 rad after 2.5 s against 4e-8 to 2e-7 (probably the cross product u_hat x s of two
-nearly parallel unit vectors, which loses digits in float32): no margin to the 1e-6 bar.
-STEP_PER_RADIAN 1.2 / 1.3 would take 9 % / 18 % fewer steps for 2x / 3.6x the error (2.3e-7 /
-4.1e-7 rad on the benchmark's releases, 4.3e-7 / 7.4e-7 on wobblier ones over 2.5 s, more over
-whole flights): kept at 1.1. The written-out sums cost compile time once: ``football-ros compile``
-takes 20.6 s for the batch kernels (8.8 s before).
+The stage sums are written out with the tableau's non-zero coefficients as literals
+(:func:`_block_step_source`: no loop over coefficients, no zero weights, no position stages) and
+the kernel is compiled with fast-math contract, arcp, nsz and reassoc (FMA, one division per
+ball), but not nnan/ninf, so that the NaN guards keep their meaning. Throughput against scipy,
+fraction of the machine's peak and the variants tried: bench/flight_benchmark.py (its figures:
+bench/RESULTS.md).
 """
 
 from __future__ import annotations
@@ -57,46 +40,23 @@ import math
 from numba import njit, prange
 import numpy as np
 
-from . import dynamics as dyn
+from . import dop853, dynamics as dyn
 from .aero import AeroModel, resolve
 from .limits import MIN_AIR_SPEED
 from .presets import BallPreset
 
 
-def _dop853_tableau():
-    """
-    Scipy's published DOP853 tableau, read without importing scipy.integrate.
-
-    From scipy/integrate/_ivp/dop853_coefficients.py; importing scipy.integrate costs 0.2-2 s
-    of start-up.
-    """
-    import importlib.util
-    import os
-
-    spec = importlib.util.find_spec('scipy')
-    path = os.path.join(
-        os.path.dirname(spec.origin or ''), 'integrate', '_ivp', 'dop853_coefficients.py'
-    )
-    if not os.path.exists(path):
-        from scipy.integrate._ivp import dop853_coefficients
-
-        return dop853_coefficients
-    spec = importlib.util.spec_from_file_location('_football_ros_dop853', path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-_dop853 = _dop853_tableau()
-_STAGES = _dop853.N_STAGES
-_A = _dop853.A[:_STAGES, :_STAGES]
-_B = np.ascontiguousarray(_dop853.B)
+_STAGES = dop853.N_STAGES
+_A = np.zeros((_STAGES, _STAGES))
+for _i, _row in dop853.A.items():
+    for _j, _a in _row.items():
+        _A[_i, _j] = _a
+_B = np.array([dop853.B.get(j, 0.0) for j in range(_STAGES)])
 N_LEAN = 13  # r, v, s, h, h1
 STEP_PER_RADIAN = 1.1
 """Default step = STEP_PER_RADIAN / (fastest rate, :func:`fastest_rates`), at most MAX_STEP:
-about 1.1 rad of the fastest mode per step, which keeps alpha/beta within 6e-8 rad of a tight
-DOP853 solution over the releases bench/flight_benchmark.py tries and 6.5e-7 rad for wobblier
-ones (alpha0, beta0 ~ 4 deg, rates ~ 30 deg/s); the error grows as step^8 (1.3: 2.7e-6)."""
+about 1.1 rad of the fastest mode per step; the angle error grows as step^8
+(bench/flight_benchmark.py prints it against a tight DOP853 solution)."""
 MAX_STEP = 0.04
 
 
