@@ -13,7 +13,7 @@
 # limitations under the License.
 
 """
-Simulator and release node; optionally the recorder and RViz; optionally in a namespace.
+Simulator and release node; optionally recorder, tracker and RViz; optionally in a namespace.
 
     ros2 launch football_ros football.launch.py
     ros2 launch football_ros football.launch.py record:=true rviz:=true
@@ -29,21 +29,26 @@ clock source (``publish_clock``) and the release node, the recorder and RViz fol
 default 60 Hz; a given ``camera_rate`` always replaces the file's ``observation_rate``).
 /tf is global (tf2 convention): with several namespaced simulators give each its own
 ``child_frame_id`` in its params file.
+
+Every argument is checked before any node starts (flags true/false, rates finite and inside
+the simulator's own parameter ranges, the params file readable): a bad one ends the launch
+with one error naming it and nothing running. ``rviz:=true`` without rviz2 installed starts
+the rest with a warning. The simulator and the release node end the launch when either exits,
+so that no node is left running alone.
 """
 
 import math
 import os
 
-from ament_index_python.packages import get_package_share_directory
+from ament_index_python.packages import get_package_share_directory, PackageNotFoundError
 from launch import LaunchDescription
-from launch.actions import DeclareLaunchArgument, GroupAction, OpaqueFunction
-from launch.conditions import IfCondition
+from launch.actions import DeclareLaunchArgument, GroupAction, LogInfo, OpaqueFunction, Shutdown
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node, PushRosNamespace
-from launch_ros.parameter_descriptions import ParameterValue
 
 PACKAGE = 'football_ros'
 DEFAULT_CAMERA_RATE = 60.0
+FLAGS = ('use_sim_time', 'record', 'tracker', 'rviz')
 
 
 def _flag(context, name):
@@ -68,15 +73,32 @@ def _rate(context, name):
     return value
 
 
+def _ranged(context, name, parameter):
+    """Return a rate argument checked against the simulator parameter it sets, or None."""
+    value = _rate(context, name)
+    if value is None:
+        return None
+    from football_ros.nodes.simulator import SimulatorNode  # the one table of the ranges
+
+    [spec] = [s for s in SimulatorNode.PARAMETERS if s.name == parameter]
+    lo, hi = spec.limits
+    if not lo <= value <= hi:
+        raise ValueError(
+            f"launch argument '{name}' must be in [{lo:g}, {hi:g}] Hz "
+            f"(the simulator's {parameter}), got {value:g}"
+        )
+    return value
+
+
 def simulator_overrides(context):
     """Return the simulator parameters set by launch arguments (on top of the params file)."""
     overrides = {}
-    rate = _rate(context, 'publish_rate')
+    rate = _ranged(context, 'publish_rate', 'publish_rate')
     if rate is not None:
         overrides['publish_rate'] = rate
     if _flag(context, 'use_sim_time'):
         overrides['publish_clock'] = True
-    camera = _rate(context, 'camera_rate')
+    camera = _ranged(context, 'camera_rate', 'observation_rate')
     if camera is None and _flag(context, 'tracker'):
         camera = DEFAULT_CAMERA_RATE
     if camera is not None:
@@ -84,26 +106,73 @@ def simulator_overrides(context):
     return overrides
 
 
-def _simulator(context, *args, **kwargs):
+def _rviz_available():
+    try:
+        get_package_share_directory('rviz2')
+    except PackageNotFoundError:
+        return False
+    return True
+
+
+def _nodes(context, *args, **kwargs):
+    """Check every argument, then return the nodes to start (all or nothing)."""
+    flags = {name: _flag(context, name) for name in FLAGS}
     overrides = simulator_overrides(context)
-    parameters = [LaunchConfiguration('params_file')] + ([overrides] if overrides else [])
-    return [
+    params_file = LaunchConfiguration('params_file').perform(context)
+    if not os.path.isfile(params_file) or not os.access(params_file, os.R_OK):
+        raise ValueError(f"launch argument 'params_file': cannot read '{params_file[:200]}'")
+    sim_time = {'use_sim_time': flags['use_sim_time']}
+    ending = {'on_exit': Shutdown(reason='a football_ros core node exited')}
+    actions = [
         Node(
             package=PACKAGE,
             executable='simulator',
             name='football_simulator',
             output='screen',
-            parameters=parameters,
-        )
+            parameters=[params_file] + ([overrides] if overrides else []),
+            **ending,
+        ),
+        Node(
+            package=PACKAGE,
+            executable='release',
+            name='football_release',
+            output='screen',
+            parameters=[params_file, sim_time],
+            **ending,
+        ),
     ]
+    for flag, executable, name in (
+        ('tracker', 'tracker', 'football_tracker'),
+        ('record', 'recorder', 'football_recorder'),
+    ):
+        if flags[flag]:
+            actions.append(
+                Node(
+                    package=PACKAGE,
+                    executable=executable,
+                    name=name,
+                    output='screen',
+                    parameters=[params_file, sim_time],
+                )
+            )
+    if flags['rviz'] and not _rviz_available():
+        actions.append(LogInfo(msg='WARNING: rviz:=true, but rviz2 is not installed: not started'))
+    elif flags['rviz']:
+        actions.append(
+            Node(
+                package='rviz2',
+                executable='rviz2',
+                name='rviz2',
+                output='screen',
+                arguments=['-d', LaunchConfiguration('rviz_config').perform(context)],
+                parameters=[sim_time],
+            )
+        )
+    return actions
 
 
 def generate_launch_description():
     share = get_package_share_directory(PACKAGE)
-    params_file = LaunchConfiguration('params_file')
-    sim_time = {
-        'use_sim_time': ParameterValue(LaunchConfiguration('use_sim_time'), value_type=bool)
-    }
     return LaunchDescription(
         [
             DeclareLaunchArgument(
@@ -140,7 +209,11 @@ def generate_launch_description():
                 description='simulated camera frames per second [Hz]; empty = '
                 'params file, or 60 with tracker:=true',
             ),
-            DeclareLaunchArgument('rviz', default_value='false', description='also start rviz2'),
+            DeclareLaunchArgument(
+                'rviz',
+                default_value='false',
+                description='also start rviz2 (a warning, not an error, without it)',
+            ),
             DeclareLaunchArgument(
                 'rviz_config',
                 default_value=os.path.join(share, 'rviz', 'football.rviz'),
@@ -149,39 +222,7 @@ def generate_launch_description():
             GroupAction(
                 [
                     PushRosNamespace(LaunchConfiguration('namespace')),
-                    OpaqueFunction(function=_simulator),
-                    Node(
-                        package=PACKAGE,
-                        executable='release',
-                        name='football_release',
-                        output='screen',
-                        parameters=[params_file, sim_time],
-                    ),
-                    Node(
-                        package=PACKAGE,
-                        executable='tracker',
-                        name='football_tracker',
-                        output='screen',
-                        parameters=[params_file, sim_time],
-                        condition=IfCondition(LaunchConfiguration('tracker')),
-                    ),
-                    Node(
-                        package=PACKAGE,
-                        executable='recorder',
-                        name='football_recorder',
-                        output='screen',
-                        parameters=[params_file, sim_time],
-                        condition=IfCondition(LaunchConfiguration('record')),
-                    ),
-                    Node(
-                        package='rviz2',
-                        executable='rviz2',
-                        name='rviz2',
-                        output='screen',
-                        arguments=['-d', LaunchConfiguration('rviz_config')],
-                        parameters=[sim_time],
-                        condition=IfCondition(LaunchConfiguration('rviz')),
-                    ),
+                    OpaqueFunction(function=_nodes),
                 ]
             ),
         ]

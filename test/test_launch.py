@@ -24,6 +24,7 @@ What the nodes declare is read from running nodes with the rcl_interfaces parame
 import importlib.util
 import math
 from pathlib import Path
+import re
 import sys
 import types
 
@@ -36,6 +37,7 @@ import yaml
 
 REPO = Path(__file__).resolve().parents[1]
 LAUNCH_FILE = REPO / 'launch' / 'football.launch.py'
+INSTALLED = {'football_ros', 'rviz2'}  # what the stand-in ament index finds
 CONFIG = REPO / 'config' / 'football.yaml'
 
 
@@ -62,8 +64,13 @@ class ParameterValue(_Recorded):
 def _stub_modules(monkeypatch):
     names = {
         'launch': ['LaunchDescription'],
-        'launch.actions': ['DeclareLaunchArgument', 'GroupAction', 'OpaqueFunction'],
-        'launch.conditions': ['IfCondition'],
+        'launch.actions': [
+            'DeclareLaunchArgument',
+            'GroupAction',
+            'LogInfo',
+            'OpaqueFunction',
+            'Shutdown',
+        ],
         'launch.substitutions': [],
         'launch_ros': [],
         'launch_ros.actions': ['Node', 'PushRosNamespace'],
@@ -77,11 +84,21 @@ def _stub_modules(monkeypatch):
     sys.modules['launch.substitutions'].LaunchConfiguration = LaunchConfiguration
     sys.modules['launch_ros.parameter_descriptions'].ParameterValue = ParameterValue
     ament = types.ModuleType('ament_index_python.packages')
-    ament.get_package_share_directory = lambda package: str(REPO)
+
+    class PackageNotFoundError(KeyError):
+        pass
+
+    def share(package):
+        if package not in INSTALLED:
+            raise PackageNotFoundError(package)
+        return str(REPO)
+
+    ament.PackageNotFoundError = PackageNotFoundError
+    ament.get_package_share_directory = share
     monkeypatch.setitem(sys.modules, 'ament_index_python.packages', ament)
 
 
-def launch(monkeypatch, **arguments):
+def launch(monkeypatch, warnings=None, **arguments):
     """Return (declared arguments, {node name: (node, resolved parameters)}) of ``arguments``."""
     _stub_modules(monkeypatch)
     spec = importlib.util.spec_from_file_location('football_launch', LAUNCH_FILE)
@@ -117,12 +134,12 @@ def launch(monkeypatch, **arguments):
         elif kind == 'PushRosNamespace':
             context.launch_configurations['ros_namespace'] = resolve(action.args[0])
         elif kind == 'Node':
-            condition = action.kwargs.get('condition')
-            if condition is None or resolve(condition.args[0]).lower() in ('true', '1'):
-                nodes[action.kwargs['name']] = (
-                    action,
-                    [resolve(p) for p in action.kwargs.get('parameters', [])],
-                )
+            nodes[action.kwargs['name']] = (
+                action,
+                [resolve(p) for p in action.kwargs.get('parameters', [])],
+            )
+        elif kind == 'LogInfo' and warnings is not None:
+            warnings.append(action.kwargs['msg'])
         else:
             raise AssertionError(f'unexpected launch action {kind}')
 
@@ -176,10 +193,40 @@ def test_sim_time_record_rviz_namespace(monkeypatch):
         assert nodes[name][1][-1] == {'use_sim_time': True}
     rviz = nodes['rviz2'][0]
     assert rviz.kwargs['package'] == 'rviz2'
-    assert [a if isinstance(a, str) else a.args[0] for a in rviz.kwargs['arguments']] == [
-        '-d',
-        'rviz_config',
-    ]
+    assert rviz.kwargs['arguments'] == ['-d', str(REPO / 'rviz' / 'football.rviz')]
+
+
+def test_rviz_without_rviz2_is_a_warning_and_the_rest_starts(monkeypatch):
+    monkeypatch.setattr(sys.modules[__name__], 'INSTALLED', {'football_ros'})
+    warnings = []
+    _, nodes = launch(monkeypatch, warnings, rviz='true', record='true')
+    assert set(nodes) == {'football_simulator', 'football_release', 'football_recorder'}
+    assert warnings == ['WARNING: rviz:=true, but rviz2 is not installed: not started']
+
+
+@pytest.mark.parametrize(
+    'arguments, named',
+    [
+        ({'record': 'maybe'}, "'record'"),
+        ({'rviz': 'yes please'}, "'rviz'"),
+        ({'tracker': '2'}, "'tracker'"),
+        ({'publish_rate': '5000'}, "'publish_rate' must be in [1, 2000]"),
+        ({'publish_rate': '0.5'}, "'publish_rate' must be in [1, 2000]"),
+        ({'camera_rate': '-1'}, "'camera_rate' must be in [0, 1000]"),
+        ({'params_file': '/nonexistent.yaml'}, "'params_file'"),
+    ],
+)
+def test_a_bad_argument_starts_nothing(monkeypatch, arguments, named):
+    # The nodes are made by one function that checks every argument first: a bad one raises
+    # before any node action exists, so launch starts nothing.
+    with pytest.raises(ValueError, match=re.escape(named)):
+        launch(monkeypatch, **arguments)
+
+
+def test_the_core_nodes_end_the_launch_when_one_exits(monkeypatch):
+    _, nodes = launch(monkeypatch, record='true', tracker='true')
+    for name in ('football_simulator', 'football_release'):
+        assert type(nodes[name][0].kwargs['on_exit']).__name__ == 'Shutdown'
 
 
 def test_tracker_turns_the_camera_on(monkeypatch):
