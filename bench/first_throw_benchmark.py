@@ -321,4 +321,6 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == '__main__':
-    raise SystemExit(main())
+    import results  # bench/results.py: the figures go to bench/RESULTS.md
+
+    raise SystemExit(results.recorded('first throw', main))
