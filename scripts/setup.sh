@@ -14,7 +14,11 @@ if [ ! -x .venv/bin/python ]; then
     > .venv/pip-upgrade.log 2>&1 || { cat .venv/pip-upgrade.log; exit 1; }
 fi
 echo "[setup] installing football_ros[ros,test] into .venv$FIRST_TIME"
-if ! .venv/bin/python -m pip install --disable-pip-version-check -e ".[ros,test]" > .venv/pip-install.log 2>&1; then
+# Progress: each package pip fetches, one line (the whole output: .venv/pip-install.log).
+if ! .venv/bin/python -m pip install --disable-pip-version-check -e ".[ros,test]" 2>&1 \
+    | tee .venv/pip-install.log \
+    | { grep --line-buffered -E '^(Collecting|Installing collected)' \
+        | sed -u -E 's/^(.{0,90}).*/[setup]   pip: \1/'; true; }; then
   grep -v "is ignored: it is neither a file nor a directory" .venv/pip-install.log | tail -40
   echo "[setup] pip install failed; full log: .venv/pip-install.log" >&2
   exit 1

@@ -21,6 +21,7 @@ import subprocess
 import sys
 
 from football_ros.physics import CSV_HEADER
+from football_ros.programs import ros_commands
 import numpy as np
 import pytest
 import yaml
@@ -345,7 +346,7 @@ def test_throw_without_a_release_node_names_the_topic_and_fails():
     )
 
 
-@pytest.mark.parametrize('command', ['record', 'demo', 'echo', 'throw', 'simulator', 'release'])
+@pytest.mark.parametrize('command', list(ros_commands()))
 def test_node_command_help_has_no_raw_backticks(command):
     proc = run(command, '--help')
     assert '``' not in proc.stdout and proc.stdout.strip()
@@ -380,3 +381,21 @@ def test_fast_csv_writer_matches_printf_rounding_and_reads_back(tmp_path):
     big = {'v': np.array([1e13, 1.0])}  # beyond the fast path: full-precision fallback
     write_csv(tmp_path / 'b.csv', big)
     assert (tmp_path / 'b.csv').read_text().splitlines()[1:] == ['10000000000000', '1']
+
+
+@pytest.mark.parametrize(
+    'args, message',
+    [
+        (['throw', '--id', ''], "'id' must be 1 to 128 printable characters"),
+        (['throw', '--id', 'x' * 200], "'id' must be 1 to 128 printable characters"),
+        (['throw', '--id', 'req-3'], 'must not have the form req-<n>'),
+        (['throw', '--timeout', '0'], '--timeout must be > 0 s'),
+        (['demo', '--rate', '0'], '--rate must be in [1, 2000] Hz, got 0'),
+        (['demo', '--rate', 'nan'], '--rate must be in [1, 2000] Hz, got nan'),
+        (['demo', '--out', '.'], 'exists already'),
+    ],
+)
+def test_ros_commands_check_their_options_before_starting_anything(args, message):
+    proc = run(*args, check=False)  # the usage error, not a later one after starting ROS
+    assert proc.returncode == 2 and message in proc.stderr, proc.stderr
+    assert 'Traceback' not in proc.stderr and proc.stdout == ''

@@ -156,9 +156,7 @@ def run_demo(args: argparse.Namespace) -> int:
     from ..nodes.messages import level_of
 
     release = release_from_args(args)
-    run_dir = Path(
-        args.out or Path('runs') / datetime.datetime.now().strftime('demo_%Y%m%d_%H%M%S')
-    ).resolve()
+    run_dir = _run_dir(args)
     run_dir.mkdir(parents=True, exist_ok=False)
     bag = run_dir / 'bag'
     os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
@@ -173,7 +171,7 @@ def run_demo(args: argparse.Namespace) -> int:
     ]
     rclpy.init()
     node = rclpy.create_node('football_demo')
-    state = {'responses': [], 'landed': None, 'time_of_flight': math.nan}
+    state = {'responses': [], 'landed': None, 'time_of_flight': math.nan, 'id': None}
     table = _Table()
     watched = [
         node.create_subscription(PoseStamped, qos.POSE, table.on_pose, qos.STATE),
@@ -186,7 +184,7 @@ def run_demo(args: argparse.Namespace) -> int:
     def on_diagnostics(msg):
         for status in msg.status:
             values = {kv.key: kv.value for kv in status.values}
-            if values.get('event') == 'landed':
+            if values.get('event') == 'landed' and values.get('flight_id') == state['id']:
                 state['landed'] = status.message
                 state['time_of_flight'] = float(values.get('time_of_flight', 'nan'))
 
@@ -214,11 +212,20 @@ def run_demo(args: argparse.Namespace) -> int:
             if time.monotonic() > deadline:
                 raise RuntimeError('the nodes did not find each other within 60 s')
         settle_matching(rclpy, node)
+        if node.count_publishers(qos.POSE) > 1:
+            _say(
+                f'WARNING: {node.count_publishers(qos.POSE)} simulators publish '
+                f'{node.resolve_topic_name(qos.POSE)} on ROS_DOMAIN_ID '
+                f"{os.environ.get('ROS_DOMAIN_ID', '0')}: the table mixes their flights (give "
+                'each demo its own ROS_DOMAIN_ID)'
+            )
+        token = os.urandom(4).hex()  # ids no other client on the domain uses
         accepted = None
         # The release node answers every request; it says "no simulator is listening" while its
         # own discovery of the simulator is still under way: then the pass is thrown again.
         for attempt in range(1, 11):
-            request = dict(release.to_mapping(), id=f'demo-pass-{attempt}')
+            request = dict(release.to_mapping(), id=f'demo-{token}-{attempt}')
+            state['id'] = request['id']
             _say(f'throwing: {json.dumps(request)}')
             requests.publish(String(data=json.dumps(request)))
             answer = wait_for_answer(
@@ -274,6 +281,33 @@ def run_demo(args: argparse.Namespace) -> int:
     return code
 
 
+def _run_dir(args: argparse.Namespace) -> Path:
+    default = Path('runs') / datetime.datetime.now().strftime('demo_%Y%m%d_%H%M%S')
+    return Path(args.out or default).resolve()
+
+
+def _check(args: argparse.Namespace) -> None:
+    """Refuse bad options before anything starts (UsageError naming the option)."""
+    from ..nodes.simulator import SimulatorNode  # the one table of the publish rate's range
+
+    release_from_args(args)
+    [spec] = [s for s in SimulatorNode.PARAMETERS if s.name == 'publish_rate']
+    lo, hi = spec.limits
+    if not lo <= args.rate <= hi:  # NaN fails too
+        raise UsageError(f'--rate must be in [{lo:g}, {hi:g}] Hz, got {args.rate:g}')
+    run_dir = _run_dir(args)
+    if run_dir.exists():
+        raise UsageError(f'--out {run_dir}: exists already (the demo makes a new folder)')
+    if not os.access(_existing_parent(run_dir), os.W_OK):
+        raise UsageError(f'--out {run_dir}: not writable')
+
+
+def _existing_parent(path: Path) -> Path:
+    while not path.exists():
+        path = path.parent
+    return path
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(
         prog='football-ros demo', description=__doc__.strip().splitlines()[0].replace('``', '')
@@ -282,7 +316,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument('--out', help='run folder to create (default runs/demo_<date>_<time>)')
     parser.add_argument('--rate', type=float, default=200.0, help='simulator publish rate [Hz]')
     try:
-        return run_demo(parser.parse_args(argv))
+        args = parser.parse_args(argv)
+        _check(args)
+        return run_demo(args)
     except (UsageError, ReleaseError) as exc:
         print(f'football-ros demo: error: {exc}', file=sys.stderr)
         return 2

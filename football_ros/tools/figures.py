@@ -110,8 +110,7 @@ def components_from_angles(alpha: np.ndarray, beta: np.ndarray) -> np.ndarray:
 
 def describe(info: FlightInfo) -> str:
     """One line: ball, spin, model, where it came from."""
-    origin = Path(info.origin).name
-    return f'{info.ball_name}, {info.spin / RPM:.0f} rpm, {info.model} model ({origin})'
+    return f'{info.ball_name}, {info.spin / RPM:.0f} rpm, {info.model} model ({info.origin})'
 
 
 def plot_source(

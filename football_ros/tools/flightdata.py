@@ -146,7 +146,13 @@ def read_sidecar(csv_path: str | Path) -> FlightInfo | None:
         raise ValueError(f'{path}: unreadable sidecar ({str(exc)[:120]})') from None
     ball, aero = resolve(release.preset(), release.model, release.aero_model())
     return FlightInfo(
-        ball, release.ball, release.spin_rpm * RPM, release.model, release.moment, aero, str(path)
+        ball,
+        release.ball,
+        release.spin_rpm * RPM,
+        release.model,
+        release.moment,
+        aero,
+        Path(path).name,
     )
 
 
@@ -227,16 +233,12 @@ def load_bag(path: Path) -> FlightRecord:
     from rosbags.highlevel import AnyReader
     from rosbags.typesys import get_typestore, Stores
 
-    odom, aero, linear, orders = [], [], [], []
-    suffixes = (
-        'football/odom',
-        'football/aero_angles',
-        'football/aero_angles_linear',
-        'football/flight/order',
-    )
+    odom, orders = [], []
+    angles = {'aero_angles': [], 'aero_angles_linear': [], 'aero_angles_quasi_steady': []}
+    suffixes = ('football/odom', 'football/flight/order') + tuple(f'football/{n}' for n in angles)
     with AnyReader([path], default_typestore=get_typestore(Stores.ROS2_JAZZY)) as reader:
         conns = [c for c in reader.connections if c.topic.endswith(suffixes)]
-        if not any(c.topic.endswith(suffixes[:3]) for c in conns):
+        if not any(c.topic.endswith(('football/odom', 'football/aero_angles')) for c in conns):
             raise ValueError(
                 f'{path}: no football/odom or football/aero_angles messages in the bag'
             )
@@ -250,11 +252,10 @@ def load_bag(path: Path) -> FlightRecord:
                 p, q = msg.pose.pose.position, msg.pose.pose.orientation
                 v, w = msg.twist.twist.linear, msg.twist.twist.angular
                 odom.append((stamp, p.x, p.y, p.z, q.x, q.y, q.z, q.w, v.x, v.y, v.z, w.x))
-            elif conn.topic.endswith('aero_angles'):
-                aero.append((stamp, msg.vector.x, msg.vector.y))
             else:
-                linear.append((stamp, msg.vector.x, msg.vector.y))
-    odom_a, aero_a, linear_a = (np.array(sorted(x)) for x in (odom, aero, linear))
+                angles[conn.topic.rsplit('/', 1)[1]].append((stamp, msg.vector.x, msg.vector.y))
+    odom_a = np.array(sorted(odom))
+    aero_a, linear_a, quasi_a = (np.array(sorted(x)) for x in angles.values())
     if len(odom_a) < 2:
         raise ValueError(f'{path}: fewer than two football/odom messages')
     keep = _last_flight(odom_a[:, 0], odom_a[:, 1:4])
@@ -266,7 +267,7 @@ def load_bag(path: Path) -> FlightRecord:
     if orders:
         _, text = max(orders, key=lambda o: o[0])
         try:
-            info = info_from_order(text, f'{path} (football/flight/order)')
+            info = info_from_order(text, f'{Path(path).name}: football/flight/order')
         except ValueError as exc:
             raise ValueError(
                 f'{path}: unreadable football/flight/order message ({str(exc)[:120]})'
@@ -288,6 +289,8 @@ def load_bag(path: Path) -> FlightRecord:
         alpha_linear=by_stamp(linear_a, 1),
         beta_linear=by_stamp(linear_a, 2),
         spin=odom_a[:, 11],
+        alpha_quasi_steady=by_stamp(quasi_a, 1) if len(quasi_a) else None,
+        beta_quasi_steady=by_stamp(quasi_a, 2) if len(quasi_a) else None,
         source=str(path),
         info=info,
     )
