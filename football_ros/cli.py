@@ -32,6 +32,7 @@ from typing import Sequence, TYPE_CHECKING
 
 from .command_line import add_release_options, Parser, plain, release_from_args, UsageError
 from .physics import PRESETS, Release, ReleaseError
+from .physics.modes import modes_report
 
 if TYPE_CHECKING:
     from .physics import Flight
@@ -48,48 +49,6 @@ NODE_COMMANDS = {  # command -> (module, function); these need rclpy and parse t
     'echo': ('football_ros.nodes.console', 'echo'),
     'throw': ('football_ros.nodes.console', 'throw'),
 }
-
-
-def modes_report(release: Release) -> dict:
-    """
-    Linear-theory numbers of a release as plain data (rad, rad/s, rpm).
-
-    The same ball, settings and modes as :class:`football_ros.physics.Flight` builds, without
-    importing the integrator (numba).
-    """
-    from .physics.aero import AeroModel, dynamic_stability, resolve
-    from .physics.linear_theory import linear_modes
-
-    initial = release.initial_state()
-    ball, aero = resolve(release.preset(), release.model, release.aero_model())
-    m = linear_modes(ball, initial)
-    aero = aero or AeroModel().without_extras()
-    dyn = dynamic_stability(ball, m.speed, initial.spin, aero)
-    return {
-        'ball': release.ball,
-        'speed': m.speed,
-        'flight_path_angle': m.flight_path_angle,
-        'm_alpha': m.m_alpha,
-        'h1': m.h1,
-        'omega_fast': m.omega_fast,
-        'omega_slow': m.omega_slow,
-        'growth_rate': m.growth_rate,
-        'stable': m.stable,
-        'gyroscopic_stability_factor': m.gyroscopic_stability_factor,
-        'critical_spin_rpm': m.critical_spin_rpm,
-        'equilibrium_sideslip': m.equilibrium_sideslip,
-        'c1': [m.c1.real, m.c1.imag],
-        'c2': [m.c2.real, m.c2.imag],
-        'model': release.model,
-        'dynamic_stability_factor': _finite_or_none(dyn.s_d),
-        'dynamically_stable': dyn.dynamically_stable if release.model == 'full' else None,
-        'fast_damping_rate': _finite_or_none(dyn.fast_damping_rate),
-        'slow_damping_rate': _finite_or_none(dyn.slow_damping_rate),
-    }
-
-
-def _finite_or_none(value: float) -> float | None:
-    return value + 0.0 if math.isfinite(value) else None  # + 0.0 turns -0.0 into 0.0
 
 
 def _print_modes(report: dict) -> None:

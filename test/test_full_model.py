@@ -19,13 +19,8 @@ import math
 
 from football_ros.physics import dynamics as dyn
 from football_ros.physics import Flight, frames, get_preset, Release, ReleaseError
-from football_ros.physics.aero import (
-    AeroModel,
-    air_density,
-    dynamic_stability,
-    max_valid_delta,
-    out_of_validity,
-)
+from football_ros.physics.aero import AeroModel, air_density, max_valid_delta, out_of_validity
+from football_ros.physics.modes import dynamic_stability
 import numpy as np
 import pytest
 

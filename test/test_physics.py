@@ -87,7 +87,8 @@ def test_left_handed_spin_mirrors_the_modes(ball):
     amplitude; the full model's rates are equal.
     """
     from football_ros.cli import modes_report
-    from football_ros.physics.aero import AeroModel, dynamic_stability
+    from football_ros.physics.aero import AeroModel
+    from football_ros.physics.modes import dynamic_stability
 
     kw = {
         'ball': ball, 'alpha0_deg': 2.0, 'beta0_deg': 1.5, 'alpha_rate_deg_s': 15.0,
