@@ -380,3 +380,17 @@ def test_fast_csv_writer_matches_printf_rounding_and_reads_back(tmp_path):
     big = {'v': np.array([1e13, 1.0])}  # beyond the fast path: full-precision fallback
     write_csv(tmp_path / 'b.csv', big)
     assert (tmp_path / 'b.csv').read_text().splitlines()[1:] == ['10000000000000', '1']
+
+
+def test_modes_prints_the_flown_wind_full_model_and_rate_based_flag():
+    out = run(
+        'modes', '--model', 'full', '--aero', 'c_m_p_alpha=0.036', '--wind', '-10', '0', '0'
+    ).stdout
+    assert 'air speed V = |v - wind|' in out and '36.405' in out
+    assert 'full model at release' in out and 'equilibrium beta' in out
+    report = json.loads(
+        run('modes', '--model', 'full', '--aero', 'c_m_p_alpha=0.036', '--json').stdout
+    )
+    assert report['dynamically_stable'] is True and report['mccoy_dynamically_stable'] is False
+    assert report['fast_damping_rate'] < 0 and report['slow_damping_rate'] < 0
+    assert report['full']['omega_fast'] == pytest.approx(32.0077, abs=1e-3)
