@@ -129,3 +129,20 @@ def test_package_only_numbers_recomputed_independently(rows):
     assert rows['american.long_pass'].package == pytest.approx(2 * 27.4 * 0.5 / 9.81, rel=1e-5)
     # The quasi-steady theory tracks the nominal pass 20 times closer than the frozen one.
     assert rows['package.quasi_steady_gain'].package == pytest.approx(20.1, abs=0.5)
+
+
+def test_rugby_coefficients_say_which_are_borrowed():
+    """Each full-model coefficient has a source per ball; the rugby ball's borrowed ones say so."""
+    from dataclasses import fields
+
+    from football_ros.physics.aero import AeroModel
+    from football_ros.physics.presets import AERO_SOURCES
+
+    coefficients = {f.name for f in fields(AeroModel) if f.name.startswith('c_')}
+    for ball in ('american', 'rugby'):
+        named = {k.strip() for key in AERO_SOURCES[ball] for k in key.split(',')}
+        assert coefficients | {'c_m_alpha'} == named
+    for key in ('c_d0, c_d2', 'c_l_alpha', 'c_m_q', 'c_l_p'):
+        assert AERO_SOURCES['rugby'][key].startswith('BORROWED')
+    assert '0.147' in AERO_SOURCES['rugby']['c_m_alpha']
+    assert get_preset('rugby').c_m_alpha == 0.147

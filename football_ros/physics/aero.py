@@ -57,7 +57,11 @@ range of total angle delta each form covers:
 - C_lp = -0.005: ESTIMATE (spin decays by a few percent per second). Any delta.
 - C_Npalpha = 0, C_Mpalpha = 0: no football data; set them to study Magnus effects (McCoy's
   small-angle forms, 0-20 deg).
-The rugby preset uses the same estimates (no better data), scaled by its own S and D.
+The rugby preset's C_Malpha is its own (the paper's ref. [15]); its drag, lift and damping
+numbers are still BORROWED from the American football above, scaled by its own S and D:
+published rugby-ball lift and drag against yaw (Vance, Buick & Livesey, J. Appl. Mech. 79(2)
+021020, 2012, at 5-15 m/s) were not available to us as numbers.
+:data:`football_ros.physics.presets.AERO_SOURCES` lists each number's source per ball.
 """
 
 from __future__ import annotations

@@ -614,7 +614,8 @@ DISAGREEMENTS = [
     'Fig. 3 |C2| 0.06339 (0.06391 from C1 + s3p); Fig. 5 circle centre 0.063 (s3p = 0.0617); '
     'Fig. 4 "half" of M_alpha is 89 (half of 191 is 95.5); rugby critical spin 131 rpm (185.5 '
     'rpm from its criterion and its own frequencies); the torque-free frequency h1 I_t / I_s '
-    '(= p, 62.8 rad/s) where its equation with M_alpha = 0 gives h1 = 38.0 rad/s.',
+    '(= p, 62.8 rad/s) where its equation with M_alpha = 0 gives h1 = 38.0 rad/s; the slow '
+    'mode labelled w_f beside its "about 1 Hz".',
     "- **Price et al.'s 38 and 2.52 rad/s** belong to another model: 38 is h1, the fast root "
     "without torque; the paper's reading of the 2.52 formula with the angle s3p gives |w_V| = "
     '0.31 rad/s.',
