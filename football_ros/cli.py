@@ -129,14 +129,16 @@ def _print_modes(report: dict) -> None:
             else 'full model only',
         ),
     ]
-    width = max(len(r[0]) for r in rows)
+    width = max(len(r[0]) for r in rows) + 2
+    indent = ''  # the release's own rows first, then indented sections
     for name, value, unit in rows:
         if not value and not unit:
             print()
         elif not value:
             print(f'{name}: {unit}')
+            indent = '  '
         else:
-            print(f'  {name:<{width}}  {value:>20}  {unit}'.rstrip())
+            print(f'{indent + name:<{width}}  {value:>20}  {unit}'.rstrip())
 
 
 def _yes_no(value) -> str:

@@ -571,3 +571,14 @@ def test_modes_rates_with_the_speed_change_of_gravity():
     full = modes_report(Release(model='full'))
     assert full['fast_damping_rate_gravity'] < full['fast_damping_rate'] < 0
     assert full['slow_damping_rate_gravity'] < full['slow_damping_rate'] < 0
+
+
+def test_modes_refuses_a_release_moving_with_the_wind_as_flight_does():
+    from football_ros.physics.modes import modes_report
+
+    v = 27.4 * np.array([math.cos(math.radians(30)), 0.0, math.sin(math.radians(30))])
+    release = Release(model='full', aero={'wind': [float(c) for c in v]})
+    with pytest.raises(ReleaseError, match='moves with the wind'):
+        modes_report(release)
+    with pytest.raises(ReleaseError, match='moves with the wind'):
+        Flight.from_release(release)

@@ -40,7 +40,7 @@ from .linear_theory import (
     mode_rates,
 )
 from .presets import BallPreset
-from .release import InitialState, Release
+from .release import InitialState, Release, ReleaseError
 
 
 def flown_model(
@@ -55,13 +55,28 @@ def flown_model(
     return ball, aero, dyn.make_params(ball, moment, aero)
 
 
+MIN_AIR_SPEED = 0.1
+"""Smallest air speed [m/s] of a release: below it the angles and the modes are undefined."""
+
+
+def check_air_speed(initial: InitialState, params: np.ndarray) -> None:
+    """Raise :class:`ReleaseError` when the release moves with the params' wind."""
+    air = initial.velocity - params[dyn.P_WIND:dyn.P_WIND + 3]
+    if not float(np.linalg.norm(air)) > MIN_AIR_SPEED:
+        raise ReleaseError(
+            f'the release moves with the wind (air speed {np.linalg.norm(air):.3g} '
+            f'm/s < {MIN_AIR_SPEED:g} m/s): its angle of attack is undefined'
+        )
+
+
 def flown_modes(ball: BallPreset, initial: InitialState, params: np.ndarray) -> LinearModes:
     """
     Return the frozen linear modes of ``initial`` as flown with kernel ``params``.
 
     Against the air-relative velocity (the params' wind [m/s] in ``field``) and with the
-    params' gravity [m/s^2].
+    params' gravity [m/s^2]; :func:`check_air_speed` first.
     """
+    check_air_speed(initial, params)
     return linear_modes(
         ball,
         initial,
