@@ -364,7 +364,8 @@ def report_rows() -> list[Row]:  # noqa: C901 (one list, one row per printed num
         _row(
             'american.rate_ratio', "'about five times': x' against x when |C1| ~ |C2|", '-',
             'about five', m.omega_fast / m.omega_slow,
-            'package column: w_f / w_s, the ratio of the two exponents that sets it',
+            'package column: w_f / w_s, the ratio of the two exponents, our reading of what '
+            'sets this factor (the sentence names no formula)',
             bounds=(4.5, 5.5), value=5.0,
         ),
     ]
