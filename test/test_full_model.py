@@ -582,3 +582,38 @@ def test_modes_refuses_a_release_moving_with_the_wind_as_flight_does():
         modes_report(release)
     with pytest.raises(ReleaseError, match='moves with the wind'):
         Flight.from_release(release)
+
+
+@pytest.mark.parametrize(
+    'release',
+    [
+        Release(),
+        Release(model='full'),
+        Release(model='full', elevation_deg=45.0),
+        Release(ball='rugby', model='full'),
+    ],
+)
+def test_gravity_rates_are_the_flown_flight_s_rates_at_release(release):
+    """
+    The *_gravity pair equals the WKB rates of the integrated flight's own U(t), h1(t) at t = 0.
+
+    Re(sigma) - Re(D_c'/D_c)/2 +- Re(B'/(2 i D_c)) with the derivatives taken by central
+    differences along the flight (0.1 ms samples): the speed change at release is drag plus
+    g sin(Phi), as modes.gravity_speed_rate says (measured agreement: 3e-5 1/s).
+    """
+    from football_ros.physics.linear_theory import local_exponents
+    from football_ros.physics.modes import modes_report
+
+    flight = Flight.from_release(release)
+    tr = flight.simulate(rate=10000.0, duration=0.01)
+    sig1, sig2, b, d_c, _ = local_exponents(flight.params, tr.air_velocities, tr.states[:, 13])
+    dt = tr.times[1] - tr.times[0]
+    common = -0.5 * ((np.log(d_c[2]) - np.log(d_c[0])) / (2 * dt)).real
+    wkb = ((b[2] - b[0]) / (2 * dt) / (2j * d_c[1])).real
+    report = modes_report(release)
+    assert report['fast_damping_rate_gravity'] == pytest.approx(
+        sig1[1].real + common + wkb, abs=2e-4
+    )
+    assert report['slow_damping_rate_gravity'] == pytest.approx(
+        sig2[1].real + common - wkb, abs=2e-4
+    )
