@@ -86,10 +86,10 @@ class Row:
 
     @property
     def rel_diff(self) -> float | None:
-        """(package - paper) / paper."""
+        """(package - paper) / |paper|."""
         if self.package is None or self.paper == 0:
             return None
-        return (self.package - self.paper) / self.paper
+        return (self.package - self.paper) / abs(self.paper)
 
 
 def rounding(value: float, printed: str) -> tuple[float, float]:
@@ -433,7 +433,7 @@ def report_rows() -> list[Row]:  # noqa: C901 (one list, one row per printed num
             'fig5.circle_centre', "Fig. 5: centre of the slow mode's circle, s3", 'rad',
             '0.063', m5.equilibrium_sideslip,
             'CONTRADICTION: by eq. (12) the slow mode circles the equilibrium i s3p, and the '
-            "paper's s3p is 0.0617 (0.062 to its three digits), not 0.063",
+            "paper's s3p is 0.0617 (0.062 to the same two digits), not 0.063",
         ),
         _row(
             'fig6.s3_rate', 'Fig. 6: initial s3 rate', 'deg/s', '30',
@@ -582,22 +582,23 @@ def _package_rows(tr, m: LinearModes) -> list[Row]:
 
     frozen, quasi = rms(tr.aero_angles_linear), rms(tr.aero_angles_quasi_steady)
     nan = (math.nan, math.nan)
+    here = 'this package'
     return [
         Row(
             'package.critical_spin', 'American critical spin at 27.4 m/s', 'rpm', math.nan,
-            '-', nan, m.critical_spin_rpm, 'the paper gives the criterion, not this number',
+            '-', nan, m.critical_spin_rpm, 'the paper gives the criterion, not this number', here,
         ),
         Row(
             'package.rms_frozen', 'rms(frozen theory - integrated) alpha, beta, nominal pass',
-            'rad', math.nan, '-', nan, frozen, "the paper's solution over the whole flight",
+            'rad', math.nan, '-', nan, frozen, "the paper's solution over the whole flight", here,
         ),
         Row(
             'package.rms_quasi_steady', 'rms(quasi-steady theory - integrated)', 'rad',
-            math.nan, '-', nan, quasi, 'local M_alpha(V), w_V, s3p, phases integrated',
+            math.nan, '-', nan, quasi, 'local M_alpha(V), w_V, s3p, phases integrated', here,
         ),
         Row(
             'package.quasi_steady_gain', 'frozen rms / quasi-steady rms', '-', math.nan, '-',
-            nan, frozen / quasi, 'how much closer the quasi-steady theory tracks the pass',
+            nan, frozen / quasi, 'how much closer the quasi-steady theory tracks the pass', here,
         ),
     ]
 
