@@ -617,3 +617,21 @@ def test_gravity_rates_are_the_flown_flight_s_rates_at_release(release):
     assert report['slow_damping_rate_gravity'] == pytest.approx(
         sig2[1].real + common - wkb, abs=2e-4
     )
+
+
+def test_mccoy_unstable_ball_whose_modes_decay_in_the_integrated_flight():
+    """
+    C_Mpalpha = 0.036: McCoy's criterion says unstable, the integrated flight's wobble decays.
+
+    Measured in a flight with drag (no gravity, 0.2-2.8 s): -0.028 and -0.657 1/s against the
+    package's -0.027 and -0.658: both modes decay, as the flag (which follows the rates) says.
+    """
+    from football_ros.physics.modes import dynamic_stability
+
+    aero = {'c_m_p_alpha': 0.036}
+    ball = get_preset('american')
+    d = dynamic_stability(ball, 27.4, 600 * 2 * math.pi / 60, AeroModel(**aero))
+    assert not d.mccoy_stable and d.dynamically_stable
+    measured, predicted = _measured_rates_with_drag(aero, 600.0)
+    assert measured[0] < 0 and measured[1] < 0
+    assert measured == pytest.approx(predicted, abs=0.01)
