@@ -344,7 +344,11 @@ def build_parser() -> argparse.ArgumentParser:
     def add(name: str, text: str) -> argparse.ArgumentParser:
         return sub.add_parser(name, help=text, description=text[0].upper() + text[1:] + '.')
 
-    p = add('modes', 'linear-theory modes, stability and equilibrium of a release')
+    p = add(
+        'modes',
+        'linear-theory modes, damping rates, stability and equilibrium of a release as '
+        "'simulate' flies it (against the air; --model full: the full model's own)",
+    )
     add_release_options(p)
     p.add_argument('--json', action='store_true', help='print JSON instead of a table')
     p.set_defaults(func=_cmd_modes)
