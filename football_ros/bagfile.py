@@ -60,14 +60,16 @@ _PRIMITIVES = frozenset(
 
 
 def _share(package: str) -> Path:
-    """Return the package's share folder: the ament index, else ``<prefix>/share`` (pip ROS)."""
-    if os.environ.get('AMENT_PREFIX_PATH'):
-        from ament_index_python.packages import get_package_share_directory
+    """
+    Return the package's share folder: the ament index's, else ``<prefix>/share`` (pip ROS).
 
-        try:
-            return Path(get_package_share_directory(package))
-        except (LookupError, OSError, ValueError):
-            pass
+    The ament index of each AMENT_PREFIX_PATH entry is a marker file
+    ``share/ament_index/resource_index/packages/<package>``.
+    """
+    for prefix in filter(None, os.environ.get('AMENT_PREFIX_PATH', '').split(os.pathsep)):
+        marker = Path(prefix) / 'share' / 'ament_index' / 'resource_index' / 'packages' / package
+        if marker.is_file():
+            return Path(prefix) / 'share' / package
     return Path(sys.prefix) / 'share' / package
 
 

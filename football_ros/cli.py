@@ -32,6 +32,7 @@ from typing import Sequence, TYPE_CHECKING
 
 from .command_line import add_release_options, Parser, release_from_args, UsageError
 from .physics import PRESETS, Release, ReleaseError
+from .physics.modes import modes_report
 from .programs import ros_commands
 
 if TYPE_CHECKING:
@@ -44,65 +45,28 @@ NODE_COMMANDS = ros_commands()
 """Command -> (module, function) of the commands that need rclpy and parse their own options."""
 
 
-def modes_report(release: Release) -> dict:
-    """
-    Linear-theory numbers of a release as plain data (rad, rad/s, rpm).
-
-    The same ball, settings and modes as :class:`football_ros.physics.Flight` builds, without
-    importing the integrator (numba).
-    """
-    from .physics.aero import AeroModel, dynamic_stability, resolve
-    from .physics.linear_theory import linear_modes
-
-    initial = release.initial_state()
-    ball, aero = resolve(release.preset(), release.model, release.aero_model())
-    m = linear_modes(ball, initial)
-    aero = aero or AeroModel().without_extras()
-    dyn = dynamic_stability(ball, m.speed, initial.spin, aero)
-    return {
-        'ball': release.ball,
-        'speed': m.speed,
-        'flight_path_angle': m.flight_path_angle,
-        'm_alpha': m.m_alpha,
-        'h1': m.h1,
-        'omega_fast': m.omega_fast,
-        'omega_slow': m.omega_slow,
-        'growth_rate': m.growth_rate,
-        'stable': m.stable,
-        'gyroscopic_stability_factor': m.gyroscopic_stability_factor,
-        'critical_spin_rpm': m.critical_spin_rpm,
-        'equilibrium_sideslip': m.equilibrium_sideslip,
-        'c1': [m.c1.real, m.c1.imag],
-        'c2': [m.c2.real, m.c2.imag],
-        'model': release.model,
-        'dynamic_stability_factor': _finite_or_none(dyn.s_d),
-        'dynamically_stable': dyn.dynamically_stable if release.model == 'full' else None,
-        'fast_damping_rate': _finite_or_none(dyn.fast_damping_rate),
-        'slow_damping_rate': _finite_or_none(dyn.slow_damping_rate),
-    }
-
-
-def _finite_or_none(value: float) -> float | None:
-    return value + 0.0 if math.isfinite(value) else None  # + 0.0 turns -0.0 into 0.0
-
-
 def _print_modes(report: dict) -> None:
+    def hz(w):
+        return '' if w is None else f'rad/s ({w / (2 * math.pi):.3f} Hz)'
+
+    def deg(x):
+        return f'rad ({math.degrees(x):.3f} deg)'
+
+    full = report['model'] == 'full'
+    wind = report['wind']
     rows = [
         ('ball', report['ball'], ''),
-        ('speed V', f'{report["speed"]:.3f}', 'm/s'),
-        ('flight-path angle Phi', f'{math.degrees(report["flight_path_angle"]):.2f}', 'deg'),
+        ('model', report['model'], ''),
+        ('wind', ' '.join(f'{w:g}' for w in wind), 'm/s (field)'),
+        ('ground speed', f'{report["ground_speed"]:.3f}', 'm/s'),
+        ('air speed V = |v - wind|', f'{report["speed"]:.3f}', 'm/s'),
+        ('flight-path angle Phi', f'{math.degrees(report["flight_path_angle"]):.2f}', 'deg (air)'),
+        ('', '', ''),
+        ('paper linear theory (frozen)', '', 'torque only, V and Phi at release'),
         ('M_alpha', f'{report["m_alpha"]:.3f}', '1/s^2'),
         ('h1 = (I_s/I_t) p', f'{report["h1"]:.3f}', 'rad/s'),
-        (
-            'omega_fast (nutation)',
-            f'{report["omega_fast"]:.4f}',
-            f'rad/s ({report["omega_fast"] / (2 * math.pi):.3f} Hz)',
-        ),
-        (
-            'omega_slow (precession)',
-            f'{report["omega_slow"]:.4f}',
-            f'rad/s ({report["omega_slow"] / (2 * math.pi):.3f} Hz)',
-        ),
+        ('omega_fast (nutation)', f'{report["omega_fast"]:.4f}', hz(report['omega_fast'])),
+        ('omega_slow (precession)', f'{report["omega_slow"]:.4f}', hz(report['omega_slow'])),
         (
             'gyroscopically stable',
             'yes' if report['stable'] else f'NO (grows at {report["growth_rate"]:.3f} 1/s)',
@@ -111,17 +75,6 @@ def _print_modes(report: dict) -> None:
         ('S_g = h1^2 / (4 M_alpha)', f'{report["gyroscopic_stability_factor"]:.3f}', ''),
         ('critical spin', f'{report["critical_spin_rpm"]:.1f}', 'rpm'),
         (
-            'S_d = 2T/H (McCoy)',
-            _fmt(report['dynamic_stability_factor'], '.3f'),
-            'full model only'
-            if report['model'] != 'full'
-            else (
-                'dynamically stable' if report['dynamically_stable'] else 'dynamically UNSTABLE'
-            ),
-        ),
-        ('fast-mode damping rate', _fmt(report['fast_damping_rate'], '+.4f'), '1/s (< 0 decays)'),
-        ('slow-mode damping rate', _fmt(report['slow_damping_rate'], '+.4f'), '1/s (< 0 decays)'),
-        (
             'equilibrium sideslip s3p',
             f'{report["equilibrium_sideslip"]:.5f}',
             f'rad ({math.degrees(report["equilibrium_sideslip"]):.3f} deg, > 0 nose right)',
@@ -129,9 +82,61 @@ def _print_modes(report: dict) -> None:
         ('C1 (fast mode)', f'{report["c1"][0]:+.5f} {report["c1"][1]:+.5f}i', 'rad'),
         ('C2 (slow mode)', f'{report["c2"][0]:+.5f} {report["c2"][1]:+.5f}i', 'rad'),
     ]
-    width = max(len(r[0]) for r in rows)
+    if full:
+        f = report['full']
+        rows += [
+            ('', '', ''),
+            ('full model at release', '', 'its own linear equation (lift, damping, Magnus)'),
+            ('omega_fast', _fmt(f['omega_fast'], '.4f'), hz(f['omega_fast'])),
+            ('omega_slow', _fmt(f['omega_slow'], '.4f'), hz(f['omega_slow'])),
+            ('equilibrium alpha', f'{f["equilibrium_alpha"]:.5f}', deg(f['equilibrium_alpha'])),
+            ('equilibrium beta', f'{f["equilibrium_beta"]:.5f}', deg(f['equilibrium_beta'])),
+        ]
+    rows += [
+        ('', '', ''),
+        ('mode damping rates', '', '1/s, < 0 decays'),
+        ('fast, level flight', _fmt(report['fast_damping_rate'], '+.4f'), 'speed change: drag'),
+        ('slow, level flight', _fmt(report['slow_damping_rate'], '+.4f'), 'speed change: drag'),
+        (
+            'fast, at the release angle',
+            _fmt(report['fast_damping_rate_gravity'], '+.4f'),
+            'drag + g sin(Phi)',
+        ),
+        (
+            'slow, at the release angle',
+            _fmt(report['slow_damping_rate_gravity'], '+.4f'),
+            'drag + g sin(Phi)',
+        ),
+        (
+            'dynamically stable',
+            _yes_no(report['dynamically_stable']),
+            'both level-flight rates < 0' if full else 'full model only',
+        ),
+        (
+            'reference: S_d = 2T/H (McCoy)',
+            _fmt(report['dynamic_stability_factor'], '.3f'),
+            (
+                'McCoy: ' + ('stable' if report['mccoy_dynamically_stable'] else 'unstable')
+                + ' (assumes spin falling with speed)'
+            )
+            if full
+            else 'full model only',
+        ),
+    ]
+    width = max(len(r[0]) for r in rows) + 2
+    indent = ''  # the release's own rows first, then indented sections
     for name, value, unit in rows:
-        print(f'{name:<{width}}  {value:>22}  {unit}')
+        if not value and not unit:
+            print()
+        elif not value:
+            print(f'{name}: {unit}')
+            indent = '  '
+        else:
+            print(f'{indent + name:<{width}}  {value:>20}  {unit}'.rstrip())
+
+
+def _yes_no(value) -> str:
+    return 'n/a' if value is None else ('yes' if value else 'NO')
 
 
 def _fmt(value, spec: str) -> str:
@@ -333,7 +338,11 @@ def build_parser() -> argparse.ArgumentParser:
     def add(name: str, text: str) -> argparse.ArgumentParser:
         return sub.add_parser(name, help=text, description=text[0].upper() + text[1:] + '.')
 
-    p = add('modes', 'linear-theory modes, stability and equilibrium of a release')
+    p = add(
+        'modes',
+        'linear-theory modes, damping rates, stability and equilibrium of a release as '
+        "'simulate' flies it (against the air; --model full: the full model's own)",
+    )
     add_release_options(p)
     p.add_argument('--json', action='store_true', help='print JSON instead of a table')
     p.set_defaults(func=_cmd_modes)

@@ -399,3 +399,17 @@ def test_ros_commands_check_their_options_before_starting_anything(args, message
     proc = run(*args, check=False)  # the usage error, not a later one after starting ROS
     assert proc.returncode == 2 and message in proc.stderr, proc.stderr
     assert 'Traceback' not in proc.stderr and proc.stdout == ''
+
+
+def test_modes_prints_the_flown_wind_full_model_and_rate_based_flag():
+    out = run(
+        'modes', '--model', 'full', '--aero', 'c_m_p_alpha=0.036', '--wind', '-10', '0', '0'
+    ).stdout
+    assert 'air speed V = |v - wind|' in out and '36.405' in out
+    assert 'full model at release' in out and 'equilibrium beta' in out
+    report = json.loads(
+        run('modes', '--model', 'full', '--aero', 'c_m_p_alpha=0.036', '--json').stdout
+    )
+    assert report['dynamically_stable'] is True and report['mccoy_dynamically_stable'] is False
+    assert report['fast_damping_rate'] < 0 and report['slow_damping_rate'] < 0
+    assert report['full']['omega_fast'] == pytest.approx(32.0077, abs=1e-3)

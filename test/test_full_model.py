@@ -19,13 +19,8 @@ import math
 
 from football_ros.physics import dynamics as dyn
 from football_ros.physics import Flight, frames, get_preset, Release, ReleaseError
-from football_ros.physics.aero import (
-    AeroModel,
-    air_density,
-    dynamic_stability,
-    max_valid_delta,
-    out_of_validity,
-)
+from football_ros.physics.aero import AeroModel, air_density, max_valid_delta, out_of_validity
+from football_ros.physics.modes import dynamic_stability
 import numpy as np
 import pytest
 
@@ -502,3 +497,141 @@ def test_quasi_steady_tracks_full_flights_better(ball, ratio):
         return float(np.sqrt(np.mean((a - tr.aero_angles[:, :2]) ** 2)))
 
     assert rms(tr.aero_angles_quasi_steady) < ratio * rms(tr.aero_angles_linear)
+
+
+def test_modes_flag_follows_the_mode_rates_not_mccoy():
+    """
+    C_Mpalpha = 0.036: both of the package's rates decay, McCoy's criterion says unstable.
+
+    The flag follows the rates (the measured rates of flights agree with them, see
+    test_rates_match_integrated_flights_with_drag); McCoy's S_d stays as a labelled reference.
+    """
+    from football_ros.physics.modes import modes_report
+
+    report = modes_report(Release(model='full', aero={'c_m_p_alpha': 0.036}))
+    assert report['fast_damping_rate'] == pytest.approx(-0.0194, abs=5e-4)
+    assert report['slow_damping_rate'] == pytest.approx(-0.7222, abs=5e-4)
+    assert report['dynamically_stable'] is True
+    assert report['mccoy_dynamically_stable'] is False
+    assert report['dynamic_stability_factor'] == pytest.approx(1.727, abs=1e-3)
+    # A 10 m/s headwind raises the air speed to 36.4 m/s: the fast mode then grows.
+    windy = modes_report(
+        Release(model='full', aero={'c_m_p_alpha': 0.036, 'wind': [-10.0, 0.0, 0.0]})
+    )
+    assert windy['fast_damping_rate'] > 0 and windy['dynamically_stable'] is False
+
+
+def test_modes_are_the_flown_modes_against_the_air():
+    """With wind the modes use u = v - wind, exactly as the Flight that simulate flies."""
+    from football_ros.physics.modes import modes_report
+
+    release = Release(model='full', aero={'wind': [-10.0, 0.0, 0.0]})
+    report = modes_report(release)
+    v = 27.4 * np.array([math.cos(math.radians(30)), 0.0, math.sin(math.radians(30))])
+    air = v - np.array([-10.0, 0.0, 0.0])
+    speed = float(np.linalg.norm(air))
+    assert report['speed'] == pytest.approx(speed, rel=1e-12)
+    assert speed == pytest.approx(36.405, abs=1e-3)
+    assert report['flight_path_angle'] == pytest.approx(math.atan2(air[2], air[0]), rel=1e-12)
+    assert report['m_alpha'] == pytest.approx(190.90987 * (speed / 27.4) ** 2, rel=1e-6)
+    flight = Flight.from_release(release)
+    assert report['omega_fast'] == flight.modes.omega_fast
+    assert report['equilibrium_sideslip'] == flight.modes.equilibrium_sideslip
+    assert report['c1'] == [flight.modes.c1.real, flight.modes.c1.imag]
+    # The full model's own frequencies are its local exponents at release.
+    from football_ros.physics.linear_theory import local_exponents
+
+    sig1, sig2, _, _, x_p = local_exponents(flight.params, air, flight.modes.h1)
+    assert report['full']['omega_fast'] == pytest.approx(sig1.imag, rel=1e-9)
+    assert report['full']['omega_slow'] == pytest.approx(sig2.imag, rel=1e-9)
+    assert report['full']['equilibrium_sideslip'] == pytest.approx(x_p.imag, rel=1e-12)
+    # Every extra term off: the full model's numbers are the paper's.
+    bare = modes_report(Release(model='full', aero=AeroModel().without_extras().to_mapping()))
+    assert bare['full']['omega_fast'] == pytest.approx(bare['omega_fast'], rel=1e-12)
+    assert bare['full']['equilibrium_sideslip'] == pytest.approx(
+        bare['equilibrium_sideslip'], rel=1e-12
+    )
+
+
+def test_modes_rates_with_the_speed_change_of_gravity():
+    """
+    At 30 deg gravity slows the ball by g sin(Phi): the paper model's amplitudes then change.
+
+    For the paper's model the rate is -Re(D'/D)/2 = 2 k U U' / D^2 with D^2 = h1^2 - 4 k U^2
+    and U' = -g sin(Phi): -0.1008 1/s for the nominal pass (level flight: 0).
+    """
+    from football_ros.physics.modes import modes_report
+
+    paper = modes_report(Release())
+    k = paper['m_alpha'] / 27.4**2
+    expected = 2 * k * 27.4 * (-G * 0.5) / (paper['h1'] ** 2 - 4 * paper['m_alpha'])
+    assert paper['fast_damping_rate'] == 0.0 and paper['slow_damping_rate'] == 0.0
+    assert paper['fast_damping_rate_gravity'] == pytest.approx(expected, rel=1e-9)
+    assert expected == pytest.approx(-0.1008, abs=1e-4)
+    full = modes_report(Release(model='full'))
+    assert full['fast_damping_rate_gravity'] < full['fast_damping_rate'] < 0
+    assert full['slow_damping_rate_gravity'] < full['slow_damping_rate'] < 0
+
+
+def test_modes_refuses_a_release_moving_with_the_wind_as_flight_does():
+    from football_ros.physics.modes import modes_report
+
+    v = 27.4 * np.array([math.cos(math.radians(30)), 0.0, math.sin(math.radians(30))])
+    release = Release(model='full', aero={'wind': [float(c) for c in v]})
+    with pytest.raises(ReleaseError, match='moves with the wind'):
+        modes_report(release)
+    with pytest.raises(ReleaseError, match='moves with the wind'):
+        Flight.from_release(release)
+
+
+@pytest.mark.parametrize(
+    'release',
+    [
+        Release(),
+        Release(model='full'),
+        Release(model='full', elevation_deg=45.0),
+        Release(ball='rugby', model='full'),
+    ],
+)
+def test_gravity_rates_are_the_flown_flight_s_rates_at_release(release):
+    """
+    The *_gravity pair equals the WKB rates of the integrated flight's own U(t), h1(t) at t = 0.
+
+    Re(sigma) - Re(D_c'/D_c)/2 +- Re(B'/(2 i D_c)) with the derivatives taken by central
+    differences along the flight (0.1 ms samples): the speed change at release is drag plus
+    g sin(Phi), as modes.gravity_speed_rate says (measured agreement: 3e-5 1/s).
+    """
+    from football_ros.physics.linear_theory import local_exponents
+    from football_ros.physics.modes import modes_report
+
+    flight = Flight.from_release(release)
+    tr = flight.simulate(rate=10000.0, duration=0.01)
+    sig1, sig2, b, d_c, _ = local_exponents(flight.params, tr.air_velocities, tr.states[:, 13])
+    dt = tr.times[1] - tr.times[0]
+    common = -0.5 * ((np.log(d_c[2]) - np.log(d_c[0])) / (2 * dt)).real
+    wkb = ((b[2] - b[0]) / (2 * dt) / (2j * d_c[1])).real
+    report = modes_report(release)
+    assert report['fast_damping_rate_gravity'] == pytest.approx(
+        sig1[1].real + common + wkb, abs=2e-4
+    )
+    assert report['slow_damping_rate_gravity'] == pytest.approx(
+        sig2[1].real + common - wkb, abs=2e-4
+    )
+
+
+def test_mccoy_unstable_ball_whose_modes_decay_in_the_integrated_flight():
+    """
+    C_Mpalpha = 0.036: McCoy's criterion says unstable, the integrated flight's wobble decays.
+
+    Measured in a flight with drag (no gravity, 0.2-2.8 s): -0.028 and -0.657 1/s against the
+    package's -0.027 and -0.658: both modes decay, as the flag (which follows the rates) says.
+    """
+    from football_ros.physics.modes import dynamic_stability
+
+    aero = {'c_m_p_alpha': 0.036}
+    ball = get_preset('american')
+    d = dynamic_stability(ball, 27.4, 600 * 2 * math.pi / 60, AeroModel(**aero))
+    assert not d.mccoy_stable and d.dynamically_stable
+    measured, predicted = _measured_rates_with_drag(aero, 600.0)
+    assert measured[0] < 0 and measured[1] < 0
+    assert measured == pytest.approx(predicted, abs=0.01)

@@ -87,7 +87,8 @@ def test_left_handed_spin_mirrors_the_modes(ball):
     amplitude; the full model's rates are equal.
     """
     from football_ros.cli import modes_report
-    from football_ros.physics.aero import AeroModel, dynamic_stability
+    from football_ros.physics.aero import AeroModel
+    from football_ros.physics.modes import dynamic_stability
 
     kw = {
         'ball': ball, 'alpha0_deg': 2.0, 'beta0_deg': 1.5, 'alpha_rate_deg_s': 15.0,
@@ -571,64 +572,7 @@ def test_precession_is_taken_about_the_equilibrium_point():
     assert np.max(np.abs(np.diff(angle))) < 0.5
 
 
-# --- football-ros paper: the report's numbers ----------------------------------------------
-@pytest.fixture(scope='module')
-def paper_report(tmp_path_factory):
-    from football_ros.cli import main
-    from football_ros.tools import paper
-
-    out = tmp_path_factory.mktemp('paper')
-    assert main(['paper', '--out', str(out)]) == 0
-    return out, paper.parse_report((out / 'report.md').read_text())
-
-
-def test_paper_report_reproduces_the_published_numbers(paper_report):
-    out, numbers = paper_report
-    for name in (
-        'fig3_american_wobble',
-        'fig4_american_angles',
-        'fig5_american_equilibrium',
-        'fig6_american_near_critical',
-        'fig7_rugby_screw_kick',
-        'fig8_rugby_slow_kick',
-    ):
-        assert (out / f'{name}.png').stat().st_size > 10000
-    # The reference values (docs/physics.md section 4), within 0.5 %; the paper column says them.
-    for key, ref in (
-        ('american.m_alpha', 191.0),
-        ('american.h1', 38.0),
-        ('american.omega_fast', 32.01),
-        ('american.omega_slow', 5.958),
-        ('american.s3p', 0.0617),
-        ('rugby.c_m_alpha', 0.147),
-        ('rugby.inertia_spin', 0.0026),
-        ('rugby.inertia_transverse', 0.0033),
-    ):
-        paper_value, package = numbers[key]
-        assert paper_value == ref
-        assert rel_err(package, ref) < 0.005, key
-    # Independent recomputation of the numbers the paper gives only as formulas.
-    k = 1.225 * math.pi * 0.1726**2 / 4 * 0.1726 * 0.33 / (2 * 0.00321)
-    crit = 2 * math.sqrt(k * 27.4**2) * 0.00321 / 0.00194 / RPM
-    assert numbers['american.critical_spin'][1] == pytest.approx(crit, rel=1e-5)
-    assert numbers['american.time_of_flight'][1] == pytest.approx(2 * 27.4 * 0.5 / G, rel=1e-5)
-    kr = 1.225 * math.pi * 0.19**2 / 4 * 0.19 * 0.147 / (2 * 0.0033)
-    h1r = 0.0026 / 0.0033 * 300 * RPM
-    assert numbers['rugby.m_alpha'][1] == pytest.approx(kr * 400, rel=1e-5)
-    s3p = G * math.cos(math.radians(30)) * h1r / (kr * 20**3)
-    assert numbers['rugby.s3p'][1] == pytest.approx(s3p, rel=1e-5)
-    # The paper's 1/V^3: s3p at 15 and 25 m/s against 20 m/s.
-    for speed in (15, 25):
-        ratio = numbers[f'rugby.s3p_{speed}'][1] / numbers['rugby.s3p'][1]
-        assert ratio == pytest.approx((20 / speed) ** 3, rel=1e-4)
-    # The frozen slow period is 2 pi / w_s; the flight's is longer (measured 1.32 vs 1.05 s).
-    frozen = numbers['american.slow_period_frozen'][1]
-    assert frozen == pytest.approx(2 * math.pi / numbers['american.omega_slow'][1], rel=1e-5)
-    assert numbers['american.slow_period_flight'][1] > 1.2 * frozen
-    # Quasi-steady closer than frozen, both balls.
-    for ball, ratio in (('american', 0.2), ('rugby', 0.6)):
-        quasi, frozen = (numbers[f'{ball}.rms_error_{k}'][1] for k in ('quasi_steady', 'frozen'))
-        assert quasi < ratio * frozen
+# The paper report's numbers: test/test_paper.py.
 
 
 def _write_bag(path, trajectory, order_json=None):

@@ -57,7 +57,11 @@ range of total angle delta each form covers:
 - C_lp = -0.005: ESTIMATE (spin decays by a few percent per second). Any delta.
 - C_Npalpha = 0, C_Mpalpha = 0: no football data; set them to study Magnus effects (McCoy's
   small-angle forms, 0-20 deg).
-The rugby preset uses the same estimates (no better data), scaled by its own S and D.
+The rugby preset's C_Malpha is its own (the paper's ref. [15]); its drag, lift and damping
+numbers are still BORROWED from the American football above, scaled by its own S and D:
+published rugby-ball lift and drag against yaw (Vance, Buick & Livesey, J. Appl. Mech. 79(2)
+021020, 2012, at 5-15 m/s) were not available to us as numbers.
+:data:`football_ros.physics.presets.AERO_SOURCES` lists each number's source per ball.
 """
 
 from __future__ import annotations
@@ -65,8 +69,6 @@ from __future__ import annotations
 from dataclasses import dataclass, fields, replace
 import math
 from typing import Any, Mapping
-
-import numpy as np
 
 from .presets import BallPreset
 
@@ -212,80 +214,6 @@ def _checked(name: str, value: Any, limits: tuple[float, float]) -> float:
     if not lo <= value <= hi:
         raise ValueError(f"aero '{name}' = {value:g} is outside [{lo:g}, {hi:g}]")
     return float(value)
-
-
-@dataclass(frozen=True)
-class DynamicStability:
-    """
-    McCoy's stability factors and the modes' per-second rates, at one air speed and spin.
-
-    s_g: gyroscopic stability factor P^2/(4M); s_d: dynamic stability factor 2T/H (McCoy's
-    definition, per calibre); dynamically_stable: 1/S_g < S_d (2 - S_d);
-    fast/slow_damping_rate [1/s]: the modes' amplitude rates in time (negative = the mode
-    decays), fast/slow_frequency [rad/s]: their frequencies (fast = larger |frequency|; both
-    negative for a left-handed spiral).
-    """
-
-    s_g: float
-    s_d: float
-    dynamically_stable: bool
-    fast_damping_rate: float
-    slow_damping_rate: float
-    fast_frequency: float = math.nan
-    slow_frequency: float = math.nan
-
-
-def dynamic_stability(
-    ball: BallPreset, speed: float, spin: float, model: AeroModel
-) -> DynamicStability:
-    """
-    Return McCoy's S_g, S_d and the modes' per-second damping rates.
-
-    At air speed ``speed`` [m/s] and ``spin`` [rad/s], for the terms switched on in ``model``
-    (the ball's air density).
-
-    S_g = P^2 / (4M), S_d = 2T/H with P = (I_s/I_t) p D / V, M = rho S D^3 C_Malpha / (2 I_t),
-    H = rho S D / (2m) [C_Lalpha - C_D0 - (m D^2/I_t) C_Mq],
-    T = rho S D / (2m) [C_Lalpha + (m D^2/I_s) C_Mpalpha] (the Magnus MOMENT).
-
-    The rates are NOT McCoy's lambda V / D: his H holds -C_D0 because, per calibre, P is
-    assumed constant (spin falling with speed), while a football's spin barely changes. They
-    come from the time-domain equation with the WKB terms of the slowing flight (drag and spin
-    damping): :func:`football_ros.physics.linear_theory.mode_rates` (docs/physics.md
-    section 5), checked against rates measured in integrated flights.
-    """
-    from . import model_params as dyn
-    from .linear_theory import mode_rates
-
-    mass, diameter, density, c_m_alpha = ball.mass, ball.diameter, ball.air_density, ball.c_m_alpha
-    inertia_spin, inertia_transverse = ball.inertia_spin, ball.inertia_transverse
-    area = math.pi * diameter**2 / 4.0
-    p_nd = (inertia_spin / inertia_transverse) * spin * diameter / speed
-    m_nd = density * area * diameter**3 / (2.0 * inertia_transverse) * c_m_alpha
-    c_l = model.c_l_alpha if model.lift else 0.0
-    c_d = model.c_d0 if model.drag else 0.0
-    c_mpa = model.c_m_p_alpha if model.magnus else 0.0
-    c_mq = model.c_m_q if model.pitch_damping else 0.0
-    t_nd = (
-        density
-        * area
-        * diameter
-        / (2.0 * mass)
-        * (c_l + mass * diameter**2 / inertia_spin * c_mpa)
-    )
-    h_nd = (
-        density
-        * area
-        * diameter
-        / (2.0 * mass)
-        * (c_l - c_d - mass * diameter**2 / inertia_transverse * c_mq)
-    )
-    s_g = p_nd**2 / (4.0 * m_nd) if m_nd else math.inf
-    s_d = 2.0 * t_nd / h_nd if h_nd else math.nan
-    stable = bool(s_g > 1.0 and np.isfinite(s_d) and 1.0 / s_g < s_d * (2.0 - s_d))
-    params = dyn.make_params(ball, 'linear', model)
-    fast, slow = mode_rates(params, speed, ball.inertia_ratio * spin)
-    return DynamicStability(s_g, s_d, stable, fast.real, slow.real, fast.imag, slow.imag)
 
 
 @dataclass(frozen=True)

@@ -33,9 +33,10 @@ from pathlib import Path
 import numpy as np
 
 from . import dynamics as dyn
-from .aero import AeroModel, resolve
+from .aero import AeroModel
 from .limits import check_flyable
-from .linear_theory import linear_modes, LinearModes, quasi_steady_components, QuasiSteadyTracker
+from .linear_theory import LinearModes, quasi_steady_components, QuasiSteadyTracker
+from .modes import flown_model, flown_modes
 from .presets import BallPreset
 from .release import check_choice, InitialState, MODELS, MOMENT_CURVES, Release
 
@@ -215,7 +216,7 @@ class Flight:
         check_choice('moment', moment, MOMENT_CURVES)
         if not (0.0 < step <= 0.05):
             raise ValueError(f'integration step must be in (0, 0.05] s, got {step}')
-        ball, self.aero = resolve(ball, model, aero)
+        ball, self.aero, self.params = flown_model(ball, model, moment, aero)
         self.ball, self.initial, self.model, self.moment, self.step = (
             ball,
             initial,
@@ -223,10 +224,9 @@ class Flight:
             moment,
             step,
         )
-        self.params = dyn.make_params(ball, moment, self.aero)
         self.wind = self.params[dyn.P_WIND:dyn.P_WIND + 3].copy()
         check_flyable(self.params, initial, step)  # one check for every entry point
-        self.modes = linear_modes(ball, initial, wind=self.wind)
+        self.modes = flown_modes(ball, initial, self.params)
         y0 = np.zeros(dyn.N_STATE)
         y0[dyn.R:dyn.R + 3] = initial.position
         y0[dyn.V:dyn.V + 3] = initial.velocity

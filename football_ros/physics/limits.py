@@ -49,14 +49,11 @@ import numpy as np
 
 from . import dynamics as dyn
 from .frames import GRAVITY
+from .modes import check_air_speed, MIN_AIR_SPEED  # noqa: F401  (re-exported for batch)
 from .release import InitialState, ReleaseError
 
 MAX_STEP_RATE = 1.0
 """Largest accepted step x rate (dimensionless) for every rate of :func:`fastest_rates`."""
-
-
-MIN_AIR_SPEED = 0.1
-"""Smallest speed relative to the air at release [m/s]."""
 
 
 def max_air_speed(
@@ -103,12 +100,7 @@ def check_flyable(params: np.ndarray, initial: InitialState, step: float) -> Non
     Also refuses a release that moves with the wind (no air speed: the aerodynamic angles,
     the linear theory and the loads' direction are undefined).
     """
-    air = initial.velocity - params[dyn.P_WIND:dyn.P_WIND + 3]
-    if not float(np.linalg.norm(air)) > MIN_AIR_SPEED:
-        raise ReleaseError(
-            f'the release moves with the wind (air speed {np.linalg.norm(air):.3g} '
-            f'm/s < {MIN_AIR_SPEED:g} m/s): its angle of attack is undefined'
-        )
+    check_air_speed(initial, params)
     for name, rate in fastest_rates(params, initial).items():
         if not math.isfinite(rate):
             raise ReleaseError(f"the flight's {name} is not finite")

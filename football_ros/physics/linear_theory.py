@@ -41,6 +41,7 @@ import math
 import numpy as np
 
 from . import frames
+from . import model_params as dyn
 from .presets import BallPreset
 from .release import InitialState, RPM
 
@@ -211,8 +212,6 @@ def local_exponents(params: np.ndarray, air_velocity: np.ndarray, h1):
     D_c, x_p): the exponents (-B +- i D_c) / 2 with D_c = sqrt(-(B^2 + 4C)) (= sqrt(h1^2 -
     4 M_alpha) for the paper: sigma = i w_f, i w_s), and the equilibrium x_p = -F / C.
     """
-    from . import model_params as dyn
-
     air = np.asarray(air_velocity, dtype=float)
     speed = np.linalg.norm(air, axis=-1)
     phi = frames.flight_path_angle(air)
@@ -258,8 +257,6 @@ def mode_rates(
     dk U C_lp p). The WKB terms are what McCoy's per-calibre rates lambda U / D miss when p
     is not proportional to U (docs/physics.md section 5).
     """
-    from . import model_params as dyn
-
     a, fk, dk = params[dyn.P_SPIN_RATIO], params[dyn.P_FORCE_K], params[dyn.P_DAMP_K]
     c_la, c_mq, c_np, c_mp = (
         params[dyn.P_CLA],
@@ -293,8 +290,6 @@ def mode_rates(
 
 def _scalar_constants(params: np.ndarray) -> tuple:
     """Return the kernel parameters :func:`_local_exponents_scalar` reads, as Python floats."""
-    from . import model_params as dyn
-
     keys = (
         dyn.P_SPIN_RATIO,
         dyn.P_FORCE_K,

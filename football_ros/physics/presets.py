@@ -228,6 +228,38 @@ PRESETS: dict[str, BallPreset] = {
 }
 
 
+AERO_SOURCES: dict[str, dict[str, str]] = {
+    'american': {
+        'c_m_alpha': 'Rae & Streit wind tunnel (via the paper): 0.33 /rad, C_M = 0.165 '
+        'sin 2 delta to 50 deg',
+        'c_d0, c_d2': 'ESTIMATE from Rae & Streit / Alam et al.: C_D 0.05-0.06 end-on to about '
+        '0.35 broadside, delta 0-90 deg',
+        'c_l_alpha': 'ESTIMATE: Rae & Streit lift ~ 0.2 sin 2 delta (wind axes), delta 0-50 deg',
+        'c_m_q': 'ESTIMATE, no measurement (wobble decays over seconds), delta 0-20 deg',
+        'c_l_p': 'ESTIMATE, no measurement (spin decays a few % per second)',
+        'c_n_p_alpha, c_m_p_alpha': 'no data: 0',
+    },
+    'rugby': {
+        'c_m_alpha': "ref. [15] of the paper (wind tunnel, normalised by the ball's volume, "
+        'converted by the paper to the cross-section): 0.147 /rad',
+        'c_d0, c_d2': "BORROWED from the American football's estimate (scaled by the rugby "
+        "ball's own S and D). Published rugby-ball drag against yaw exists (Vance, Buick & "
+        "Livesey, J. Appl. Mech. 79(2) 021020, 2012: 5-15 m/s; the paper's ref. [15]) but "
+        'its tabulated values were not available to us',
+        'c_l_alpha': "BORROWED from the American football's estimate. Vance et al. (2012) "
+        'measured rugby-ball lift against yaw at 5-15 m/s, the best lift-to-drag ratio near '
+        '40 deg yaw; their values were not available to us',
+        'c_m_q': "BORROWED from the American football's estimate (no measurement for either)",
+        'c_l_p': "BORROWED from the American football's estimate (no measurement for either)",
+        'c_n_p_alpha, c_m_p_alpha': 'no data: 0',
+    },
+}
+"""Where each aerodynamic number of a preset comes from (docs/physics.md, "Coefficients").
+
+The full model's coefficients (:class:`football_ros.physics.aero.AeroModel`) are the same for
+both balls; for the rugby ball only C_Malpha (and the inertias) are its own."""
+
+
 def get_preset(name: str, overrides: Mapping[str, float] | None = None) -> BallPreset:
     """Look up a preset by name and apply overrides; unknown names raise ValueError."""
     try:
