@@ -221,7 +221,9 @@ def simulate_warnings(release: Release, flight: 'Flight', trajectory) -> list[st
     if delta.size:
         worst = int(np.argmax(delta))
         worst_delta = float(delta[worst])
-        texts = out_of_validity(worst_delta, release.model, release.moment, flight.aero)
+        texts = out_of_validity(
+            worst_delta, release.model, release.moment, flight.aero, flight.ball
+        )
         for text in texts:
             out.append(f'{text}; largest at t = {trajectory.times[worst]:.2f} s')
         limit = max_valid_delta(release.model, release.moment, flight.aero)

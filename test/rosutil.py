@@ -21,6 +21,23 @@ from football_ros.requests import FlightOrder
 from std_msgs.msg import String
 
 
+def resend_until(collector, send, done, what: str, tries: int = 10, wait: float = 2.0) -> int:
+    """
+    Call ``send(k)`` until ``done()`` holds within ``wait`` [s] of a send; return that k.
+
+    Right after start-up DDS discovery may still drop a message (a reliable writer matched on
+    our side only), so a message that had no effect is sent again, ``tries`` times at most.
+    """
+    for k in range(tries):
+        send(k)
+        try:
+            collector.wait_for(done, wait, what)
+            return k
+        except AssertionError:
+            continue
+    raise AssertionError(f'no {what} after {tries} sends')
+
+
 def order_flight(collector, release: Release, request_id: str):
     """
     Send a flight order straight to the simulator and wait for its 'released' event.
@@ -43,14 +60,7 @@ def order_flight(collector, release: Release, request_id: str):
             for kv in st.values
         )
 
-    for _ in range(10):
-        pub.publish(String(data=text))
-        try:
-            collector.wait_for(released, 2.0, 'the released event')
-            return
-        except AssertionError:
-            continue
-    raise AssertionError(f"the simulator never released '{request_id}'")
+    resend_until(collector, lambda _k: pub.publish(String(data=text)), released, 'released event')
 
 
 def landed_event(collector):

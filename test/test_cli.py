@@ -20,17 +20,16 @@ import math
 import subprocess
 import sys
 
+from cli_run import run_cli
 from football_ros.physics import CSV_HEADER
 from football_ros.programs import ros_commands
 import numpy as np
 import pytest
 import yaml
 
-CLI = [sys.executable, '-m', 'football_ros.cli']
-
 
 def run(*args, check=True):
-    proc = subprocess.run([*CLI, *args], capture_output=True, text=True, timeout=120)
+    proc = run_cli(*args)
     if check:
         assert proc.returncode == 0, proc.stderr
     return proc
@@ -413,3 +412,12 @@ def test_modes_prints_the_flown_wind_full_model_and_rate_based_flag():
     assert report['dynamically_stable'] is True and report['mccoy_dynamically_stable'] is False
     assert report['fast_damping_rate'] < 0 and report['slow_damping_rate'] < 0
     assert report['full']['omega_fast'] == pytest.approx(32.0077, abs=1e-3)
+
+
+@pytest.mark.parametrize('ball, form', [('rugby', 'C_M = 0.0735 sin 2 delta'),
+                                        ('american', 'C_M = 0.165 sin 2 delta')])
+def test_the_range_warning_names_the_balls_own_moment_form(tmp_path, ball, form):
+    proc = run('simulate', '--ball', ball, '--spin-rpm', '100', '--moment', 'sin2delta',
+               '--out', str(tmp_path / 'f.csv'))
+    [warning] = [line for line in proc.stderr.splitlines() if 'beyond the 50 deg' in line]
+    assert form in warning

@@ -15,9 +15,8 @@
 """The nodes' parameter tables: declarations, --help, descriptors, config file and reference."""
 
 from pathlib import Path
-import subprocess
-import sys
 
+from cli_run import run_cli
 from football_ros.nodes.reference import node_tables
 from football_ros.programs import NODES
 import pytest
@@ -70,10 +69,7 @@ def test_help_lists_every_parameter_the_running_node_declares(
     node = start_node(*_start_args(name, tmp_path))
     listed = call(collector, ListParameters, f'/{NODE_NAMES[name]}/list_parameters',
                   ListParameters.Request()).result.names
-    help_text = subprocess.run(
-        [sys.executable, '-m', 'football_ros.cli', name, '--help'],
-        capture_output=True, text=True, timeout=60, check=True,
-    ).stdout
+    help_text = run_cli(name, '--help', timeout=60, check=True).stdout
     table = [spec.name for spec in node_tables()[name]]
     assert set(listed) - ROS_OWN == set(table)
     for spec_name in table:
@@ -83,10 +79,7 @@ def test_help_lists_every_parameter_the_running_node_declares(
 
 @pytest.mark.parametrize('name', list(NODES))
 def test_an_unknown_option_is_an_error(name):
-    proc = subprocess.run(
-        [sys.executable, '-m', 'football_ros.cli', name, '--foo', '--ros-args'],
-        capture_output=True, text=True, timeout=60,
-    )
+    proc = run_cli(name, '--foo', '--ros-args', timeout=60)
     assert proc.returncode == 2
     assert 'unrecognized arguments: --foo' in proc.stderr
 
@@ -145,9 +138,6 @@ def test_an_integer_override_of_a_float_parameter_is_taken_at_start_up(start_nod
     ],
 )
 def test_a_bad_start_up_value_is_one_line_naming_the_parameter(args, expected):
-    proc = subprocess.run(
-        [sys.executable, '-m', 'football_ros.cli', 'release', '--ros-args', *args],
-        capture_output=True, text=True, timeout=60,
-    )
+    proc = run_cli('release', '--ros-args', *args, timeout=60)
     assert proc.returncode == 2, proc.stdout + proc.stderr
     assert expected in proc.stderr and 'Traceback' not in proc.stderr

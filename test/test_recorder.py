@@ -21,7 +21,9 @@ import sys
 import time
 import types
 
+from cli_run import run_cli
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
+from football_ros import bagfile
 from football_ros.nodes import qos
 from football_ros.nodes import recorder as recorder_node
 from football_ros.nodes.topics import STATE_TOPICS
@@ -185,22 +187,7 @@ def test_figures_from_csv_and_from_bag(tmp_path, start_node, collector):
     record_flight(start_node, collector, bag, 'mcap', rate=200.0)
     for source, ball in ((csv_path, 'rugby'), (bag, 'american')):
         out = tmp_path / f'fig_{source.name}'
-        proc = subprocess.run(
-            [
-                sys.executable,
-                '-m',
-                'football_ros.cli',
-                'plot',
-                str(source),
-                '--out',
-                str(out),
-                '--ball',
-                ball,
-            ],
-            capture_output=True,
-            text=True,
-            timeout=120,
-        )
+        proc = run_cli('plot', str(source), '--out', str(out), '--ball', ball, timeout=120)
         assert proc.returncode == 0, proc.stderr
         for name in ('wobble', 'angles', 'trajectory', 'precession'):
             png = out / f'{name}.png'
@@ -230,31 +217,13 @@ def test_flight_data_from_bag_matches_headless(tmp_path, start_node, collector):
 def test_plot_rejects_unknown_sources(tmp_path):
     (tmp_path / 'x.csv').write_text('a,b\n1,2\n')
     for source in (tmp_path / 'x.csv', tmp_path):
-        proc = subprocess.run(
-            [
-                sys.executable,
-                '-m',
-                'football_ros.cli',
-                'plot',
-                str(source),
-                '--out',
-                str(tmp_path / 'o'),
-            ],
-            capture_output=True,
-            text=True,
-            timeout=60,
-        )
+        proc = run_cli('plot', str(source), '--out', str(tmp_path / 'o'), timeout=60)
         assert proc.returncode == 2 and proc.stderr.count('\n') == 1
 
 
 def test_demo_end_to_end(tmp_path):
     out = tmp_path / 'demo'
-    proc = subprocess.run(
-        [sys.executable, '-m', 'football_ros.cli', 'demo', '--out', str(out)],
-        capture_output=True,
-        text=True,
-        timeout=180,
-    )
+    proc = run_cli('demo', '--out', str(out), timeout=180)
     assert proc.returncode == 0, proc.stdout + proc.stderr
     assert 'landed at x = 66.277 m' in proc.stdout
     progress = [
@@ -327,20 +296,7 @@ def test_namespaced_recorder_honours_output_and_topics(start_node, tmp_path, top
 )
 def test_bad_parameters_give_one_line_naming_the_field(tmp_path, line, field):
     params = _params_file(tmp_path, [f'output: {tmp_path / "bag"}', line])
-    proc = subprocess.run(
-        [
-            sys.executable,
-            '-m',
-            'football_ros.cli',
-            'record',
-            '--ros-args',
-            '--params-file',
-            str(params),
-        ],
-        capture_output=True,
-        text=True,
-        timeout=60,
-    )
+    proc = run_cli('record', '--ros-args', '--params-file', str(params), timeout=60)
     assert proc.returncode == 2, proc.stdout + proc.stderr
     assert 'Traceback' not in proc.stderr and f"'{field}'" in proc.stderr
     assert proc.stderr.strip().count('\n') == 0, proc.stderr
@@ -442,16 +398,16 @@ def test_file_size_limit_drops_only_what_is_not_on_disk(tmp_path, monkeypatch):
     from rosbags.rosbag2 import StoragePlugin
 
     limit = 3 << 20
-    original = recorder_node._File.write
+    original = bagfile._File.write
 
     def limited(self, data):
         if self.tell() + len(memoryview(data).cast('B')) > limit:
             raise OSError(errno.EFBIG, 'File too large')
         return original(self, data)
 
-    monkeypatch.setattr(recorder_node._File, 'write', limited)
+    monkeypatch.setattr(bagfile._File, 'write', limited)
     typestore = get_typestore(Stores.ROS2_JAZZY)
-    writer = recorder_node.BagWriter(
+    writer = bagfile.BagWriter(
         tmp_path / 'bag', version=9, storage_plugin=StoragePlugin.MCAP
     )
     writer.open()
@@ -580,18 +536,16 @@ _PARAM_VALUES = st.one_of(
 @given(_PARAM_VALUES)
 def test_parameter_values_fuzz_give_a_value_or_an_error_naming_the_field(value):
     """Whatever a params file gives (rcl types: unset, bool, int, float, str, arrays, bytes)."""
-    for name, read in (
-        ('topics', lambda n: recorder_node._topics_param(n)),
-        ('output', lambda n: recorder_node._string_param(n, 'output', 'd', '')),
-    ):
+    specs = {spec.name: spec for spec in recorder_node.PARAMETERS}
+    for name in ('topics', 'output'):
         try:
-            got = read(_FakeNode(value))
+            got = specs[name].declare(_FakeNode(value))
         except ValueError as exc:
             assert f"'{name}'" in str(exc)
             continue
-        if name == 'topics':
-            assert isinstance(got, list) and all(isinstance(t, str) and t for t in got)
-            expected = [] if value is None else [value] if isinstance(value, str) else value
-            assert got == [t for t in expected if t]
+        if name == 'topics':  # the node then drops the empty names: [''] = every topic
+            assert isinstance(got, list) and all(isinstance(t, str) for t in got)
+            expected = [''] if value is None else [value] if isinstance(value, str) else value
+            assert got == expected
         else:
-            assert got == ('d' if value is None else value) and isinstance(got, str)
+            assert got == ('' if value is None else value) and isinstance(got, str)

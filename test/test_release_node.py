@@ -30,6 +30,7 @@ from nav_msgs.msg import Odometry
 import numpy as np
 import pytest
 from rclpy.qos import QoSProfile, ReliabilityPolicy
+from rosutil import resend_until
 from std_msgs.msg import String
 
 OK, WARN, ERROR = 0, 1, 2  # DiagnosticStatus levels (bytes in rclpy, compared as ints)
@@ -88,24 +89,21 @@ def connect(client, timeout=30.0):
     see the simulator yet), so a probe without an OK answer is sent again.
     """
     client.wait_for_subscribers(client.requests)
-    deadline = time.monotonic() + timeout
-    k = 0
-    while time.monotonic() < deadline:
-        k += 1
-        name = f'probe-{k}'
-        client.requests.publish(String(data=f'{{id: {name}}}'))
-        answered = time.monotonic() + 2.0
-        while time.monotonic() < answered:
-            answers = [r for r in client.get(qos.RELEASE_RESPONSE) if r.name == name]
-            if answers:
-                break
-            time.sleep(0.02)
-        if answers and level(answers[0]) == OK:
-            client.wait_for(lambda: client.get(qos.POSE), 10.0, 'the probe flight')
-            time.sleep(0.3)  # late answers to earlier probes
-            client.clear()
-            return
-    raise AssertionError('the release node never accepted a probe')
+
+    def accepted():
+        return any(r.name.startswith('probe-') and level(r) == OK
+                   for r in client.get(qos.RELEASE_RESPONSE))
+
+    resend_until(
+        client,
+        lambda k: client.requests.publish(String(data=f'{{id: probe-{k}}}')),
+        accepted,
+        'accepted probe',
+        tries=max(1, int(timeout / 2.0)),
+    )
+    client.wait_for(lambda: client.get(qos.POSE), 10.0, 'the probe flight')
+    time.sleep(0.3)  # late answers to earlier probes
+    client.clear()
 
 
 def test_accepted_request_flies_and_answers_with_the_prediction(start_node, client):
@@ -132,13 +130,12 @@ def test_accepted_request_flies_and_answers_with_the_prediction(start_node, clie
 def test_without_simulator_the_answer_says_so(start_node, client):
     start_node('release')
     client.wait_for_subscribers(client.requests)
-    for k in range(10):  # a request lost to discovery right after start-up is sent again
-        client.requests.publish(String(data=f'{{id: lonely-{k}}}'))
-        try:
-            client.wait_for(lambda: client.get(qos.RELEASE_RESPONSE), 2.0, 'an answer')
-            break
-        except AssertionError:
-            continue
+    resend_until(
+        client,
+        lambda k: client.requests.publish(String(data=f'{{id: lonely-{k}}}')),
+        lambda: client.get(qos.RELEASE_RESPONSE),
+        'answer',
+    )
     resp = client.get(qos.RELEASE_RESPONSE)[0]
     assert resp.name.startswith('lonely-') and level(resp) == ERROR
     assert 'no simulator is listening' in resp.message

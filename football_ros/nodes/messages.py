@@ -66,24 +66,19 @@ def header(stamp: Time, frame_id: str) -> Header:
     return Header(stamp=stamp, frame_id=frame_id)
 
 
-def _point(v: Sequence[float]) -> Point:
+def point(v: Sequence[float]) -> Point:
+    """geometry_msgs/Point from 3 numbers [m]."""
     return Point(x=float(v[0]), y=float(v[1]), z=float(v[2]))
 
 
-def _vector(v: Sequence[float]) -> Vector3:
+def vector3(v: Sequence[float]) -> Vector3:
+    """geometry_msgs/Vector3 from 3 numbers."""
     return Vector3(x=float(v[0]), y=float(v[1]), z=float(v[2]))
 
 
-def _quaternion(q: Sequence[float]) -> Quaternion:
+def quaternion(q: Sequence[float]) -> Quaternion:
+    """geometry_msgs/Quaternion from (x, y, z, w)."""
     return Quaternion(x=float(q[0]), y=float(q[1]), z=float(q[2]), w=float(q[3]))
-
-
-def pose_stamped(sample: BallSample, stamp: Time, frame_id: str) -> PoseStamped:
-    """Position + orientation (body x = spin axis, spin angle included) in ``frame_id``."""
-    msg = PoseStamped(header=header(stamp, frame_id))
-    msg.pose.position = _point(sample.position)
-    msg.pose.orientation = _quaternion(sample.orientation)
-    return msg
 
 
 def odometry(sample: BallSample, stamp: Time, frame_id: str, child_frame_id: str) -> Odometry:
@@ -94,10 +89,10 @@ def odometry(sample: BallSample, stamp: Time, frame_id: str, child_frame_id: str
     nav_msgs/Odometry specifies. Covariances are zero (exact model).
     """
     msg = Odometry(header=header(stamp, frame_id), child_frame_id=child_frame_id)
-    msg.pose.pose.position = _point(sample.position)
-    msg.pose.pose.orientation = _quaternion(sample.orientation)
-    msg.twist.twist.linear = _vector(to_body_frame(sample.orientation, sample.velocity))
-    msg.twist.twist.angular = _vector(to_body_frame(sample.orientation, sample.angular_velocity))
+    msg.pose.pose.position = point(sample.position)
+    msg.pose.pose.orientation = quaternion(sample.orientation)
+    msg.twist.twist.linear = vector3(to_body_frame(sample.orientation, sample.velocity))
+    msg.twist.twist.angular = vector3(to_body_frame(sample.orientation, sample.angular_velocity))
     return msg
 
 
@@ -125,13 +120,9 @@ def tf_message(sample: BallSample, stamp: Time, frame_id: str, child_frame_id: s
     centre [m], rotation = orientation, as the pose).
     """
     transform = TransformStamped(header=header(stamp, frame_id), child_frame_id=child_frame_id)
-    transform.transform.translation = _vector(sample.position)
-    transform.transform.rotation = _quaternion(sample.orientation)
+    transform.transform.translation = vector3(sample.position)
+    transform.transform.rotation = quaternion(sample.orientation)
     return TFMessage(transforms=[transform])
-
-
-def vector3_stamped(vec: Sequence[float], stamp: Time, frame_id: str) -> Vector3Stamped:
-    return Vector3Stamped(header=header(stamp, frame_id), vector=_vector(vec))
 
 
 def key_values(values: Mapping[str, object]) -> list[KeyValue]:
@@ -192,30 +183,25 @@ def markers(
     """
     hdr = header(stamp, frame_id)
     ball = Marker(header=hdr, ns=namespace, id=0, type=Marker.SPHERE, action=Marker.ADD)
-    ball.pose.position = _point(sample.position)
-    ball.pose.orientation = _quaternion(sample.orientation)
-    ball.scale = _vector([ball_length, ball_diameter, ball_diameter])
+    ball.pose.position = point(sample.position)
+    ball.pose.orientation = quaternion(sample.orientation)
+    ball.scale = vector3([ball_length, ball_diameter, ball_diameter])
     ball.color = _color(0.55, 0.27, 0.07)
     axis = Marker(header=hdr, ns=namespace, id=1, type=Marker.ARROW, action=Marker.ADD)
-    axis.points = [_point(sample.position), _point(sample.position + 0.5 * sample.axis)]
-    axis.scale = _vector([0.02, 0.04, 0.06])
+    axis.points = [point(sample.position), point(sample.position + 0.5 * sample.axis)]
+    axis.scale = vector3([0.02, 0.04, 0.06])
     axis.color = _color(0.9, 0.1, 0.1)
     velocity = Marker(header=hdr, ns=namespace, id=2, type=Marker.ARROW, action=Marker.ADD)
-    velocity.points = [_point(sample.position), _point(sample.position + 0.1 * sample.velocity)]
-    velocity.scale = _vector([0.02, 0.04, 0.06])
+    velocity.points = [point(sample.position), point(sample.position + 0.1 * sample.velocity)]
+    velocity.scale = vector3([0.02, 0.04, 0.06])
     velocity.color = _color(0.1, 0.8, 0.1)
     path = Marker(header=hdr, ns=namespace, id=3, type=Marker.LINE_STRIP, action=Marker.ADD)
     path.points = list(trail)
-    path.scale = _vector([0.03, 0.0, 0.0])
+    path.scale = vector3([0.03, 0.0, 0.0])
     path.color = _color(0.2, 0.4, 1.0, 0.8)
     for marker in (axis, velocity, path):  # points are in the header frame: identity pose
         marker.pose.orientation.w = 1.0
     return MarkerArray(markers=[ball, axis, velocity, path])
-
-
-def point(v: Sequence[float]) -> Point:
-    """geometry_msgs/Point from 3 numbers [m]."""
-    return _point(v)
 
 
 def decimated(points: Sequence[Point], first_index: int, limit: int = MAX_TRAIL_POINTS) -> list:

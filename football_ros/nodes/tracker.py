@@ -210,10 +210,10 @@ def estimate_message(
         return None
     msg = Odometry(header=mb.header(_seconds_msg(t), frame_id), child_frame_id=frame_id)
     msg.pose.pose.position = Point(x=float(r[0]), y=float(r[1]), z=float(r[2]))
-    msg.pose.pose.orientation = mb._quaternion(q)
+    msg.pose.pose.orientation = mb.quaternion(q)
     msg.pose.covariance = [float(c) for c in pose_cov.ravel()]
-    msg.twist.twist.linear = mb._vector(v)
-    msg.twist.twist.angular = mb._vector(omega)
+    msg.twist.twist.linear = mb.vector3(v)
+    msg.twist.twist.angular = mb.vector3(omega)
     msg.twist.covariance = [float(c) for c in twist_cov.ravel()]
     return msg
 

@@ -229,11 +229,11 @@ VALIDITY: dict[str, ValidityRange] = {
     'moment_linear': ValidityRange(
         'overturning moment, linear slope C_Malpha sin delta',
         24.6,
-        "the paper's linear slope; at most 10 % above Rae & Streit's 0.165 sin 2 delta (ratio "
-        '1/cos delta) up to 24.6 deg',
+        "the paper's linear slope; at most 10 % above Rae & Streit's form C_Malpha/2 sin 2 "
+        'delta (ratio 1/cos delta) up to 24.6 deg',
     ),
     'moment_sin2delta': ValidityRange(
-        'overturning moment, Rae & Streit C_M = 0.165 sin 2 delta',
+        "overturning moment, Rae & Streit's form C_M = C_Malpha/2 sin 2 delta",
         50.0,
         'Rae & Streit wind-tunnel fit, 0-50 deg',
     ),
@@ -291,13 +291,18 @@ def max_valid_delta(
 
 
 def out_of_validity(
-    delta: float, model: str = 'paper', moment: str = 'linear', aero: AeroModel | None = None
+    delta: float,
+    model: str = 'paper',
+    moment: str = 'linear',
+    aero: AeroModel | None = None,
+    ball: BallPreset | None = None,
 ) -> list[str]:
     """
     Pure check of one state (or a flight's largest angle).
 
     The forms in force whose data range the total angle ``delta`` [rad] exceeds, one sentence
-    each (empty: all within).
+    each (empty: all within); with ``ball``, the moment forms carry its own C_Malpha (e.g.
+    0.165 sin 2 delta for the American football, 0.0735 for the rugby ball).
 
     For the simulator's /diagnostics (WARN with these sentences) and ``simulate`` (stderr).
     """
@@ -308,8 +313,13 @@ def out_of_validity(
     for key in validity_terms(model, moment, aero):
         rng = VALIDITY[key]
         if deg > rng.max_delta_deg:
-            out.append(
+            text = (
                 f'delta = {deg:.1f} deg is beyond the {rng.max_delta_deg:g} deg range of '
                 f'the {rng.term} ({rng.source})'
             )
+            if ball is not None and key.startswith('moment'):
+                text = text.replace('C_Malpha/2', f'{ball.c_m_alpha / 2:.4g}').replace(
+                    'C_Malpha sin', f'{ball.c_m_alpha:.4g} sin'
+                )
+            out.append(text)
     return out

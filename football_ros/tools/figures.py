@@ -238,8 +238,9 @@ def trajectory_axes(axes, record: FlightRecord) -> None:
     """Side view (x, z) with the ground z = 0, top view (x, y)."""
     axes[0].plot(record.position[:, 0], record.position[:, 2], label='ball')
     axes[0].axhline(0.0, color='saddlebrown', lw=1.5, label='ground z = 0')
+    top = max(1.0, float(np.max(record.position[:, 2])))
+    axes[0].set_ylim(-0.06 * top, 1.12 * top)  # the arc fills the panel (heights not to scale)
     axes[0].set_ylabel('height z [m]')
-    axes[0].set_aspect('equal', adjustable='datalim')
     axes[0].legend(**LEGEND)
     axes[1].plot(record.position[:, 0], record.position[:, 1])
     lateral = max(1.0, 1.2 * float(np.max(np.abs(record.position[:, 1]))))
