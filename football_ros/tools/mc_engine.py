@@ -234,6 +234,10 @@ class ChunkResult:
     rows: dict[str, np.ndarray] | None
     seconds: float
     ball_seconds: float
+    threads: int = 0
+    """Numba threads the kernel ran on."""
+    pid: int = 0
+    """Process that flew it."""
 
 
 def chunk_seed(seed: int, index: int) -> np.random.SeedSequence:
@@ -323,16 +327,17 @@ def run_chunk(plan: Plan, index: int) -> ChunkResult:
         begin = time.perf_counter()
         out = fly(plan.release, samples)
         seconds = time.perf_counter() - begin
-        if _THREAD_SAFE is None:
-            import numba
+        import numba
 
+        threads = numba.get_num_threads()
+        if _THREAD_SAFE is None:
             _THREAD_SAFE = numba.threading_layer() in ('omp', 'tbb')
     rows = {**samples, **out, 'clipped': clipped.any(axis=1).astype(np.int8)}
     rows['_clipped_by_key'] = clipped.sum(axis=0)
     stats = Stats.of(rows, plan.zone, plan.subsample)
     del rows['_clipped_by_key']
     ball_seconds = float(out['time_of_flight'].sum())
-    return ChunkResult(index, stats, rows, seconds, ball_seconds)
+    return ChunkResult(index, stats, rows, seconds, ball_seconds, threads, os.getpid())
 
 
 def warm_up() -> str:
