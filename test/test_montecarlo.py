@@ -197,6 +197,8 @@ def test_zone_sensitivity_and_ellipses_against_the_vacuum_range():
     )
     share = (4.838**2 * 0.25) / (4.838**2 * 0.25 + 1.3357**2)
     assert sens['speed'][1] == pytest.approx(share, abs=0.02)
+    assert eng.fit_r2(out.stats, 'landing_x') > 0.999  # the vacuum range is nearly linear
+    assert sum(s for _, s in sens.values()) == pytest.approx(1.0, abs=0.02)
     sy = {k: s for k, _, s in eng.sensitivity(out.stats, 'landing_y')}
     assert sy['azimuth_deg'] > 0.99
     d2 = (rows['landing_x'] - 66.0) ** 2 + rows['landing_y'] ** 2

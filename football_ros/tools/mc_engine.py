@@ -577,6 +577,17 @@ def sensitivity(stats: Stats, output: str) -> list[tuple[str, float, float]]:
     ]
 
 
+def fit_r2(stats: Stats, output: str) -> float:
+    """R^2 of the least-squares fit of :func:`sensitivity` (explained share of the variance)."""
+    cov = stats.covariance()
+    j = MOMENT_KEYS.index(output)
+    idx = [i for i, k in enumerate(INPUT_KEYS) if cov[i, i] > 0.0]
+    if not idx or cov[j, j] <= 0.0:
+        return math.nan
+    slope = np.linalg.lstsq(cov[np.ix_(idx, idx)], cov[idx, j], rcond=None)[0]
+    return float(slope @ cov[idx, j] / cov[j, j])
+
+
 def drain(
     engine: Engine,
     plan: Plan,

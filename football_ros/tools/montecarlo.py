@@ -45,6 +45,7 @@ from .mc_engine import (  # noqa: F401  (COLUMNS and CHUNK: this module's public
     drain,
     ellipse,
     Engine,
+    fit_r2,
     INPUT_KEYS,
     inside_ellipse,
     MOMENT_KEYS,
@@ -445,10 +446,18 @@ def summary(outcome: Outcome, release: Release, spread: Mapping[str, Spread]) ->
                 f'{100 * sx:>8.1f}%{by:>11.4g}{100 * sy:>8.1f}%'
             )
         lines.append(
-            f'{"sum (linear R^2)":<44}{"":>11}{100 * sum(s for _, s in rows_x.values()):>8.1f}%'
+            f'{"sum of the shares":<44}{"":>11}'
+            f'{100 * sum(s for _, s in rows_x.values()):>8.1f}%'
             f'{"":>11}{100 * sum(s for _, s in rows_y.values()):>8.1f}%'
         )
-        lines.append('  (slopes in m per unit of the input)')
+        lines.append(
+            f'{"R^2 of the linear fit":<44}{"":>11}{100 * fit_r2(stats, "landing_x"):>8.1f}%'
+            f'{"":>11}{100 * fit_r2(stats, "landing_y"):>8.1f}%'
+        )
+        lines.append(
+            '  (slopes in m per unit of the input; the shares add up to about R^2 when the '
+            'inputs are independent)'
+        )
     return lines
 
 
