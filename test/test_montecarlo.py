@@ -319,3 +319,36 @@ def test_figure_labels_are_inside_the_png():
     import matplotlib.pyplot as plt
 
     plt.close(fig)
+
+
+def test_chunks_flown_from_several_threads_at_once_are_the_chunks_flown_one_by_one():
+    """What a Dask worker with several task threads does: no hang, no crosstalk."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    plan = eng.Plan(Release(), mc.as_spread(mc.SPREAD_DEFAULTS), 9, 8 * 1500, chunk=1500)
+    alone = [eng.run_task(plan, i, i + 1, threads=1)[0] for i in range(8)]
+    with ThreadPoolExecutor(4) as pool:
+        futures = [pool.submit(eng.run_task, plan, i, i + 1, 1) for i in range(8)]
+        together = [f.result(timeout=120)[0] for f in futures]
+    for a, b in zip(alone, together):
+        assert a.index == b.index and b.threads == 1
+        for key in mc.COLUMNS:
+            assert np.array_equal(a.rows[key], b.rows[key]), key
+    # The guard: a lock unless numba's threading layer is thread-safe.
+    import numba
+
+    assert eng._THREAD_SAFE == (numba.threading_layer() in ('omp', 'tbb'))
+    saved = eng._THREAD_SAFE
+    try:
+        eng._THREAD_SAFE = False
+        assert eng._kernel_guard() is eng._KERNEL_LOCK
+    finally:
+        eng._THREAD_SAFE = saved
+        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)  # this thread's, as before
+
+
+def test_progress_bar_shows_rate_and_time_left(tmp_path):
+    proc = _run_cli('--n', '30000', '--figure', 'none', '--out', str(tmp_path / 'mc.npz'))
+    assert proc.returncode == 0, proc.stderr
+    last = proc.stderr.replace('\r', '\n').strip().splitlines()[-1]
+    assert '30.0k/30.0k' in last and 'ball/s' in last and '<00:00' in last, last
