@@ -77,6 +77,7 @@ def main() -> None:
     try:
         mc.run(release, 64, spread, 0, progress=False)  # load the kernel here
         inproc = mc.run(release, args.n, spread, 0, False, parquet=tmp / 'a.parquet')
+        stored = sum(p.stat().st_size for p in (tmp / 'a.parquet').glob('*.parquet'))
         shutil.rmtree(tmp / 'a.parquet')
         cluster = mc.run(
             release, args.n, spread, 0, False, parquet=tmp / 'b.parquet', workers=args.workers
@@ -123,6 +124,12 @@ def main() -> None:
         print(f'{name:<58}{1e3 * sec:>10.3f}')
     overhead = o_worker / (t_kernel + o_worker)
     print(f'per-chunk overhead share on a worker: {100 * overhead:.1f} %')
+    per_ball = stored / args.n
+    print(
+        f'Parquet: {per_ball:.1f} bytes per ball; one worker writes '
+        f'{per_ball * eng.CHUNK / (t_kernel + o_worker) / 1e6:.2f} MB/s, 100 workers '
+        f'{100 * per_ball * eng.CHUNK / (t_kernel + o_worker) / 1e6:.0f} MB/s'
+    )
 
     o_sched = probe['per_task'] + probe['merge']
     print('\nscaling model (docs/montecarlo_scaling.md): T = start + tasks x max(task / W, '

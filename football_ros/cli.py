@@ -262,12 +262,12 @@ def _cmd_montecarlo(args: argparse.Namespace) -> int:
         zone = mc.check_zone(args.zone, args.until_halfwidth)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
-    parquet = out.suffix.lower() == '.parquet'
-    most = mc.BALLS_MAX if parquet else mc.GATHERED_MAX
+    parquet = out is not None and out.suffix.lower() == '.parquet'
+    most = mc.BALLS_MAX if parquet or out is None else mc.GATHERED_MAX
     if not 1 <= args.n <= most:
         raise UsageError(
             f'--n must be in [1, {most}], got {args.n}'
-            + ('' if parquet else ' (more balls: --out DIR.parquet)')
+            + ('' if most == mc.BALLS_MAX else ' (more balls: --out DIR.parquet or none)')
         )
     if args.seed < 0:
         raise UsageError(f'--seed must be >= 0, got {args.seed}')
@@ -277,7 +277,7 @@ def _cmd_montecarlo(args: argparse.Namespace) -> int:
         raise UsageError(f'--workers must be in [1, 256], got {args.workers}')
     if not 1 <= args.task_chunks <= 10_000:
         raise UsageError(f'--task-chunks must be in [1, 10000], got {args.task_chunks}')
-    if not parquet:
+    if out is not None and not parquet:
         check_output_file(str(out), '--out')
     if figure is not None:
         check_output_file(str(figure), '--out (figure)')
@@ -301,10 +301,11 @@ def _cmd_montecarlo(args: argparse.Namespace) -> int:
             zone=zone,
             until_halfwidth=args.until_halfwidth,
             task_chunks=args.task_chunks,
+            gather=out is not None,
         )
         if drawing is not None:
             drawing.draw(mc.figure_data(outcome))
-        if not parquet:
+        if out is not None and not parquet:
             mc.write(out, outcome.rows)
         for line in mc.warnings(outcome, release):
             print(f'football-ros: warning: {line}', file=sys.stderr)
@@ -314,7 +315,7 @@ def _cmd_montecarlo(args: argparse.Namespace) -> int:
     if not drew:
         return 1
     print(
-        f'per-ball results: {out}'
+        (f'per-ball results: {out}' if out is not None else 'per-ball results: none (--out none)')
         + (' (Parquet partitions, one per task: pyarrow.dataset.dataset(DIR))' if parquet else '')
         + (f'\nfigure: {figure}' if figure else '')
         + f'\ntotal {time.perf_counter() - start:.2f} s'
@@ -445,8 +446,9 @@ def build_parser() -> argparse.ArgumentParser:
         '--out',
         required=True,
         help='per-ball results: FILE.csv (text), FILE.npz (numpy arrays, loads '
-        "10^6 balls in a fraction of the CSV's time), or DIR.parquet (partitions written by "
-        'the workers, for any --n; load lazily with pyarrow or dask)',
+        "10^6 balls in a fraction of the CSV's time), DIR.parquet (partitions written by "
+        "the workers, for any --n; load lazily with pyarrow or dask), or 'none' (statistics "
+        'only, for any --n; a figure only with --figure FILE.png)',
     )
     p.add_argument(
         '--figure',

@@ -16,6 +16,7 @@
 """Monte Carlo: seeding, input distributions, counts, zone, ellipses, sensitivity, options."""
 
 import math
+import os
 import subprocess
 import sys
 
@@ -31,12 +32,17 @@ from scipy.special import ndtr
 from scipy.stats import chi2
 
 
-def _run_cli(*args, timeout=300):
+ZONE = (66.0, 0.0, 3.0)
+
+
+def _run_cli(*args, timeout=300, cwd=None):
     return subprocess.run(
         [sys.executable, '-m', 'football_ros.cli', 'montecarlo', *args],
         capture_output=True,
         text=True,
         timeout=timeout,
+        cwd=cwd,
+        env={**os.environ, 'PYTHONPATH': os.pathsep.join(sys.path)},
     )
 
 
@@ -352,3 +358,16 @@ def test_progress_bar_shows_rate_and_time_left(tmp_path):
     assert proc.returncode == 0, proc.stderr
     last = proc.stderr.replace('\r', '\n').strip().splitlines()[-1]
     assert '30.0k/30.0k' in last and 'ball/s' in last and '<00:00' in last, last
+
+
+def test_statistics_only_runs_keep_no_rows(tmp_path):
+    full = mc.run(Release(), 12_000, mc.SPREAD_DEFAULTS, 4, False, zone=ZONE)
+    lean = mc.run(Release(), 12_000, mc.SPREAD_DEFAULTS, 4, False, zone=ZONE, gather=False)
+    assert lean.rows is None and full.rows['landing_x'].size == 12_000
+    assert lean.stats.in_zone == full.stats.in_zone
+    assert np.array_equal(lean.stats.m2, full.stats.m2)
+    proc = _run_cli('--n', '12000', '--seed', '4', '--quiet', '--out', 'none', cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    assert 'per-ball results: none' in proc.stdout and not list(tmp_path.iterdir())
+    table = '\n'.join(mc.summary(full, Release(), mc.parse_spread([])))
+    assert proc.stdout.splitlines()[2] in table  # the same landing x statistics

@@ -144,6 +144,8 @@ class Plan:
     subsample: int = CHUNK
     """Rows of each chunk kept in its Stats (all of them when the rows are gathered)."""
     chunk: int = CHUNK
+    gather: bool = True
+    """Without Parquet: send the rows back (False: statistics only, the rows dropped)."""
 
     @property
     def n_chunks(self) -> int:
@@ -362,13 +364,17 @@ def run_task(
     Run chunks ``first`` .. ``last - 1`` (a Dask task, or a step of the in-process loop).
 
     ``threads``: numba threads for the kernel (None = as set). With ``plan.parquet`` the rows
-    are written to the task's partition (one row group per chunk) and not returned.
+    are written to the task's partition (one row group per chunk) and not returned; without
+    it they are returned if ``plan.gather``.
     """
     if threads is not None:
         import numba
 
         numba.set_num_threads(max(1, min(threads, numba.config.NUMBA_NUM_THREADS)))
     results = [run_chunk(plan, i) for i in range(first, last)]
+    if plan.parquet is None and not plan.gather:
+        for r in results:
+            r.rows = None
     if plan.parquet is not None:
         import pyarrow as pa
         import pyarrow.parquet as pq
@@ -424,7 +430,10 @@ class Engine:
         begin = time.perf_counter()
         try:
             if self.scheduler is not None:
-                self.client = Client(self.scheduler, timeout='20s')
+                try:
+                    self.client = Client(self.scheduler, timeout='20s')
+                except (OSError, TimeoutError, ValueError) as exc:
+                    raise OSError(f'--scheduler {self.scheduler}: {exc}') from None
             else:
                 self.cluster = LocalCluster(
                     n_workers=self.workers,

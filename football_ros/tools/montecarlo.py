@@ -158,14 +158,17 @@ def sample_releases(
     return {k: np.concatenate([p[k] for p in parts]) for k in INPUT_KEYS}
 
 
-def output_paths(out: str, figure: str = 'auto') -> tuple[Path, Path | None]:
+def output_paths(out: str, figure: str = 'auto') -> tuple[Path | None, Path | None]:
     """
     Return the results path and the figure path.
 
     The results path's suffix picks the format: .csv, .npz, or .parquet (a folder of
-    partitions); the figure: ``auto`` = beside it as .png, ``none`` = no figure; ValueError for
-    an unknown format or a results folder that cannot be used.
+    partitions); ``none`` = no rows (statistics only). The figure: ``auto`` = beside the
+    results as .png (none without results), ``none`` = no figure; ValueError for an unknown
+    format or a results folder that cannot be used.
     """
+    if out == 'none':
+        return None, (None if figure in ('none', 'auto') else output_paths('x.csv', figure)[1])
     path = Path(out)
     if path.suffix.lower() not in FORMATS:
         raise ValueError(f'--out {out}: use a .csv, .npz or .parquet (folder) name')
@@ -232,12 +235,13 @@ def run(
     zone: tuple[float, float, float] | None = None,
     until_halfwidth: float | None = None,
     task_chunks: int = 1,
+    gather: bool = True,
 ) -> Outcome:
     """
     Sample and fly ``n`` releases (at most ``n`` with ``until_halfwidth``).
 
     ``parquet``: folder for the partitions (the rows are then not gathered), else the rows come
-    back in ``Outcome.rows``. ``workers``: a local Dask cluster of that many processes;
+    back in ``Outcome.rows`` (unless ``gather`` is False: statistics only). ``workers``: a local Dask cluster of that many processes;
     ``scheduler``: an existing cluster's address; neither = in this process.
     ``until_halfwidth``: stop after the first chunk whose zone probability's Wilson 95 %
     interval is at most that half-width (chunks of one task each, so the stop is the same
@@ -248,12 +252,20 @@ def run(
     spread = as_spread(spread)
     check_spread(release, spread)
     n_chunks = (n + CHUNK - 1) // CHUNK
-    keep = CHUNK if parquet is None else max(1, min(CHUNK, SUBSAMPLE_TOTAL // n_chunks))
+    gather = parquet is None and gather
+    keep = CHUNK if gather else max(1, min(CHUNK, SUBSAMPLE_TOTAL // n_chunks))
     if parquet is not None:
         Path(parquet).mkdir(exist_ok=True)
         remove_partitions(parquet)
     plan = Plan(
-        release, spread, int(seed), int(n), zone, None if parquet is None else str(parquet), keep
+        release,
+        spread,
+        int(seed),
+        int(n),
+        zone,
+        None if parquet is None else str(parquet),
+        keep,
+        gather=gather,
     )
     if until_halfwidth is not None:
         task_chunks = 1
@@ -296,7 +308,7 @@ def run(
     return Outcome(
         stats.n,
         stats,
-        concat(rows) if parquet is None else None,
+        concat(rows) if gather else None,
         seconds,
         ball_seconds,
         time.perf_counter() - begin,
