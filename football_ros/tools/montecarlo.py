@@ -241,8 +241,9 @@ def run(
     Sample and fly ``n`` releases (at most ``n`` with ``until_halfwidth``).
 
     ``parquet``: folder for the partitions (the rows are then not gathered), else the rows come
-    back in ``Outcome.rows`` (unless ``gather`` is False: statistics only). ``workers``: a local Dask cluster of that many processes;
-    ``scheduler``: an existing cluster's address; neither = in this process.
+    back in ``Outcome.rows`` (unless ``gather`` is False: statistics only). ``workers``: a
+    local Dask cluster of that many processes; ``scheduler``: an existing cluster's address;
+    neither = in this process.
     ``until_halfwidth``: stop after the first chunk whose zone probability's Wilson 95 %
     interval is at most that half-width (chunks of one task each, so the stop is the same
     whatever the workers).
