@@ -371,3 +371,12 @@ def test_statistics_only_runs_keep_no_rows(tmp_path):
     assert 'per-ball results: none' in proc.stdout and not list(tmp_path.iterdir())
     table = '\n'.join(mc.summary(full, Release(), mc.parse_spread([])))
     assert proc.stdout.splitlines()[2] in table  # the same landing x statistics
+
+
+def test_progress_without_tqdm_is_a_plain_bar(capsys):
+    bar = mc._Bar(total=30_000, file=sys.stderr, mininterval=0.0)
+    for _ in range(3):
+        bar.update(10_000)
+    bar.close()
+    last = capsys.readouterr().err.replace('\r', '\n').strip().splitlines()[-1]
+    assert '30000/30000 balls' in last and 'ball/s' in last and '<0 s left' in last

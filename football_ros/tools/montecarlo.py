@@ -272,8 +272,10 @@ def run(
         task_chunks = 1
     bar = None
     if progress:
-        from tqdm import tqdm
-
+        try:
+            from tqdm import tqdm
+        except ImportError:  # a ROS install without tqdm: a plain bar
+            tqdm = _Bar
         bar = tqdm(
             total=n, unit='ball', unit_scale=True, file=sys.stderr, mininterval=0.5, smoothing=0.1
         )
@@ -319,6 +321,34 @@ def run(
         stopped,
         zone,
     )
+
+
+class _Bar:
+    """Progress line with rate and time left, for want of tqdm (same calls as its bar)."""
+
+    def __init__(self, total: int, file, mininterval: float = 0.5, **_) -> None:
+        self.total, self.file, self.every = total, file, mininterval
+        self.done, self.start, self.shown = 0, time.perf_counter(), 0.0
+
+    def update(self, count: int) -> None:
+        self.done += count
+        now = time.perf_counter()
+        if now - self.shown < self.every and self.done < self.total:
+            return
+        self.shown = now
+        rate = self.done / max(now - self.start, 1e-9)
+        left = (self.total - self.done) / rate if rate > 0 else math.inf
+        bar = '#' * int(30 * self.done / self.total)
+        print(
+            f'\r[{bar:<30}] {self.done}/{self.total} balls, {rate:.3g} ball/s, '
+            f'{now - self.start:.0f} s<{left:.0f} s left',
+            end='',
+            file=self.file,
+            flush=True,
+        )
+
+    def close(self) -> None:
+        print(file=self.file)
 
 
 def write(path: Path, rows: Mapping[str, np.ndarray]) -> None:
