@@ -310,6 +310,9 @@ def _cmd_montecarlo(args: argparse.Namespace) -> int:
         for line in mc.warnings(outcome, release):
             print(f'football-ros: warning: {line}', file=sys.stderr)
         print('\n'.join(mc.summary(outcome, release, spread)))
+    except KeyboardInterrupt:  # the cluster is closed by now; no traceback
+        print('football-ros: montecarlo interrupted', file=sys.stderr)
+        return 130
     finally:
         drew = drawing is None or drawing.finish()
     if not drew:

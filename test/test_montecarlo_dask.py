@@ -153,3 +153,38 @@ def test_a_failing_task_ends_the_run_with_its_error(cluster, tmp_path):
     with eng.Engine(scheduler=cluster) as engine:
         with pytest.raises(OSError):
             eng.drain(engine, plan)
+
+
+def test_ctrl_c_closes_the_local_cluster_without_a_traceback(tmp_path):
+    import signal
+    import time
+
+    import psutil
+
+    proc = subprocess.Popen(
+        [sys.executable, '-m', 'football_ros.cli', 'montecarlo', '--n', '2000000',
+         '--workers', '2', '--out', 'none', '--quiet'],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        cwd=tmp_path,
+    )
+    try:
+        deadline = time.monotonic() + 120
+        kids = []
+        while time.monotonic() < deadline and len(kids) < 2:  # the 2 workers are up
+            kids = psutil.Process(proc.pid).children(recursive=True)
+            time.sleep(0.5)
+        time.sleep(3.0)
+        assert len(kids) >= 2, kids
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
+    assert proc.returncode == 130 and 'Traceback' not in err, err
+    assert 'interrupted' in err
+    time.sleep(2.0)
+    alive = [k.pid for k in kids if k.is_running() and k.status() != psutil.STATUS_ZOMBIE]
+    assert not alive
