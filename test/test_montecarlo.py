@@ -26,6 +26,8 @@ from football_ros.physics.linear_theory import linear_modes
 from football_ros.physics.release import LIMITS
 from football_ros.tools import mc_engine as eng
 from football_ros.tools import montecarlo as mc
+from hypothesis import given, settings
+from hypothesis import strategies as hs
 import numpy as np
 import pytest
 from scipy.special import ndtr
@@ -270,8 +272,10 @@ def test_clipped_and_unstable_balls_are_reported(tmp_path):
 @pytest.mark.parametrize(
     'args, match',
     [
-        (['--zone', '60', '0', '0'], 'R > 0'),
-        (['--zone', '60', '0', 'nan'], 'R > 0'),
+        (['--zone', '60', '0', '0'], '0 < R'),
+        (['--zone', '60', '0', 'nan'], '0 < R'),
+        (['--zone', '1e308', '1e308', '1e308'], 'X and Y in'),
+        (['--zone', '60', 'inf', '2'], 'X and Y in'),
         (['--until-halfwidth', '0.01'], 'needs --zone'),
         (['--zone', '60', '0', '2', '--until-halfwidth', '0'], '(0, 0.5]'),
         (['--workers', '0'], '--workers'),
@@ -380,3 +384,42 @@ def test_progress_without_tqdm_is_a_plain_bar(capsys):
     bar.close()
     last = capsys.readouterr().err.replace('\r', '\n').strip().splitlines()[-1]
     assert '30000/30000 balls' in last and 'ball/s' in last and '<0 s left' in last
+
+
+@settings(max_examples=300, deadline=None)
+@given(hs.lists(hs.text(max_size=40), max_size=4))
+def test_parse_spread_takes_any_text_without_crashing(items):
+    """Any --spread text: a clear ValueError, or finite widths >= 0 of a known distribution."""
+    try:
+        spread = mc.parse_spread(items)
+    except ValueError as exc:
+        assert str(exc).startswith('--spread')
+        return
+    assert set(spread) == set(eng.INPUT_KEYS)
+    for s in spread.values():
+        assert s.dist in eng.DISTRIBUTIONS and math.isfinite(s.width) and s.width >= 0
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    hs.tuples(*[hs.floats(allow_nan=True, allow_infinity=True)] * 3),
+    hs.one_of(hs.none(), hs.floats(allow_nan=True, allow_infinity=True)),
+)
+def test_zone_options_are_checked(zone, halfwidth):
+    try:
+        checked = mc.check_zone(zone, halfwidth)
+    except ValueError as exc:
+        assert str(exc).startswith(('--zone', '--until-halfwidth'))
+        return
+    x, y, r = checked
+    assert abs(x) <= 1e4 and abs(y) <= 1e4 and 0 < r <= 2e4
+    assert halfwidth is None or 0 < halfwidth <= 0.5
+    # The zone test stays finite: a ball at the far corner is outside, not inf <= inf.
+    rows = {k: np.zeros(1) for k in (*eng.MOMENT_KEYS, *eng.SUMMARY_KEYS)}
+    rows.update(
+        landing_x=np.array([-1e4]), landing_y=np.array([-1e4]), landed=np.ones(1, np.int8),
+        stable=np.ones(1, np.int8), clipped=np.zeros(1, np.int8),
+        _clipped_by_key=np.zeros(len(eng.INPUT_KEYS), int),
+    )
+    inside = eng.Stats.of(rows, checked, 1).in_zone
+    assert inside == int((-1e4 - x) ** 2 + (-1e4 - y) ** 2 <= r * r)

@@ -192,8 +192,12 @@ def check_zone(zone, until_halfwidth: float | None) -> tuple[float, float, float
     """Validate ``--zone X Y R`` [m] and ``--until-halfwidth H``; raises ValueError."""
     if zone is not None:
         x, y, r = (float(v) for v in zone)
-        if not all(math.isfinite(v) for v in (x, y, r)) or r <= 0:
-            raise ValueError(f'--zone X Y R: finite numbers with R > 0 [m], got {zone}')
+        lo, hi = LIMITS['position_xy']
+        if not (lo <= x <= hi and lo <= y <= hi and 0 < r <= hi - lo):
+            raise ValueError(
+                f'--zone X Y R: X and Y in [{lo:g}, {hi:g}], 0 < R <= {hi - lo:g} [m], '
+                f"got {' '.join(f'{v:g}' for v in zone)}"
+            )
         zone = (x, y, r)
     if until_halfwidth is not None:
         if zone is None:
