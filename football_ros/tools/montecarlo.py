@@ -258,7 +258,8 @@ def run(
     check_spread(release, spread)
     n_chunks = (n + CHUNK - 1) // CHUNK
     gather = parquet is None and gather
-    keep = CHUNK if gather else max(1, min(CHUNK, SUBSAMPLE_TOTAL // n_chunks))
+    # Gathered rows give the table and the figure themselves: the chunks keep no subsample.
+    keep = 0 if gather else max(1, min(CHUNK, SUBSAMPLE_TOTAL // n_chunks))
     if parquet is not None:
         Path(parquet).mkdir(exist_ok=True)
         remove_partitions(parquet)
@@ -398,7 +399,7 @@ def ellipses(stats: Stats) -> list[tuple[float, float, float, float, float, floa
 def summary(outcome: Outcome, release: Release, spread: Mapping[str, Spread]) -> list[str]:
     """Return the printed summary, line by line."""
     stats = outcome.stats
-    sample = stats.sample()
+    sample = _sample(outcome)
     n = outcome.n
     rate = outcome.ball_seconds / outcome.seconds if outcome.seconds > 0 else math.nan
     where = (
@@ -532,9 +533,16 @@ def warnings(outcome: Outcome, release: Release) -> list[str]:
     return out
 
 
+def _sample(outcome: Outcome) -> dict[str, np.ndarray]:
+    """Return the balls the table and figure use: all gathered rows, else the chunks' subsample."""
+    if outcome.rows is not None:
+        return {k: outcome.rows[k] for k in SUMMARY_KEYS}
+    return outcome.stats.sample()
+
+
 def figure_data(outcome: Outcome) -> dict:
     """Return what the figure draws: the subsample's columns, the ellipses, the counts."""
-    data = outcome.stats.sample()
+    data = _sample(outcome)
     data['ellipses'] = ellipses(outcome.stats)
     data['landed_total'] = outcome.stats.landed
     return data
