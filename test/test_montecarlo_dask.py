@@ -56,7 +56,7 @@ def cluster():
         threads_per_worker=2,
         processes=True,
         host='127.0.0.1',
-        dashboard_address=None,
+        dashboard_address='127.0.0.1:0',
         silence_logs=logging.ERROR,
     )
     try:
@@ -155,7 +155,8 @@ def test_a_failing_task_ends_the_run_with_its_error(cluster, tmp_path):
             eng.drain(engine, plan)
 
 
-def test_ctrl_c_closes_the_local_cluster_without_a_traceback(tmp_path):
+@pytest.mark.parametrize('delay', [0.0, 3.0])  # while the cluster starts; while it flies
+def test_ctrl_c_closes_the_local_cluster_without_a_traceback(tmp_path, delay):
     import signal
     import time
 
@@ -175,7 +176,7 @@ def test_ctrl_c_closes_the_local_cluster_without_a_traceback(tmp_path):
         while time.monotonic() < deadline and len(kids) < 2:  # the 2 workers are up
             kids = psutil.Process(proc.pid).children(recursive=True)
             time.sleep(0.5)
-        time.sleep(3.0)
+        time.sleep(delay)
         assert len(kids) >= 2, kids
         proc.send_signal(signal.SIGINT)
         _, err = proc.communicate(timeout=60)

@@ -342,9 +342,12 @@ def run_chunk(plan: Plan, index: int) -> ChunkResult:
     return ChunkResult(index, stats, rows, seconds, ball_seconds, threads, os.getpid())
 
 
-def warm_up() -> str:
-    """Load the batch kernel (one ball, one numba thread); numba's threading layer."""
+def warm_up(parquet: bool = False) -> str:
+    """Load the batch kernel (one ball, one numba thread) and pyarrow; the threading layer."""
     import numba
+
+    if parquet:
+        import pyarrow.parquet  # noqa: F401
 
     numba.set_num_threads(1)
     with _kernel_guard():
@@ -402,6 +405,24 @@ def tasks(n_chunks: int, task_chunks: int) -> list[tuple[int, int]]:
     return [(i, min(i + step, n_chunks)) for i in range(0, n_chunks, step)]
 
 
+@contextlib.contextmanager
+def _deferred_interrupt():
+    """Hold a SIGINT (Ctrl-C) back until the block ends, then raise KeyboardInterrupt."""
+    import signal
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    caught = []
+    previous = signal.signal(signal.SIGINT, lambda *_: caught.append(True))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    if caught:
+        raise KeyboardInterrupt
+
+
 class Engine:
     """
     Where chunks run: in this process, a local Dask cluster, or an existing one.
@@ -409,10 +430,12 @@ class Engine:
     A context manager: the cluster and client it starts are closed on exit.
     """
 
-    def __init__(self, workers: int | None = None, scheduler: str | None = None) -> None:
+    def __init__(
+        self, workers: int | None = None, scheduler: str | None = None, parquet: bool = False
+    ) -> None:
         if workers is not None and scheduler is not None:
             raise ValueError('--workers and --scheduler exclude each other')
-        self.workers, self.scheduler = workers, scheduler
+        self.workers, self.scheduler, self.parquet = workers, scheduler, parquet
         self.client = self.cluster = None
         self.start_seconds = 0.0
 
@@ -435,19 +458,21 @@ class Engine:
                 except (OSError, TimeoutError, ValueError) as exc:
                     raise OSError(f'--scheduler {self.scheduler}: {exc}') from None
             else:
-                self.cluster = LocalCluster(
-                    n_workers=self.workers,
-                    threads_per_worker=1,
-                    processes=True,
-                    host='127.0.0.1',
-                    dashboard_address=None,
-                    worker_dashboard_address=None,
-                    silence_logs=logging.ERROR,
-                    env={'NUMBA_NUM_THREADS': '1', 'OMP_NUM_THREADS': '1'},
-                )
+                with _deferred_interrupt():  # a Ctrl-C here must not orphan a half-made cluster
+                    self.cluster = LocalCluster(
+                        n_workers=self.workers,
+                        threads_per_worker=1,
+                        processes=True,
+                        host='127.0.0.1',
+                        dashboard_address='127.0.0.1:0',  # HTTP server: loopback, a free port
+                        worker_dashboard_address=None,
+                        silence_logs=logging.CRITICAL,  # not the shutdown races
+                        env={'NUMBA_NUM_THREADS': '1', 'OMP_NUM_THREADS': '1'},
+                    )
                 self.client = Client(self.cluster)
                 self.client.wait_for_workers(self.workers, timeout=120)
-            self.client.run(warm_up)  # numba's kernel loaded before the clock of any chunk
+            # numba's kernel (and pyarrow) loaded before the clock of any chunk
+            self.client.run(warm_up, self.parquet)
         except BaseException:
             self.close()
             raise

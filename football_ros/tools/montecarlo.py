@@ -300,7 +300,7 @@ def run(
 
     begin = time.perf_counter()
     try:
-        with Engine(workers, scheduler) as engine:
+        with Engine(workers, scheduler, parquet is not None) as engine:
             stats, rows, seconds, ball_seconds, used = drain(engine, plan, task_chunks, on_chunk)
             n_workers = engine.n_workers()
             start = engine.start_seconds
