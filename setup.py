@@ -48,6 +48,10 @@ setup(
         'PyYAML>=6.0',
         'rosbags>=0.11,<0.12',  # football_ros/bagfile.py extends its storage writers
         'matplotlib>=3.7',
+        # montecarlo: --workers/--scheduler (Dask), Parquet output, the progress bar.
+        'dask[distributed]>=2024.1',
+        'pyarrow>=14',
+        'tqdm>=4.60',
     ],
     extras_require={
         # ROS 2 Jazzy from PyPI wheels, for machines without /opt/ros (never with a real install).

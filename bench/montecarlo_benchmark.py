@@ -80,7 +80,7 @@ def csv_module_write(path: Path, data: dict) -> None:
         writer.writerows(np.column_stack([np.asarray(v, float) for v in data.values()]).tolist())
 
 
-def scatter_figure(path: Path, result) -> None:
+def scatter_figure(path: Path, rows: dict) -> None:
     """Draw the old figure's costly part: one dot per ball."""
     import matplotlib
 
@@ -88,11 +88,11 @@ def scatter_figure(path: Path, result) -> None:
     import matplotlib.pyplot as plt
 
     fig, axes = plt.subplots(1, 3, figsize=(14, 4.5))
-    landed = result.landed
-    axes[0].scatter(result.landing_x[landed], result.landing_y[landed], s=2, alpha=0.3)
-    axes[1].hist(result.time_of_flight[landed], bins=50)
-    axes[2].hist(np.degrees(result.max_alpha), bins=50, alpha=0.7)
-    axes[2].hist(np.degrees(result.max_beta), bins=50, alpha=0.7)
+    landed = rows['landed'].astype(bool)
+    axes[0].scatter(rows['landing_x'][landed], rows['landing_y'][landed], s=2, alpha=0.3)
+    axes[1].hist(rows['time_of_flight'][landed], bins=50)
+    axes[2].hist(rows['max_alpha_deg'], bins=50, alpha=0.7)
+    axes[2].hist(rows['max_beta_deg'], bins=50, alpha=0.7)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -110,16 +110,15 @@ def main() -> None:
     import matplotlib.pyplot  # noqa: F401  (import cost belongs to start-up, measured in part 2)
 
     cpu0 = time.process_time()
-    t_run, (samples, result, t_int) = timed(
-        lambda: mc.run(release, args.n, mc.SPREAD_DEFAULTS, 0, progress=False)
-    )
+    t_run, outcome = timed(lambda: mc.run(release, args.n, mc.SPREAD_DEFAULTS, 0, progress=False))
+    t_int = outcome.seconds
     cpu_run = time.process_time() - cpu0  # integration on every core, and the sampling
-    data = mc.columns(samples, result)
-    t_csv, _ = timed(lambda: mc.write(tmp / 'new.csv', samples, result))
+    data = outcome.rows
+    t_csv, _ = timed(lambda: mc.write(tmp / 'new.csv', data))
     t_csv_old, _ = timed(lambda: csv_module_write(tmp / 'old.csv', data))
-    t_npz, _ = timed(lambda: mc.write(tmp / 'new.npz', samples, result))
-    t_fig, _ = timed(lambda: mc.plot(tmp / 'new.png', result, 'bench'))
-    t_fig_old, _ = timed(lambda: scatter_figure(tmp / 'old.png', result))
+    t_npz, _ = timed(lambda: mc.write(tmp / 'new.npz', data))
+    t_fig, _ = timed(lambda: mc.plot(tmp / 'new.png', mc.figure_data(outcome), 'bench'))
+    t_fig_old, _ = timed(lambda: scatter_figure(tmp / 'old.png', data))
 
     cli = [sys.executable, '-m', 'football_ros.cli', 'montecarlo', '--quiet']
     t_e2e, cpu_e2e, proc = command([*cli, '--n', str(args.n), '--out', str(tmp / 'e2e.csv')])
@@ -136,11 +135,11 @@ def main() -> None:
 
     print(
         f'\nMonte Carlo, {args.n} balls, {os.cpu_count()} cores; integration {t_int:.3f} s '
-        f'({result.time_of_flight.sum() / t_int:.3g} ball-s/s)\n'
+        f'({outcome.ball_seconds / t_int:.3g} ball-s/s)\n'
     )
     print(f'{"stage (in this process)":<46}{"time [s]":>10}{"x integration":>15}')
     rows = [
-        ('sampling + release states', t_run - t_int),
+        ('sampling, release states, statistics', t_run - t_int),
         ('integration (simulate_batch)', t_int),
         ("CSV, this package's writer", t_csv),
         ('CSV, csv module (old baseline)', t_csv_old),

@@ -254,16 +254,32 @@ def _cmd_montecarlo(args: argparse.Namespace) -> int:
 
     start = time.perf_counter()
     release = release_from_args(args)
-    if not 1 <= args.n <= 10_000_000:
-        raise UsageError(f'--n must be in [1, 10000000], got {args.n}')
     from .tools import montecarlo as mc
 
     try:
         spread = mc.parse_spread(args.spread)
+        mc.check_spread(release, spread)
         out, figure = mc.output_paths(args.out, args.figure)
+        zone = mc.check_zone(args.zone, args.until_halfwidth)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
-    check_output_file(str(out), '--out')
+    parquet = out is not None and out.suffix.lower() == '.parquet'
+    most = mc.BALLS_MAX if parquet or out is None else mc.GATHERED_MAX
+    if not 1 <= args.n <= most:
+        raise UsageError(
+            f'--n must be in [1, {most}], got {args.n}'
+            + ('' if most == mc.BALLS_MAX else ' (more balls: --out DIR.parquet or none)')
+        )
+    if args.seed < 0:
+        raise UsageError(f'--seed must be >= 0, got {args.seed}')
+    if args.workers is not None and args.scheduler is not None:
+        raise UsageError('--workers and --scheduler exclude each other')
+    if args.workers is not None and not 1 <= args.workers <= 256:
+        raise UsageError(f'--workers must be in [1, 256], got {args.workers}')
+    if not 1 <= args.task_chunks <= 10_000:
+        raise UsageError(f'--task-chunks must be in [1, 10000], got {args.task_chunks}')
+    if out is not None and not parquet:
+        check_output_file(str(out), '--out')
     if figure is not None:
         check_output_file(str(figure), '--out (figure)')
     drawing = None
@@ -274,19 +290,37 @@ def _cmd_montecarlo(args: argparse.Namespace) -> int:
             f'{release.elevation_deg:g} deg, {release.spin_rpm:g} rpm ({release.model} model)',
         )
     try:
-        samples, result, seconds = mc.run(
-            release, args.n, spread, args.seed, progress=not args.quiet
+        outcome = mc.run(
+            release,
+            args.n,
+            spread,
+            args.seed,
+            progress=not args.quiet,
+            parquet=out if parquet else None,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            zone=zone,
+            until_halfwidth=args.until_halfwidth,
+            task_chunks=args.task_chunks,
+            gather=out is not None,
         )
         if drawing is not None:
-            drawing.draw(result)
-        mc.write(out, samples, result)
-        mc.print_summary(result, args.n, seconds)
+            drawing.draw(mc.figure_data(outcome))
+        if out is not None and not parquet:
+            mc.write(out, outcome.rows)
+        for line in mc.warnings(outcome, release):
+            print(f'football-ros: warning: {line}', file=sys.stderr)
+        print('\n'.join(mc.summary(outcome, release, spread)))
+    except KeyboardInterrupt:  # the cluster is closed by now; no traceback
+        print('football-ros: montecarlo interrupted', file=sys.stderr)
+        return 130
     finally:
         drew = drawing is None or drawing.finish()
     if not drew:
         return 1
     print(
-        f'per-ball results: {out}'
+        (f'per-ball results: {out}' if out is not None else 'per-ball results: none (--out none)')
+        + (' (Parquet partitions, one per task: pyarrow.dataset.dataset(DIR))' if parquet else '')
         + (f'\nfigure: {figure}' if figure else '')
         + f'\ntotal {time.perf_counter() - start:.2f} s'
     )
@@ -361,22 +395,68 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_simulate)
     p = add('montecarlo', 'landing dispersion and wobble statistics of release errors')
     add_release_options(p)
-    p.add_argument('--n', type=int, default=10000, help='number of balls')
+    p.add_argument(
+        '--n',
+        type=int,
+        default=10000,
+        help='number of balls (the most, with --until-halfwidth; CSV/.npz: up to 10^7)',
+    )
     p.add_argument(
         '--spread',
         action='append',
         default=[],
-        metavar='KEY=SIGMA[,KEY=SIGMA]',
-        help='standard deviation of a release error, e.g. speed=0.5,spin_rpm=30 '
-        '(defaults: speed 0.5 m/s, angles 1 deg, spin 30 rpm, rates 10 deg/s)',
+        metavar='KEY=[DIST:]WIDTH[,...]',
+        help='error of a release quantity, e.g. speed=0.5,spin_rpm=uniform:50,'
+        'speed=lognormal:0.02: DIST normal (WIDTH = sigma, the default), uniform '
+        '(+-WIDTH) or lognormal (nominal x exp(WIDTH z)); defaults: normal, speed 0.5 m/s, '
+        'angles 1 deg, spin 30 rpm, rates 10 deg/s',
     )
-    p.add_argument('--seed', type=int, default=0, help='random seed')
+    p.add_argument(
+        '--seed',
+        type=int,
+        default=0,
+        help='random seed (>= 0): the rows depend on it alone, not on workers or chunks',
+    )
+    p.add_argument(
+        '--zone',
+        nargs=3,
+        type=float,
+        metavar=('X', 'Y', 'R'),
+        help='target zone on the ground: the probability of landing within R m of (X, Y) '
+        '[m, field], with its Wilson 95 %% interval',
+    )
+    p.add_argument(
+        '--until-halfwidth',
+        type=float,
+        metavar='H',
+        help='with --zone: fly chunks of 10^4 balls until the interval half-width is <= H '
+        '(at most --n balls)',
+    )
+    p.add_argument(
+        '--workers',
+        type=int,
+        help='run on a local Dask cluster of N worker processes (default: in this process)',
+    )
+    p.add_argument(
+        '--scheduler',
+        metavar='ADDRESS',
+        help='run on an existing Dask cluster, e.g. tcp://10.0.0.5:8786 (workers need '
+        'football_ros installed, and the --out folder for Parquet)',
+    )
+    p.add_argument(
+        '--task-chunks',
+        type=int,
+        default=1,
+        help='chunks of 10^4 balls per Dask task (and per Parquet partition)',
+    )
     p.add_argument('--quiet', action='store_true', help='no progress bar')
     p.add_argument(
         '--out',
         required=True,
-        help='per-ball results: FILE.csv (text) or FILE.npz (numpy arrays, loads '
-        "10^6 balls in a fraction of the CSV's time)",
+        help='per-ball results: FILE.csv (text), FILE.npz (numpy arrays, loads '
+        "10^6 balls in a fraction of the CSV's time), DIR.parquet (partitions written by "
+        "the workers, for any --n; load lazily with pyarrow or dask), or 'none' (statistics "
+        'only, for any --n; a figure only with --figure FILE.png)',
     )
     p.add_argument(
         '--figure',

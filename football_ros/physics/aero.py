@@ -152,6 +152,13 @@ class AeroModel:
                 )
             elif value is not None:
                 object.__setattr__(self, f.name, _checked(f.name, value, self.LIMITS[f.name]))
+        if self.air_density is not None and (
+            self.altitude_m is not None or self.temperature_c is not None
+        ):
+            raise ValueError(
+                "aero 'air_density' conflicts with 'altitude_m'/'temperature_c' (they give the"
+                ' density): set one or the other'
+            )
 
     @classmethod
     def from_mapping(cls, data: Mapping[str, Any] | None) -> 'AeroModel':
