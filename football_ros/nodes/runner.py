@@ -62,13 +62,17 @@ class _Signals:
     """
     SIGINT/SIGTERM handling.
 
-    The first signal raises :class:`_Shutdown` (unless the node is already cleaning up); later
-    signals are only counted.
+    The first signal raises :class:`_Shutdown` (unless the node is already cleaning up), or,
+    once the node spins, only asks the spin loop to stop: an exception raised inside a callback
+    could cut a callback's work in two (the recorder's write of one message: stored, not yet
+    counted). Later signals are only counted.
     """
 
     def __init__(self) -> None:
         self.received = 0
         self.cleaning_up = False
+        self.spinning = False
+        self.stop = False
         self._previous = {}
 
     def install(self) -> None:
@@ -84,6 +88,9 @@ class _Signals:
         ignore_further_signals()  # a second signal must not interrupt what follows
         if not self.cleaning_up:
             self.cleaning_up = True
+            if self.spinning:
+                self.stop = True  # the loop ends within SPIN_WAIT_S, after the callback
+                return
             raise _Shutdown(signum)
 
     def clean_up_begins(self) -> None:
@@ -187,7 +194,8 @@ def _start_and_spin(factory, argv, program: str, made: list, signals: _Signals) 
     executor = SingleThreadedExecutor()
     executor.add_node(made[0])
     node = made[0]
-    while rclpy.ok():  # short waits: our Python handler runs within SPIN_WAIT_S of a signal
+    signals.spinning = True
+    while rclpy.ok() and not signals.stop:  # short waits: a signal is seen within SPIN_WAIT_S
         try:
             executor.spin_once(timeout_sec=SPIN_WAIT_S)
         except (ExternalShutdownException, RCLError):
