@@ -270,6 +270,11 @@ def test_shipped_params_file_under_any_namespace(start_node, tmp_path, namespace
         ('[""]', len(recorder_node.TOPICS)),
         ('[football/pose, /diagnostics]', 2),
         ('football/odom', 1),
+        (  # the tracker's, the camera's and the simulator's acknowledgements
+            '[football/estimate, football/prediction/landing, football/prediction/path, '
+            'football/observation, football/flight/ack]',
+            5,
+        ),
     ],
 )
 def test_namespaced_recorder_honours_output_and_topics(start_node, tmp_path, topics, expected):
