@@ -26,21 +26,6 @@ child process), what code kept to 256-bit vectors can reach. ``--asm`` counts th
 kernel's float64 instructions by vector width; ``--zmm`` times the batch with LLVM's default
 vectors and with 512-bit ones (child processes, alternating).
 
-Issue 12.5, measured on 2 cores of an AVX-512 Xeon shared with other work (dgemm 127 GFLOP/s,
-256-bit dgemm 93 GFLOP/s in that run; both vary 2x with the load), the kernel before and after,
-paper model, 20000 balls, each the best of 5 in one run (work: 2774 flop per ball-step, both):
-
-    kernel                          ball-s/s   GFLOP/s  of peak  of 256-bit  angle err [rad]
-    before (loop over A's entries)   2.15e5     23.6      19 %       25 %       6.0e-8
-    after (written-out sums, FMA)    3.91e5     43.0      34 %       46 %       6.0e-8
-    after, 512-bit (--zmm)           x1.11-1.20 of the line above, not the default
-
-1.82x there, 1.8-2.4x over runs (full model 1.6-2.4x). Instructions of the prange body (static):
-before, 531 scalar and 522 ymm packed add/sub/mul/div/sqrt, no FMA, 3 vdivpd + 1 vsqrtpd per 4
-balls in the derivative, stage sums as load-multiply-add-store per coefficient; after, 935 ymm
-FMA (39 mul, 2 div, 2 sqrt packed), the scalar ones in the remainder loops and the per-ball
-bookkeeping; no zmm by default (LLVM's prefer-256-bit on this CPU).
-
 Reference: solve_ivp DOP853 with rtol = atol = 1e-13 on the s/h form of the equations
 (docs/physics.md section 2; written out here independently of football_ros). Every contender's
 max |alpha|, |beta| difference from it is printed; the targets (issue 6) are <= 1e-6 rad,

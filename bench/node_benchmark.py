@@ -30,19 +30,11 @@ Target (issue 12.4): 0 missed ticks, jitter p99 and max no worse than the bare p
 The bare publisher (bench/bare_publisher.py) publishes what the simulator publishes with its
 default parameters: the six state messages and /tf every tick, markers at 30 Hz.
 
-Where the simulator's time goes at 1 kHz (py-spy record --threads, 10 s of flights, 2 cores,
-load average ~2): every state message is built and published by the pacing thread alone
-(the executor thread only wakes for orders, services, parameters and a 1 Hz graph check);
-of the pacer's busy samples ~62 % are rclpy's Publisher.publish (the same work the bare
-publisher does), ~4 % Flight.sample, ~2 % the run-time guard and ~1.4 % refilling the
-pre-built messages. Each tick integrates the next tick's sample after publishing, so the state
-leaves at the deadline whatever the integration costs: in-process, tick start to the first
-state message p50 0.025 ms, p99 0.073 ms (0.113 / 0.236 ms when sampling in the tick); the
-pose's publish interval jitter in-process is p50 0.006 ms, p99 0.26 ms, against ~0.8 ms p99
-at the subscriber for both publishers. Garbage collection: ~1.6 young collections a second,
-each < 1 ms (gc.freeze changed nothing). The largest delays (2.5-4 ms) are late wake-ups of
-the pacing thread: they occur with no order in flight too (the kernel's scheduling on a shared
-machine), an order's handling adds up to ~1.5 ms; the bare publisher's timer sees the same.
+Where the simulator's time goes (py-spy record --threads on the simulator): every state
+message is built and published by the pacing thread alone, most of it in rclpy's
+Publisher.publish (the same work the bare publisher does); each tick integrates the next tick's
+sample after publishing, so the state leaves at its deadline whatever the integration costs.
+The figures of the last run: bench/RESULTS.md.
 """
 
 from __future__ import annotations
