@@ -356,8 +356,20 @@ class _Shooter:
         Fly and return (lateral, vertical, time) where the path crosses the target plane.
 
         lateral [m] > 0 left of T, vertical [m] > 0 above it, time [s]; None if it never
-        does within 30 s (or lands first when ``ground`` is the real one).
+        does within 30 s (or lands first when ``ground`` is the real one). The paper's
+        centre flies the vacuum parabola whatever the attitude (v' = -g; RK4 integrates it
+        exactly): its crossing is computed in closed form, and the checking flight flies it.
         """
+        if self.base.model == 'paper':
+            vel = frames.direction(speed, math.radians(elev), math.radians(azim))
+            along = float(vel @ self.d)
+            if along <= 0.0:
+                return None
+            t = float((self.target - self.r0) @ self.d) / along
+            p = self.r0 + vel * t
+            p[2] -= 0.5 * self.gravity * t * t
+            off = p - self.target
+            return float(off @ self.n), float(off[2]), t
         y0 = self.y0(speed, elev, azim)
         duration = self.duration_guess(speed, elev)
         while True:
@@ -688,6 +700,7 @@ def plan(
     attitude: str = 'equilibrium',
     step: float = DEFAULT_STEP,
     tolerance: float = CHECK_TOLERANCE,
+    wobble: bool = True,
 ) -> Plan:
     """
     Plan the release that takes the ball's centre through ``target`` [m] in ``field``.
@@ -700,6 +713,7 @@ def plan(
     the equilibrium's drift), 'linear' (the frozen theory's C1 = C2 = 0), 'refined' (the
     equilibrium optimised over the nonlinear flight) or 'aligned' (axis along the velocity, not
     rotating).
+    ``wobble=False`` skips the wobble numbers (NaN) and the aligned release's flight.
     Raises :class:`PlanError` for every target it cannot reach within the limits.
     """
     base = base or Release()
@@ -775,17 +789,18 @@ def plan(
         if t_arr is not None and not arrival_window[0] <= t_arr[2] <= arrival_window[1]:
             wanted = min(max(t_arr[2], arrival_window[0]), arrival_window[1])
             return plan(target, base, objective, max_speed, elevation_range, receiver, wanted,
-                        None, attitude, step, tolerance)
+                        None, attitude, step, tolerance, wobble)
     ok = sol is not None and float(np.max(np.abs(sol[3]))) <= SOLVE_TOLERANCE
     speed_used = max_speed if objective == 'fastest' else base.speed
     if not ok:
-        limit_speed = max_speed if (arrival_time is not None or objective in (
-            'fastest', 'lowest_speed')) else speed_used
+        fixed = arrival_time is None and objective in ('flat', 'lofted')
+        limit_speed = speed_used if fixed else max_speed
+        limit = 'speed' if fixed else 'max_speed'
         raise PlanError(
             f'target ({point[0]:.2f}, {point[1]:.2f}, {point[2]:.2f}) m is out of reach '
-            f'at speed {limit_speed:g} m/s (limit max_speed) within elevations '
-            f'[{lo_e:g}, {hi_e:g}] deg', 'max_speed', _closest_reachable(sh, limit_speed,
-                                                                         (lo_e, hi_e)))
+            f'at speed {limit_speed:g} m/s (limit {limit}) within elevations '
+            f'[{lo_e:g}, {hi_e:g}] deg', limit, _closest_reachable(sh, limit_speed,
+                                                                   (lo_e, hi_e)))
     speed, elev, azim = sol[0], sol[1], sol[2]
     if speed > max_speed * (1.0 + 1e-9):
         raise PlanError(
@@ -805,7 +820,7 @@ def plan(
         resolved = _reaim(aim, sh, arc, speed, elev, azim, arrival_time, objective)
         if resolved is not None:
             speed, elev, azim = resolved
-    return _checked_plan(sh, speed, elev, azim, mode, objective, arc, linear, tolerance)
+    return _checked_plan(sh, speed, elev, azim, mode, objective, arc, linear, tolerance, wobble)
 
 
 def _number(name: str, value: Any, lo: float, hi: float) -> float:
@@ -859,7 +874,8 @@ def _refine(sh: _Shooter, speed: float, elev: float, azim: float) -> np.ndarray:
     return sh.offsets
 
 
-def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear, tolerance):
+def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear, tolerance,
+                  with_wobble=True):
     """Build the Release, fly it by :class:`Flight` and check the miss (module docstring)."""
     att = sh.attitude(speed, elev, azim)
     try:
@@ -881,18 +897,21 @@ def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear,
             f'the checking flight misses the target by {miss:.3f} m > tolerance '
             f'{tolerance:g} m', 'tolerance', point)
     keep = traj.times <= t_arr + 1e-12
-    wobble, delta = wobble_of(traj.times[keep], traj.states[keep], flight.params)
+    wobble = delta = aligned_wobble = aligned_delta = math.nan
+    if with_wobble:
+        wobble, delta = wobble_of(traj.times[keep], traj.states[keep], flight.params)
     warnings = []
     if not flight.modes.stable:
         warnings.append('gyroscopically unstable at release: the equilibrium is not an '
                         'attractor and the wobble grows')
-    saved = sh.mode
-    sh.mode = 'aligned'
-    y0 = sh.y0(speed, elev, azim)
-    sh.mode = saved
-    times, states, _ = dyn.propagate(y0, sh.step, sh.params, sh.step, t_arr, 0.0)
-    sh.flights += 1
-    aligned_wobble, aligned_delta = wobble_of(times, states, sh.params)
+    if with_wobble:
+        saved = sh.mode
+        sh.mode = 'aligned'
+        y0 = sh.y0(speed, elev, azim)
+        sh.mode = saved
+        times, states, _ = dyn.propagate(y0, sh.step, sh.params, sh.step, t_arr, 0.0)
+        sh.flights += 1
+        aligned_wobble, aligned_delta = wobble_of(times, states, sh.params)
     return Plan(
         release=release,
         objective=objective,
