@@ -58,6 +58,7 @@ from ..physics.aero import resolve
 from ..physics.flight import DEFAULT_STEP, Flight
 from ..physics.linear_theory import (
     _drifting_equilibrium,
+    _local_exponents_scalar,
     _scalar_constants,
     local_exponents,
 )
@@ -201,28 +202,29 @@ class Plan:
 
 
 # --- the least-wobble attitude -------------------------------------------------------
-def equilibrium_attitude(
+def equilibrium_axis(
     params: np.ndarray, velocity: Sequence[float], h1: float, drift: bool = True
-) -> dict[str, float]:
+) -> tuple[np.ndarray, np.ndarray]:
     """
-    Return the least-wobble release attitude as release options (degrees, deg/s).
+    Return the least-wobble axis (unit) and its rate [1/s] in ``field`` at a release.
 
     ``params``: kernel parameters (:func:`football_ros.physics.dynamics.make_params`, wind
     included), ``velocity`` [m/s] in ``field``, ``h1`` = (I_s/I_t) p [rad/s]. The axis on the
-    local equilibrium X_p against the air, turning with the velocity frame and X_p' (K1 = K2 =
-    0); the angles and rates are then expressed as the release options (against the ground
-    velocity, rates relative to ``field``, :func:`football_ros.physics.release.release_states`).
-    ``drift=False``: the frozen theory's C1 = C2 = 0 release (x_p = -F/C, no drift; for the
-    paper's model alpha0 = 0, beta0 = asin(s3p), alpha rate = w_V).
+    local equilibrium X_p against the air, turning with the velocity frame (w_V = -g cos(Phi) /
+    U about e3) and with X_p' (K1 = K2 = 0 in the quasi-steady theory). ``drift=False``: the
+    frozen theory's C1 = C2 = 0 release (x_p = -F/C, no drift; for the paper's model the axis
+    at the equilibrium sideslip s3p, turning at w_V).
     """
+    consts = _scalar_constants(params)
     velocity = np.asarray(velocity, dtype=float)
     air = velocity - params[dyn.P_WIND:dyn.P_WIND + 3]
-    _, _, b, d_c, x_p = local_exponents(params, air, h1)
+    h1 = float(h1)
+    _, _, b, d_c, x_p = _local_exponents_scalar(consts, air, h1)
     x_p_dot = 0.0
     if drift:
         x_p, x_p_dot = _drifting_equilibrium(
-            lambda a, h: local_exponents(params, a, h),
-            _scalar_constants(params),
+            lambda a, h: _local_exponents_scalar(consts, a, float(h)),
+            consts,
             air,
             h1,
             b,
@@ -230,13 +232,31 @@ def equilibrium_attitude(
             x_p,
         )
     x_p, x_p_dot = complex(x_p), complex(x_p_dot)
-    e1, e2, e3 = frames.velocity_frame(air)
+    speed = math.sqrt(float(air @ air))
+    e1 = air / speed
+    horizontal = math.hypot(air[0], air[1])
+    e2 = np.array([-e1[2] * air[0] / horizontal, -e1[2] * air[1] / horizontal, horizontal / speed])
+    e3 = np.cross(e1, e2)
     s1 = math.sqrt(max(0.0, 1.0 - abs(x_p) ** 2))
     axis = s1 * e1 + x_p.real * e2 + x_p.imag * e3
-    speed = float(np.linalg.norm(air))
-    omega_v = -params[dyn.P_GRAVITY] * float(np.hypot(air[0], air[1])) / speed / speed
+    axis /= math.sqrt(float(axis @ axis))
+    omega_v = -float(params[dyn.P_GRAVITY]) * horizontal / speed / speed
     rate = omega_v * np.cross(e3, axis) + x_p_dot.real * e2 + x_p_dot.imag * e3
-    rate -= (rate @ axis) * axis
+    rate -= float(rate @ axis) * axis
+    return axis, rate
+
+
+def equilibrium_attitude(
+    params: np.ndarray, velocity: Sequence[float], h1: float, drift: bool = True
+) -> dict[str, float]:
+    """
+    Return the least-wobble release attitude as release options (degrees, deg/s).
+
+    :func:`equilibrium_axis` expressed as the release options: angles against the ground
+    velocity, rates relative to ``field`` (:func:`football_ros.physics.release.release_states`).
+    """
+    velocity = np.asarray(velocity, dtype=float)
+    axis, rate = equilibrium_axis(params, velocity, h1, drift)
     alpha, beta, _ = frames.aero_angles(axis, velocity)
     comps = frames.to_velocity_frame(rate, velocity)
     ca, sa, cb, sb = math.cos(alpha), math.sin(alpha), math.cos(beta), math.sin(beta)
@@ -310,6 +330,7 @@ class _Shooter:
         self.d = np.array([math.cos(self.bearing), math.sin(self.bearing), 0.0])
         self.n = np.array([-self.d[1], self.d[0], 0.0])
         self.height = float(self.target[2] - self.r0[2])
+        self.last_time = None
 
     def attitude(self, speed: float, elev: float, azim: float) -> dict[str, float]:
         """Release attitude options for a release (degrees) in the current mode."""
@@ -325,6 +346,19 @@ class _Shooter:
 
     def y0(self, speed: float, elev: float, azim: float) -> np.ndarray:
         """State vector of the real-time kernel, built as :class:`Flight` builds it."""
+        if self.mode != 'aligned' and not np.any(self.offsets):
+            # The release's axis and rate directly (what the release options give, to
+            # round-off, without the detour through angles).
+            vel = frames.direction(speed, math.radians(elev), math.radians(azim))
+            axis, rate = equilibrium_axis(self.params, vel, self.h1, self.mode != 'linear')
+            spin = self.base.spin_rpm * RPM
+            y0 = np.zeros(dyn.N_STATE)
+            y0[dyn.R:dyn.R + 3] = self.r0
+            y0[dyn.V:dyn.V + 3] = vel
+            y0[dyn.Q:dyn.Q + 4] = frames.attitude_with_axis(axis)
+            y0[dyn.H:dyn.H + 3] = np.cross(axis, rate) + self.ball.inertia_ratio * spin * axis
+            y0[dyn.H1] = self.ball.inertia_ratio * spin
+            return y0
         att = self.attitude(speed, elev, azim)
         st = initial_state_of(
             release_states(
@@ -347,6 +381,18 @@ class _Shooter:
         y0[dyn.H1] = self.ball.inertia_ratio * st.spin
         return y0
 
+    def cross_vacuum(self, speed: float, elev: float, azim: float):
+        """Return :meth:`cross` of the vacuum parabola (closed form; None if never there)."""
+        vel = frames.direction(speed, math.radians(elev), math.radians(azim))
+        along = float(vel @ self.d)
+        if along <= 0.0:
+            return None
+        t = float((self.target - self.r0) @ self.d) / along
+        p = self.r0 + vel * t
+        p[2] -= 0.5 * self.gravity * t * t
+        off = p - self.target
+        return float(off @ self.n), float(off[2]), t
+
     def duration_guess(self, speed: float, elev: float) -> float:
         horizontal = max(speed * math.cos(math.radians(elev)), 1.0)
         return min(1.6 * self.distance / horizontal + 0.3, 30.0)
@@ -361,17 +407,12 @@ class _Shooter:
         exactly): its crossing is computed in closed form, and the checking flight flies it.
         """
         if self.base.model == 'paper':
-            vel = frames.direction(speed, math.radians(elev), math.radians(azim))
-            along = float(vel @ self.d)
-            if along <= 0.0:
-                return None
-            t = float((self.target - self.r0) @ self.d) / along
-            p = self.r0 + vel * t
-            p[2] -= 0.5 * self.gravity * t * t
-            off = p - self.target
-            return float(off @ self.n), float(off[2]), t
+            return self.cross_vacuum(speed, elev, azim)
         y0 = self.y0(speed, elev, azim)
-        duration = self.duration_guess(speed, elev)
+        if self.last_time is not None:  # the last crossing, with a margin
+            duration = min(1.1 * self.last_time + 0.05, 30.0)
+        else:
+            duration = self.duration_guess(speed, elev)
         while True:
             self.flights += 1
             times, states, landed = dyn.propagate(
@@ -381,6 +422,7 @@ class _Shooter:
             if hit is not None:
                 t, p = hit
                 off = p - self.target
+                self.last_time = float(t)
                 return float(off @ self.n), float(off[2]), t
             if landed or duration >= 30.0:
                 return None
@@ -449,12 +491,14 @@ def closest_approach(times, states, target) -> tuple[float, float, np.ndarray]:
 
 
 # --- solving ----------------------------------------------------------------
-def _newton(fun, x0: np.ndarray, steps: np.ndarray, lo, hi, budget: int):
+def _newton(fun, x0: np.ndarray, steps: np.ndarray, lo, hi, budget: int, model=None):
     """
     Solve fun(x) = 0 (fun: array or None) from ``x0`` inside [lo, hi].
 
-    Finite-difference Jacobian (forward ``steps``), Broyden updates, step halving. Returns
-    (x, residual) of the best point, or (None, None) if no point could be flown.
+    Finite-difference Jacobian (forward ``steps``), Broyden updates, step halving. ``model``:
+    a cheap approximation of ``fun`` (the vacuum parabola) whose Jacobian starts the
+    iteration; the flown one replaces it when progress is slow. Returns (x, residual) of the
+    best point, or (None, None) if no point could be flown.
     """
     x = np.clip(np.asarray(x0, dtype=float), lo, hi)
     r = fun(x)
@@ -462,18 +506,22 @@ def _newton(fun, x0: np.ndarray, steps: np.ndarray, lo, hi, budget: int):
         return None, None
     jac = None
     evals = 1
+    use_model = model is not None
     while evals < budget and float(np.max(np.abs(r))) > SOLVE_TOLERANCE:
-        fresh = jac is None
-        if fresh:
+        fresh = jac is None and not use_model
+        if jac is None:
+            f, r_ref = (model, model(x)) if use_model else (fun, r)
+            use_model = False
             jac = np.empty((len(r), len(x)))
             for i, h in enumerate(steps):
                 xi = x.copy()
                 xi[i] += h if xi[i] + h <= hi[i] else -h
-                ri = fun(xi)
-                evals += 1
-                if ri is None:
+                ri = f(xi)
+                if f is fun:
+                    evals += 1
+                if ri is None or r_ref is None:
                     return x, r
-                jac[:, i] = (ri - r) / (xi[i] - x[i])
+                jac[:, i] = (ri - r_ref) / (xi[i] - x[i])
         try:
             dx = -np.linalg.solve(jac, r)
         except np.linalg.LinAlgError:
@@ -562,6 +610,10 @@ class _Aim:
             out = sh.cross(speed, x[0], x[1])
             return None if out is None else np.array(out[:2])
 
+        def model(x):
+            out = sh.cross_vacuum(speed, x[0], x[1])
+            return None if out is None else np.array(out[:2])
+
         x, r = _newton(
             fun,
             np.array([elev0, azim0]),
@@ -569,6 +621,7 @@ class _Aim:
             np.array([self.elev_lo, -720.0]),
             np.array([self.elev_hi, 720.0]),
             MAX_FLIGHTS,
+            model,
         )
         return None if x is None else (speed, float(x[0]), float(x[1]), r)
 
@@ -579,6 +632,10 @@ class _Aim:
             out = sh.cross(x[0], elev, x[1])
             return None if out is None else np.array(out[:2])
 
+        def model(x):
+            out = sh.cross_vacuum(x[0], elev, x[1])
+            return None if out is None else np.array(out[:2])
+
         x, r = _newton(
             fun,
             np.array([speed0, azim0]),
@@ -586,6 +643,7 @@ class _Aim:
             np.array([self.speed_lo, -720.0]),
             np.array([LIMITS['speed'][1], 720.0]),
             MAX_FLIGHTS,
+            model,
         )
         return None if x is None else (float(x[0]), elev, float(x[1]), r)
 
@@ -603,8 +661,8 @@ class _Aim:
             )
         vref = max(sh.distance / arrival, 1.0)
 
-        def fun(x):
-            out = sh.cross(x[0], x[1], x[2])
+        def fun(x, cross=sh.cross):
+            out = cross(x[0], x[1], x[2])
             return None if out is None else np.array([out[0], out[1], (out[2] - arrival) * vref])
 
         x, r = _newton(
@@ -614,6 +672,7 @@ class _Aim:
             np.array([self.speed_lo, self.elev_lo, -720.0]),
             np.array([LIMITS['speed'][1], self.elev_hi, 720.0]),
             MAX_FLIGHTS,
+            lambda x: fun(x, sh.cross_vacuum),
         )
         return None if x is None else (float(x[0]), float(x[1]), float(x[2]), r)
 
