@@ -154,11 +154,14 @@ class Plan:
             return 'axis along the velocity, not rotating'
         side = 'right' if r.beta0_deg >= 0 else 'left'
         up = 'above' if r.alpha0_deg >= 0 else 'below'
-        return (
+        text = (
             f'nose {abs(r.beta0_deg):.1f} deg {side} of the velocity and '
             f'{abs(r.alpha0_deg):.1f} deg {up} it, turning with it '
             f'({r.alpha_rate_deg_s:+.1f} deg/s pitch, {r.beta_rate_deg_s:+.1f} deg/s yaw)'
         )
+        if any(r.aero.get('wind') or ()):
+            text += ' (angles against the ground velocity; the equilibrium is against the air)'
+        return text
 
     def to_mapping(self) -> dict[str, Any]:
         """JSON-safe form: the release options' names, then the plan's numbers."""
