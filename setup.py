@@ -101,6 +101,7 @@ setup(
             'release = football_ros.nodes.release:main',
             'recorder = football_ros.nodes.recorder:main',
             'tracker = football_ros.nodes.tracker:main',
+            'planner = football_ros.nodes.planner:main',
         ],
     },
 )

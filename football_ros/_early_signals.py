@@ -27,11 +27,13 @@ import os
 import signal
 from typing import Sequence
 
-NODE_SCRIPTS = ('simulator', 'release', 'recorder')
-NODE_COMMANDS = ('simulator', 'release', 'record')
+NODE_SCRIPTS = ('simulator', 'release', 'recorder', 'planner')
+NODE_COMMANDS = ('simulator', 'release', 'record', 'planner')
 
 
-NODE_MODULES = tuple(f'football_ros.nodes.{name}' for name in ('simulator', 'release', 'recorder'))
+NODE_MODULES = tuple(
+    f'football_ros.nodes.{name}' for name in ('simulator', 'release', 'recorder', 'planner')
+)
 
 
 def is_node_program(argv: Sequence[str], orig_argv: Sequence[str] = ()) -> bool:

@@ -47,6 +47,7 @@ NODE_COMMANDS = {  # command -> (module, function); these need rclpy and parse t
     'demo': ('football_ros.tools.demo', 'main'),
     'echo': ('football_ros.nodes.console', 'echo'),
     'throw': ('football_ros.nodes.console', 'throw'),
+    'planner': ('football_ros.nodes.planner', 'main'),
 }
 
 

@@ -125,7 +125,8 @@ class Plan:
     approach), miss_m [m], arrival_delta_deg: angle between axis and air velocity at arrival,
     wobble_deg (:func:`wobble_of`) and the same two for the aligned release (axis along the
     velocity, not rotating, same speed and direction), linear_release: the analytic (C1 = C2 =
-    0) attitude, path_times [s] / path_positions (N, 3) [m] of the checking flight to the target.
+    0) attitude, path_times [s] / path_positions (N, 3) [m] of the checking flight to the
+    arrival (its samples, then the arrival point itself).
     """
 
     release: Release
@@ -989,8 +990,8 @@ def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear,
         attitude=mode,
         linear_release={k: float(v) for k, v in linear.items()},
         flights=sh.flights,
-        path_times=traj.times[keep].copy(),
-        path_positions=traj.positions[keep].copy(),
+        path_times=np.append(traj.times[keep], t_arr),
+        path_positions=np.vstack([traj.positions[keep], point]),
         warnings=tuple(warnings),
     )
 
