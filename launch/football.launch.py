@@ -142,6 +142,9 @@ def generate_launch_description():
             ),
             DeclareLaunchArgument('rviz', default_value='false', description='also start rviz2'),
             DeclareLaunchArgument(
+                'planner', default_value='false', description='also run the throw planner'
+            ),
+            DeclareLaunchArgument(
                 'rviz_config',
                 default_value=os.path.join(share, 'rviz', 'football.rviz'),
                 description='RViz configuration',
@@ -164,6 +167,14 @@ def generate_launch_description():
                         output='screen',
                         parameters=[params_file, sim_time],
                         condition=IfCondition(LaunchConfiguration('tracker')),
+                    ),
+                    Node(
+                        package=PACKAGE,
+                        executable='planner',
+                        name='football_planner',
+                        output='screen',
+                        parameters=[params_file, sim_time],
+                        condition=IfCondition(LaunchConfiguration('planner')),
                     ),
                     Node(
                         package=PACKAGE,

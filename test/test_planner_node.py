@@ -212,3 +212,23 @@ def test_receiver_followed_on_odometry(start_node, collector):
     point = np.array([float(values[f'arrival_point_{c}']) for c in 'xyz'])
     assert np.linalg.norm(point - np.array([27.0, -4.0 * t, 1.3])) < 0.01
     assert t > 0.5
+
+
+def test_launch_argument_planner_runs_the_node(monkeypatch):
+    import test_launch
+
+    declared, nodes = test_launch.launch(monkeypatch, planner='true')
+    assert declared['planner']['default_value'] == 'false'
+    assert set(nodes) == {'football_simulator', 'football_release', 'football_planner'}
+    assert nodes['football_planner'][0].kwargs['executable'] == 'planner'
+
+
+def test_yaml_section_lists_every_parameter_with_its_default():
+    from pathlib import Path
+
+    from football_ros.nodes.planner import PARAMETERS
+    import yaml
+
+    config = Path(__file__).resolve().parents[1] / 'config' / 'football.yaml'
+    section = yaml.safe_load(config.read_text())['/**/football_planner']['ros__parameters']
+    assert section == {spec.name: spec.default for spec in PARAMETERS}
