@@ -20,6 +20,7 @@ from football_ros.physics import dynamics as dyn
 from football_ros.physics import Flight, Release
 from football_ros.physics.linear_theory import linear_modes
 from football_ros.planning import (
+    compare_arcs,
     DEFAULT_SIGMAS,
     equilibrium_attitude,
     hit_probability,
@@ -217,3 +218,20 @@ def test_hit_probability_from_the_batch_kernel():
         hit_probability(p, {'speed': -1.0})
     with pytest.raises(PlanError, match='catch_radius'):
         hit_probability(p, catch_radius=float('nan'))
+
+
+def test_compare_arcs_names_the_more_robust_one():
+    base = Release(position=(0.0, 0.0, 1.8), model='full')
+    out = compare_arcs([40.0, 0.0, 0.5], base, n=3000, seed=2)
+    (flat, f_est), (lofted, l_est) = out['flat'], out['lofted']
+    assert flat.release.elevation_deg < lofted.release.elevation_deg
+    assert flat.arrival_time < lofted.arrival_time
+    if f_est.low > l_est.high:
+        assert out['more_robust'] == 'flat'
+    elif l_est.low > f_est.high:
+        assert out['more_robust'] == 'lofted'
+    else:
+        assert out['more_robust'] == 'either'
+    # Out of reach for the lofted arc within 30 deg: the flat one only.
+    only = compare_arcs([40.0, 0.0, 0.5], base, n=200, elevation_range=(-45.0, 30.0))
+    assert isinstance(only['lofted'], PlanError) and only['more_robust'] == 'flat'
