@@ -90,6 +90,17 @@ def test_plan_table_and_refusals():
     assert proc.returncode == 2
 
 
+def test_plan_compare_arcs():
+    proc = run('plan', '--target', '35', '0', '0.5', '--position', '0', '0', '1.8', '--model',
+               'full', '--compare-arcs', '--hit-n', '1000', '--json')
+    arcs = json.loads(proc.stdout)['arcs']
+    assert arcs['flat_elevation_deg'] < 30.0 < arcs['lofted_elevation_deg']
+    assert arcs['flat_arrival_time'] < arcs['lofted_arrival_time']
+    for arc in ('flat', 'lofted'):
+        assert 0.0 < arcs[f'{arc}_hit_probability_low'] < arcs[f'{arc}_hit_probability_high']
+    assert arcs['more_robust'] in ('flat', 'lofted', 'either')
+
+
 def test_plan_receiver_is_led():
     proc = run('plan', '--receiver', '25', '0', '1.2', '0', '5', '0', '--objective', 'flat',
                '--hit-n', '0', '--json')

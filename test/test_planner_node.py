@@ -68,6 +68,8 @@ def test_plan_request_fields_named():
         read_plan_request({'target': [10, 0, 1], 'speeed': 3})
     with pytest.raises(PlanError, match='execute'):
         read_plan_request({'target': [10, 0, 1], 'execute': 'yes'})
+    with pytest.raises(PlanError, match='compare_arcs'):
+        read_plan_request({'target': [10, 0, 1], 'compare_arcs': 1})
     with pytest.raises(PlanError, match='hit_n'):
         read_plan_request({'target': [10, 0, 1], 'hit_n': 10**9})
     with pytest.raises(PlanError, match='spin_rpm'):
@@ -103,7 +105,7 @@ def test_planned_throw_through_planner_release_and_simulator(start_node, collect
     target = [31.0, -2.5, 0.0]  # on the ground: the simulator reports its landing point
     request = {'id': 'plan-1', 'target': target, 'model': 'full', 'aero': {'wind': [1, 3, 0]},
                'ball': 'rugby', 'spin_rpm': -300, 'objective': 'flat', 'speed': 24,
-               'hit_n': 500, 'execute': True}
+               'hit_n': 500, 'execute': True, 'compare_arcs': True}
     pub.publish(String(data=json.dumps(request)))
     collector.wait_for(lambda: _answers(collector, qos.PLAN_RESPONSE, 'plan-1'), 30.0, 'plan')
     answer = _answers(collector, qos.PLAN_RESPONSE, 'plan-1')[0]
@@ -112,6 +114,8 @@ def test_planned_throw_through_planner_release_and_simulator(start_node, collect
     assert float(values['miss_m']) < 0.01
     assert float(values['wobble_deg']) < float(values['aligned_wobble_deg'])
     assert 0.0 <= float(values['hit_probability']) <= 1.0
+    assert values['more_robust'] in ('flat', 'lofted', 'either')
+    assert float(values['flat_elevation_deg']) < float(values['lofted_elevation_deg'])
     collector.wait_for(lambda: collector.get(qos.PLAN_PATH), 10.0, 'the path')
     path = collector.get(qos.PLAN_PATH)[0]
     last = path.poses[-1].pose.position

@@ -51,7 +51,7 @@ from .params import ParamSpec
 from .runner import run_node
 from ..physics import compile_ahead
 from ..physics.frames import FIELD_FRAME
-from ..planning import hit_probability, plan, PlanError, Receiver
+from ..planning import arcs_summary, compare_arcs, hit_probability, plan, PlanError, Receiver
 from ..planning.request import PlanRequest, read_plan_request
 from ..requests import capped, MAX_REQUEST_BYTES, read_request, RequestError
 
@@ -178,6 +178,13 @@ class PlannerNode(Node):
                 values.update(est.to_mapping())
             except PlanError as exc:
                 values['hit_probability_note'] = str(exc)
+            if req.compare_arcs and 'target' in req.options:
+                skip = ('objective', 'arrival_time', 'arrival_window')
+                options = {k: v for k, v in req.options.items() if k not in skip}
+                target, base = options.pop('target'), options.pop('base')
+                comparison = compare_arcs(target, base, req.sigmas, req.catch_radius,
+                                          max(n, 100), **options)
+                values.update(arcs_summary(comparison))
         if the_plan.warnings:
             level = 'WARN'
         if req.execute:

@@ -29,9 +29,17 @@ from .planner import (
     Receiver,
     wobble_of,
 )
-from .robustness import compare_arcs, DEFAULT_SIGMAS, hit_probability, HitEstimate, wilson
+from .robustness import (
+    arcs_summary,
+    compare_arcs,
+    DEFAULT_SIGMAS,
+    hit_probability,
+    HitEstimate,
+    wilson,
+)
 
 __all__ = [
+    'arcs_summary',
     'DEFAULT_SIGMAS',
     'HitEstimate',
     'OBJECTIVES',

@@ -20,7 +20,8 @@ The text goes through :func:`football_ros.requests.read_request` (strict YAML/JS
 {position, velocity, time} (or the string ``odom``: the receiver Odometry the node follows),
 ``arrival_time`` s, ``arrival_window`` [t0, t1] s, ``objective``, ``max_speed`` m/s,
 ``elevation_range`` [min, max] deg, ``attitude``, ``tolerance`` m, ``catch_radius`` m,
-``sigmas`` {key: sigma}, ``hit_n``, ``execute`` (bool). Base release keys (ball, speed,
+``sigmas`` {key: sigma}, ``hit_n``, ``execute`` (bool), ``compare_arcs`` (bool: also the flat
+and the lofted arc's hit probabilities, and which is more robust). Base release keys (ball, speed,
 spin_rpm, position, model, moment, ball_params, aero) as in a release request. Unknown keys,
 wrong types and out-of-range values raise :class:`PlanError` naming the field.
 """
@@ -48,6 +49,7 @@ PLAN_KEYS = (
     'sigmas',
     'hit_n',
     'execute',
+    'compare_arcs',
 )
 BASE_KEYS = ('ball', 'speed', 'spin_rpm', 'position', 'model', 'moment', 'ball_params', 'aero')
 MAX_HIT_N = 100_000
@@ -63,6 +65,7 @@ class PlanRequest:
     catch_radius: float = 0.5
     sigmas: dict[str, float] = field(default_factory=dict)
     hit_n: int | None = None
+    compare_arcs: bool = False
 
 
 def _numbers(name: str, value: Any, size: int) -> list[float]:
@@ -143,9 +146,10 @@ def read_plan_request(data: Mapping[str, Any]) -> PlanRequest:
         if isinstance(n, bool) or not isinstance(n, int) or not 0 <= n <= MAX_HIT_N:
             raise PlanError(f"'hit_n' must be an integer in [0, {MAX_HIT_N}]", 'hit_n')
         req.hit_n = n
-    if 'execute' in data:
-        if not isinstance(data['execute'], bool):
-            raise PlanError("'execute' must be true or false", 'execute')
-        req.execute = data['execute']
+    for key in ('execute', 'compare_arcs'):
+        if key in data:
+            if not isinstance(data[key], bool):
+                raise PlanError(f"'{key}' must be true or false", key)
+            setattr(req, key, data[key])
     req.options = opts
     return req

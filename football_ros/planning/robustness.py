@@ -92,6 +92,25 @@ def _check_sigmas(sigmas: Mapping[str, float] | None) -> dict[str, float]:
     return out
 
 
+def arcs_summary(comparison: dict) -> dict:
+    """Return :func:`compare_arcs` as flat plain data (hit probabilities, or why refused)."""
+    out: dict = {'more_robust': comparison['more_robust']}
+    for arc in ('flat', 'lofted'):
+        v = comparison[arc]
+        if isinstance(v, tuple):
+            p, est = v
+            out.update({
+                f'{arc}_elevation_deg': p.release.elevation_deg,
+                f'{arc}_arrival_time': p.arrival_time,
+                f'{arc}_hit_probability': est.probability,
+                f'{arc}_hit_probability_low': est.low,
+                f'{arc}_hit_probability_high': est.high,
+            })
+        else:
+            out[f'{arc}_refused'] = str(v)
+    return out
+
+
 def miss_distances(
     the_plan: Plan,
     sigmas: Mapping[str, float] | None = None,

@@ -67,6 +67,9 @@ def add_plan_options(parser: argparse.ArgumentParser) -> None:
     g.add_argument('--catch-radius', type=float, default=0.5, help='catch radius [m]')
     g.add_argument('--sigma', action='append', default=[], metavar='KEY=SIGMA',
                    help='release-error sigma, e.g. speed=0.5 (defaults: those of montecarlo)')
+    g.add_argument('--compare-arcs', action='store_true',
+                   help='also plan the flat and the lofted arc at --speed and say which one '
+                   'hits more often (--target only)')
     g = parser.add_argument_group('output')
     g.add_argument('--json', action='store_true', help='print the plan as one JSON object')
     g.add_argument('--throw', action='store_true',
@@ -156,6 +159,14 @@ def run(args: argparse.Namespace) -> int:
         except PlanError as exc:
             out['hit_probability'] = None
             out['hit_probability_note'] = str(exc)
+    if args.compare_arcs and args.target is not None:
+        from ..planning import arcs_summary, compare_arcs
+
+        comparison = compare_arcs(
+            args.target, base, sigmas, args.catch_radius, max(args.hit_n, 100),
+            max_speed=args.max_speed, elevation_range=tuple(args.elevation_range),
+            attitude=args.attitude, tolerance=args.tolerance)
+        out['arcs'] = arcs_summary(comparison)
     out = _clean(out)
     if args.json:
         print(json.dumps(out))
@@ -198,5 +209,17 @@ def _print_plan(p: dict[str, Any]) -> None:
               f"{p['hit_probability_high']:.3f}] (95 %, {p['hit_n']} balls)")
     elif p.get('hit_probability_note'):
         print(f"hit probability: n/a ({p['hit_probability_note']})")
+    arcs = p.get('arcs')
+    if arcs:
+        for arc in ('flat', 'lofted'):
+            if f'{arc}_refused' in arcs:
+                print(f"{arc} arc: refused ({arcs[f'{arc}_refused']})")
+            else:
+                print(f"{arc} arc: elevation {arcs[f'{arc}_elevation_deg']:.2f} deg, arrival "
+                      f"{arcs[f'{arc}_arrival_time']:.3f} s, hit probability "
+                      f"{arcs[f'{arc}_hit_probability']:.3f} "
+                      f"[{arcs[f'{arc}_hit_probability_low']:.3f}, "
+                      f"{arcs[f'{arc}_hit_probability_high']:.3f}]")
+        print(f"more robust: {arcs['more_robust']} (either: the intervals overlap)")
     for warning in p['warnings']:
         print(f'warning: {warning}')
