@@ -30,6 +30,8 @@ from football_ros.planning import (
     wilson,
 )
 from football_ros.planning.planner import closest_approach
+from hypothesis import given, HealthCheck, settings
+from hypothesis import strategies as hs
 import numpy as np
 import pytest
 
@@ -235,3 +237,31 @@ def test_compare_arcs_names_the_more_robust_one():
     # Out of reach for the lofted arc within 30 deg: the flat one only.
     only = compare_arcs([40.0, 0.0, 0.5], base, n=200, elevation_range=(-45.0, 30.0))
     assert isinstance(only['lofted'], PlanError) and only['more_robust'] == 'flat'
+
+
+NUMBER = hs.floats(allow_nan=True, allow_infinity=True) | hs.floats(-100.0, 100.0)
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=list(HealthCheck))
+@given(
+    target=hs.lists(NUMBER, min_size=3, max_size=3)
+    | hs.tuples(hs.floats(-5.0, 70.0), hs.floats(-30.0, 30.0), hs.floats(-1.0, 5.0)).map(list),
+    objective=hs.sampled_from(['fastest', 'lowest_speed', 'flat', 'lofted']),
+    max_speed=hs.floats(0.0, 80.0) | hs.floats(15.0, 40.0),
+    elevation=hs.tuples(hs.floats(-90.0, 90.0), hs.floats(-90.0, 90.0))
+    | hs.tuples(hs.floats(-45.0, 10.0), hs.floats(30.0, 80.0)),
+    arrival=hs.none() | hs.none() | hs.floats(-1.0, 40.0),
+    model=hs.sampled_from(['paper', 'full']),
+)
+def test_plan_answers_a_checked_plan_or_a_plan_error(target, objective, max_speed, elevation,
+                                                     arrival, model):
+    base = Release(position=(0.0, 0.0, 1.5), model=model)
+    try:
+        p = plan(target, base, objective=objective, max_speed=max_speed,
+                 elevation_range=elevation, arrival_time=arrival)
+    except PlanError as exc:
+        assert str(exc)
+        return
+    assert p.miss_m <= 0.01 and math.isfinite(p.arrival_time)
+    assert p.release.speed <= max_speed + 1e-9
+    assert elevation[0] - 1e-9 <= p.release.elevation_deg <= elevation[1] + 1e-9
