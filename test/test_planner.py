@@ -265,3 +265,21 @@ def test_plan_answers_a_checked_plan_or_a_plan_error(target, objective, max_spee
     assert p.miss_m <= 0.01 and math.isfinite(p.arrival_time)
     assert p.release.speed <= max_speed + 1e-9
     assert elevation[0] - 1e-9 <= p.release.elevation_deg <= elevation[1] + 1e-9
+
+
+def test_hard_cases_a_headwind_lofted_arc_a_slow_throw_and_a_steep_one():
+    wind = {'wind': [-5.77, -3.67, 0.0]}
+    base = Release(ball='rugby', spin_rpm=300.0, position=(0.0, 0.0, 1.8), model='full',
+                   aero=wind)
+    # The vacuum guess (67 deg) is blown back before the target: the planner walks down.
+    lofted = plan([28.53, 1.06, 2.62], base, objective='lofted')
+    assert 55.0 < lofted.release.elevation_deg < 67.0 and flown_miss(lofted)[0] < 0.01
+    # A 9 m/s lob: its equilibrium sideslip (~ 1/V^3) is far beyond the linear theory, so the
+    # axis goes along the air velocity, turning with it, and the plan says so.
+    slow = plan([7.0, 0.2, 1.4], base, objective='lowest_speed')
+    assert slow.release.speed < 12.0 and flown_miss(slow)[0] < 0.01
+    assert any('beyond the linear theory' in w for w in slow.warnings)
+    # The lofted arc at 20 m/s to 8 m needs about 84 deg: the elevation limit is named.
+    with pytest.raises(PlanError, match='elevation_range') as info:
+        plan([8.3, -1.2, 2.3], base, objective='lofted')
+    assert info.value.limit == 'elevation_range'

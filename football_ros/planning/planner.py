@@ -260,7 +260,11 @@ def equilibrium_attitude(
     velocity, rates relative to ``field`` (:func:`football_ros.physics.release.release_states`).
     """
     velocity = np.asarray(velocity, dtype=float)
-    axis, rate = equilibrium_axis(params, velocity, h1, drift)
+    return _options(velocity, *equilibrium_axis(params, velocity, h1, drift))
+
+
+def _options(velocity: np.ndarray, axis: np.ndarray, rate: np.ndarray) -> dict[str, float]:
+    """Return the release options (deg, deg/s) of an axis and its rate in ``field``."""
     alpha, beta, _ = frames.aero_angles(axis, velocity)
     comps = frames.to_velocity_frame(rate, velocity)
     ca, sa, cb, sb = math.cos(alpha), math.sin(alpha), math.cos(beta), math.sin(beta)
@@ -318,6 +322,20 @@ def wobble_of(
     return wobble, math.degrees(float(described[-1, dyn.D_DELTA]))
 
 
+def _angle_deg(a: np.ndarray, b: np.ndarray) -> float:
+    """Angle [deg] between two unit vectors."""
+    return math.degrees(math.acos(min(1.0, max(-1.0, float(a @ b)))))
+
+
+MAX_EQUILIBRIUM_DEG = 30.0
+"""Largest equilibrium offset from the air velocity [deg] the release trusts (the linear
+theory's small-angle range; slow lofted throws put it far beyond)."""
+MAX_OFFSET_DEG = 55.0
+"""Largest release offset of the axis from the velocity [deg] (the release limit is 60)."""
+MAX_RATE_DEG_S = 3000.0
+"""Largest release axis rate [deg/s] (the release limit is 3600)."""
+
+
 # --- flying ----------------------------------------------------------------
 class _Shooter:
     """One base release (ball, spin, point, model) flown toward one target plane."""
@@ -345,25 +363,50 @@ class _Shooter:
         self.height = float(self.target[2] - self.r0[2])
         self.last_time = None
 
+    def axis_rate(self, speed: float, elev: float, azim: float):
+        """
+        Return (velocity, axis, axis rate, note) of a release in the current mode (``field``).
+
+        The equilibrium when the linear theory holds there (axis within ``MAX_EQUILIBRIUM_DEG``
+        of the air velocity, within ``MAX_OFFSET_DEG`` of the velocity, rate below
+        ``MAX_RATE_DEG_S``); else the axis along the air velocity turning with it; else along
+        the velocity, not rotating. ``note`` says which fallback was taken ('' for none).
+        """
+        vel = frames.direction(speed, math.radians(elev), math.radians(azim))
+        ground = vel / speed
+        if self.mode == 'aligned':
+            return vel, ground, np.zeros(3), ''
+        axis, rate = equilibrium_axis(self.params, vel, self.h1, self.mode != 'linear')
+        air = vel - self.params[dyn.P_WIND:dyn.P_WIND + 3]
+        e1 = air / math.sqrt(float(air @ air))
+        off_air = _angle_deg(axis, e1)
+        if (off_air <= MAX_EQUILIBRIUM_DEG and _angle_deg(axis, ground) <= MAX_OFFSET_DEG
+                and math.degrees(math.sqrt(float(rate @ rate))) <= MAX_RATE_DEG_S):
+            return vel, axis, rate, ''
+        note = (f'the equilibrium is {off_air:.0f} deg off the air velocity (beyond the linear '
+                'theory): axis along the air velocity, turning with it')
+        if _angle_deg(e1, ground) <= MAX_OFFSET_DEG:
+            omega_v = -self.gravity * math.hypot(e1[0], e1[1]) / math.sqrt(float(air @ air))
+            e2 = frames.velocity_frame(air)[1]
+            return vel, e1, omega_v * e2, note
+        return vel, ground, np.zeros(3), (
+            f'the air velocity is {_angle_deg(e1, ground):.0f} deg off the velocity (wind): '
+            'axis along the velocity, not rotating')
+
     def attitude(self, speed: float, elev: float, azim: float) -> dict[str, float]:
         """Release attitude options for a release (degrees) in the current mode."""
-        if self.mode == 'aligned':
-            return dict.fromkeys(
-                ('alpha0_deg', 'beta0_deg', 'alpha_rate_deg_s', 'beta_rate_deg_s'), 0.0
-            )
-        vel = frames.direction(speed, math.radians(elev), math.radians(azim))
-        att = equilibrium_attitude(self.params, vel, self.h1, self.mode != 'linear')
+        vel, axis, rate, _ = self.axis_rate(speed, elev, azim)
+        att = _options(vel, axis, rate)
         for key, off in zip(att, self.offsets):
             att[key] += float(off)
         return att
 
     def y0(self, speed: float, elev: float, azim: float) -> np.ndarray:
         """State vector of the real-time kernel, built as :class:`Flight` builds it."""
-        if self.mode != 'aligned' and not np.any(self.offsets):
+        if not np.any(self.offsets):
             # The release's axis and rate directly (what the release options give, to
             # round-off, without the detour through angles).
-            vel = frames.direction(speed, math.radians(elev), math.radians(azim))
-            axis, rate = equilibrium_axis(self.params, vel, self.h1, self.mode != 'linear')
+            vel, axis, rate, _ = self.axis_rate(speed, elev, azim)
             spin = self.base.spin_rpm * RPM
             y0 = np.zeros(dyn.N_STATE)
             y0[dyn.R:dyn.R + 3] = self.r0
@@ -618,6 +661,14 @@ class _Aim:
 
     def _fixed_speed(self, speed: float, elev0: float, azim0: float):
         sh = self.sh
+        if sh.cross(speed, elev0, azim0) is None:
+            # Never at the target plane from this guess (a lofted arc blown back, a flat one
+            # that falls short): walk toward the least-speed elevation until it gets there.
+            centre = _lowest_speed_elevation(sh.distance, sh.height)
+            for elev in np.linspace(elev0, centre, 9)[1:]:
+                if sh.cross(speed, float(elev), azim0) is not None:
+                    elev0 = float(elev)
+                    break
 
         def fun(x):
             out = sh.cross(speed, x[0], x[1])
@@ -868,6 +919,16 @@ def plan(
         fixed = arrival_time is None and objective in ('flat', 'lofted')
         limit_speed = speed_used if fixed else max_speed
         limit = 'speed' if fixed else 'max_speed'
+        vacuum = None
+        if fixed or objective == 'fastest':
+            vacuum = _vacuum_elevation(limit_speed, sh.distance, sh.height, sh.gravity,
+                                       objective == 'lofted')
+        if vacuum is not None and not lo_e <= vacuum <= hi_e:
+            raise PlanError(
+                f'the {"lofted" if objective == "lofted" else "flat"} arc at {limit_speed:g} '
+                f'm/s needs about {vacuum:.0f} deg elevation (vacuum estimate), outside '
+                f'elevation_range [{lo_e:g}, {hi_e:g}] deg', 'elevation_range',
+                _closest_reachable(sh, limit_speed, (lo_e, hi_e)))
         raise PlanError(
             f'target ({point[0]:.2f}, {point[1]:.2f}, {point[2]:.2f}) m is out of reach '
             f'at speed {limit_speed:g} m/s (limit {limit}) within elevations '
@@ -973,6 +1034,9 @@ def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear,
     if with_wobble:
         wobble, delta = wobble_of(traj.times[keep], traj.states[keep], flight.params)
     warnings = []
+    note = sh.axis_rate(speed, elev, azim)[3]
+    if note and mode != 'aligned':
+        warnings.append(note)
     if not flight.modes.stable:
         warnings.append('gyroscopically unstable at release: the equilibrium is not an '
                         'attractor and the wobble grows')
