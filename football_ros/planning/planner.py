@@ -31,8 +31,10 @@ the local quasi-steady equilibrium X_p of the linear theory (docs/physics.md, li
 x_p = -F/C of the flown model plus its first-order drift B x_p'/C, against the air) and lets it
 turn with the velocity frame (w_V = -g cos(Phi)/U about e3) and the equilibrium's drift x_p':
 the release whose mode amplitudes K1 = K2 = 0 (C1 = C2 = 0 for the paper's frozen theory).
-``refine=True`` then minimises the wobble of the whole nonlinear flight over the four attitude
-numbers (Nelder-Mead) and aims again.
+``attitude='refined'`` then minimises the wobble of the whole nonlinear flight over the four
+attitude numbers (Nelder-Mead) and aims again. Where the equilibrium lies beyond the linear
+theory (more than 30 deg off the air velocity: slow lobs, s3p ~ 1/V^3) the axis goes along the
+air velocity, turning with it, and the plan warns (:meth:`_Shooter.axis_rate`).
 
 Wobble amplitude (:func:`wobble_of`): the largest angle between the spin axis and the local
 quasi-steady equilibrium axis X_p(t) (velocity frame of the local air velocity, the local speed,
