@@ -489,6 +489,11 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument('--out', required=True, help='folder for the PNG files and report.md')
     p.set_defaults(func=_cmd_paper)
+    from .tools import plan as plan_tool  # its options only; the planner loads when it runs
+
+    p = add('plan', 'the release that takes the ball through a target, with the least wobble')
+    plan_tool.add_plan_options(p)
+    p.set_defaults(func=plan_tool.run)
     for name in NODE_COMMANDS:
         sub.add_parser(name, help=f'{name} (ROS; see football-ros {name} --help)', add_help=False)
     return parser

@@ -26,6 +26,7 @@ NODES = {
     'release': 'football_ros.nodes.release',
     'tracker': 'football_ros.nodes.tracker',
     'recorder': 'football_ros.nodes.recorder',
+    'planner': 'football_ros.nodes.planner',
 }
 NODE_ALIASES = {'record': 'recorder'}
 """``football-ros record`` is the recorder node."""

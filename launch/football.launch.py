@@ -13,13 +13,14 @@
 # limitations under the License.
 
 """
-Simulator and release node; optionally recorder, tracker and RViz; optionally in a namespace.
+Simulator and release node; optionally recorder, tracker, planner, RViz; optionally namespaced.
 
     ros2 launch football_ros football.launch.py
     ros2 launch football_ros football.launch.py record:=true rviz:=true
     ros2 launch football_ros football.launch.py namespace:=team1 publish_rate:=1000
     ros2 launch football_ros football.launch.py use_sim_time:=true
     ros2 launch football_ros football.launch.py tracker:=true rviz:=true
+    ros2 launch football_ros football.launch.py planner:=true       # + the throw planner
 
 Parameters come from ``params_file`` (keys ``/**/NODE_NAME``, so they apply in any namespace).
 An argument left empty overrides nothing: ``publish_rate`` only replaces the file's value when
@@ -48,7 +49,7 @@ from launch_ros.actions import Node, PushRosNamespace
 
 PACKAGE = 'football_ros'
 DEFAULT_CAMERA_RATE = 60.0
-FLAGS = ('use_sim_time', 'record', 'tracker', 'rviz')
+FLAGS = ('use_sim_time', 'record', 'tracker', 'planner', 'rviz')
 
 
 def _flag(context, name):
@@ -143,6 +144,7 @@ def _nodes(context, *args, **kwargs):
     ]
     for flag, executable, name in (
         ('tracker', 'tracker', 'football_tracker'),
+        ('planner', 'planner', 'football_planner'),
         ('record', 'recorder', 'football_recorder'),
     ):
         if flags[flag]:
@@ -213,6 +215,9 @@ def generate_launch_description():
                 'rviz',
                 default_value='false',
                 description='also start rviz2 (a warning, not an error, without it)',
+            ),
+            DeclareLaunchArgument(
+                'planner', default_value='false', description='also run the throw planner'
             ),
             DeclareLaunchArgument(
                 'rviz_config',

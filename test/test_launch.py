@@ -161,6 +161,7 @@ def test_defaults_leave_the_params_file_in_force(monkeypatch):
         'camera_rate',
         'rviz',
         'rviz_config',
+        'planner',
     }
     assert set(nodes) == {'football_simulator', 'football_release'}
     assert nodes['football_simulator'][1] == [str(CONFIG)]  # no override of the file's values
@@ -243,7 +244,7 @@ def test_tracker_turns_the_camera_on(monkeypatch):
 
 
 def test_every_launched_node_has_a_section_in_the_yaml(monkeypatch):
-    _, nodes = launch(monkeypatch, record='true', tracker='true')
+    _, nodes = launch(monkeypatch, record='true', tracker='true', planner='true')
     sections = yaml.safe_load(CONFIG.read_text())
     for name, (node, _params) in nodes.items():
         assert node.kwargs['package'] == 'football_ros'

@@ -36,6 +36,7 @@ NODE_NAMES = {
     'release': 'football_release',
     'tracker': 'football_tracker',
     'recorder': 'football_recorder',
+    'planner': 'football_planner',
 }
 ROS_OWN = {'use_sim_time', 'start_type_description_service'}  # declared by rclpy itself
 

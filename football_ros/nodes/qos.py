@@ -36,6 +36,8 @@ RESET_SERVICE = 'football/reset'
 PAUSE_SERVICE = 'football/pause'
 OBSERVATION, ESTIMATE = 'football/observation', 'football/estimate'  # camera fixes, tracker
 LANDING, PREDICTED_PATH = 'football/prediction/landing', 'football/prediction/path'  # tracker
+PLAN_REQUEST, PLAN_RESPONSE = 'football/plan/request', 'football/plan/response'  # planner
+PLAN_PATH = 'football/plan/path'
 
 # Ball state at up to 1-2 kHz: reliable so a recorder loses nothing; 1000 deep (1 s at 1 kHz)
 # so a subscriber that stalls for a moment (GC, disk) catches up instead of losing samples.
@@ -53,6 +55,7 @@ MARKERS_QOS = QoSProfile(
     durability=DurabilityPolicy.VOLATILE,
 )
 DIAGNOSTICS_QOS = MARKERS_QOS
+PLAN_PATH_QOS = MARKERS_QOS  # planned paths: reliable, shallow
 # /clock as rclcpp::ClockQoS: best effort, latest only.
 CLOCK_QOS = QoSProfile(
     history=HistoryPolicy.KEEP_LAST,

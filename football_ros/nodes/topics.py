@@ -62,6 +62,9 @@ TOPICS: dict[str, tuple[type, QoSProfile]] = {
     qos.ESTIMATE: (Odometry, qos.STATE),
     qos.LANDING: (PoseWithCovarianceStamped, qos.STATE),
     qos.PREDICTED_PATH: (Path, qos.STATE),
+    qos.PLAN_REQUEST: (String, qos.REQUEST),
+    qos.PLAN_RESPONSE: (DiagnosticStatus, qos.REQUEST),
+    qos.PLAN_PATH: (Path, qos.PLAN_PATH_QOS),
     **({qos.TF: (TFMessage, qos.TF_QOS)} if TFMessage is not None else {}),
 }
 
