@@ -175,4 +175,6 @@ def scheduler_costs(workers: int, tasks: int) -> dict[str, float]:
 
 
 if __name__ == '__main__':
-    main()
+    import results  # bench/results.py: the figures go to bench/RESULTS.md
+
+    raise SystemExit(results.recorded('Monte Carlo scaling', main))

@@ -292,4 +292,6 @@ def main() -> None:
 
 
 if __name__ == '__main__':
-    main()
+    import results  # bench/results.py: the figures go to bench/RESULTS.md
+
+    raise SystemExit(results.recorded('planner', main))
