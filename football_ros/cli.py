@@ -455,7 +455,7 @@ def build_parser() -> argparse.ArgumentParser:
         required=True,
         help='per-ball results: FILE.csv (text), FILE.npz (numpy arrays, loads '
         "10^6 balls in a fraction of the CSV's time), DIR.parquet (partitions written by "
-        "the workers, for any --n; load lazily with pyarrow or dask), or 'none' (statistics "
+        "the workers, for any --n; load lazily with pyarrow.dataset), or 'none' (statistics "
         'only, for any --n; a figure only with --figure FILE.png)',
     )
     p.add_argument(

@@ -500,10 +500,11 @@ class Engine:
 
     def results(self, plan: Plan, task_chunks: int = 1) -> Iterator[ChunkResult]:
         """
-        Chunk results in index order (a generator: closing it cancels what is still queued).
+        Chunk results in index order (a generator; closed early, it lets the queued tasks end).
 
-        Dask: at most 2 tasks per worker queued ahead of the one awaited, so that a stopping
-        rule wastes little and the client holds few results.
+        Dask: at most 2 W + 2 tasks (W workers) running, queued or finished and waiting for an
+        earlier one, so that a stopping rule wastes little and the client holds few results,
+        even when one task is slow.
         """
         ranges = tasks(plan.n_chunks, task_chunks)
         if self.client is None:
@@ -517,29 +518,32 @@ class Engine:
         futures = as_completed()
         live = []
 
-        def submit() -> None:
-            nxt = next(pending, None)
-            if nxt is not None:
+        ready: dict[int, list[ChunkResult]] = {}  # first chunk -> a finished task's results
+
+        def top_up() -> None:
+            while len(live) + len(ready) < ahead:
+                nxt = next(pending, None)
+                if nxt is None:
+                    return
                 fut = self.client.submit(
                     run_task, plan, nxt[0], nxt[1], 1, pure=False, priority=-nxt[0]
                 )
                 futures.add(fut)
                 live.append(fut)
 
-        for _ in range(ahead):
-            submit()
-        ready: dict[int, ChunkResult] = {}
+        top_up()
         want = 0
         try:
             for fut in futures:
-                for r in fut.result():
-                    ready[r.index] = r
+                done = fut.result()
+                ready[done[0].index] = done
                 live.remove(fut)
                 fut.release()
-                submit()
                 while want in ready:
-                    yield ready.pop(want)
-                    want += 1
+                    for r in ready.pop(want):
+                        yield r
+                        want = r.index + 1
+                top_up()
         except GeneratorExit:  # a stopping rule: let the queued tasks end (their partitions
             if live:  # are removed after them); at most `ahead` tasks
                 from dask.distributed import wait
