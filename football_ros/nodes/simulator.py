@@ -35,14 +35,13 @@ and at most ``MAX_EVENTS`` events wait for /diagnostics.
 
 Guard: a sample with a non-finite value, a speed or distance far past what the release allows,
 an exception while integrating, or no landing within ``MAX_FLIGHT_S`` ends the flight with an
-ERROR event; nothing non-finite is published.
+ERROR event; nothing non-finite is published. The flight run itself (time flown, guard, data
+range, landing, events) is ROS-free: :mod:`football_ros.simulation.world`.
 Topics, frames, units and QoS: msg_docs/.
 """
 
 from __future__ import annotations
 
-import collections
-from dataclasses import dataclass, field
 import gc
 import math
 import sys
@@ -66,12 +65,18 @@ from . import qos
 from .observation_hook import ObservationHook
 from .params import declare, ParamSpec
 from .runner import run_node
-from ..physics import limits, Release
-from ..physics.aero import max_valid_delta, out_of_validity
+from ..physics import Release
 from ..physics.flight import BallSample, Flight
 from ..physics.frames import BODY_FRAME, FIELD_FRAME
 from ..physics.release import RPM
 from ..requests import capped, FlightOrder, load_strict
+from ..simulation.world import (  # noqa: F401  (MAX_*: the limits, documented here too)
+    FlightRun,
+    landed_text,
+    MAX_EVENTS,
+    MAX_FLIGHT_S,
+    World,
+)
 
 NODE_NAME = 'football_simulator'
 MODEL_CHOICES = ('release', 'paper', 'full')
@@ -80,14 +85,6 @@ MAX_CATCH_UP_S = 1.0
 MAX_STEPS_PER_SECOND = 2.0e5
 """Largest real_time_factor / integration_step [RK4 steps per wall second] (about 0.2 s of CPU
 per wall second at 0.85 us a step); larger combinations are refused (parameter callback)."""
-MAX_EVENTS = 32
-"""Events (released, landed, ERROR, ...) waiting for /diagnostics; older ones are dropped."""
-MAX_FLIGHT_S = 600.0
-"""A flight still in the air after this many simulated seconds is ended (ERROR)."""
-MAX_DISTANCE_M = 1.0e5
-"""A ball farther than this from its release point [m] is a runaway (ERROR)."""
-RUNAWAY_FACTOR = 10.0
-"""A speed or angular rate this many times the bound the release allows is a runaway."""
 RIVAL_CHECK_PERIOD_S = 1.0
 
 PARAMETERS = (
@@ -165,44 +162,6 @@ def check_parameters(values: dict, flight_step: float | None = None) -> str | No
     return None
 
 
-class _Events(collections.deque):
-    """Bounded event queue (level, event, message); counts what it had to drop."""
-
-    def __init__(self) -> None:
-        super().__init__(maxlen=MAX_EVENTS)
-        self.dropped = 0
-
-    def append(self, item) -> None:
-        if len(self) == self.maxlen:
-            self.dropped += 1
-        super().append(item)
-
-
-@dataclass
-class _FlightRun:
-    """The flight in the air and its bookkeeping (guarded by the node's lock)."""
-
-    order: FlightOrder
-    flight: Flight
-    ticks: int = 0
-    tick_dt: float = 0.0  # simulated seconds per tick for this run
-    time_offset: float = 0.0  # simulated seconds flown before the last rate change
-    landed_reported: bool = False
-    last_hold_ns: int = 0
-    last_marker_ns: int | None = None
-    trail: collections.deque = field(default_factory=lambda: collections.deque(maxlen=500))
-    trail_count: int = 0  # positions ever appended to the trail
-    ended: str | None = None  # why the guard ended the flight (ERROR), None while fine
-    linear_diverged: bool = False  # the linear prediction overflowed (unstable ball)
-    bounds: tuple[float, float] | None = None  # runaway speed [m/s] and rate [rad/s]
-    valid_delta: float | None = None  # largest total angle inside the data ranges [rad]
-    validity_warned: bool = False  # the flight left a data range (warned once)
-
-    @property
-    def time(self) -> float:
-        return self.time_offset + self.ticks * self.tick_dt
-
-
 class SimulatorNode(Node):
     """
     Simulator node: the ball in flight, paced in real time.
@@ -264,12 +223,12 @@ class SimulatorNode(Node):
         self._clock_msg = Clock()
 
         self._lock = threading.Lock()
-        self._run: _FlightRun | None = None
+        self._world = World()
         self._last_order: FlightOrder | None = None
         self._paused = False
         self._ahead = None  # (run, t, sample): the next tick's sample, integrated ahead
         self._sim_clock_ns = 0
-        self._events: _Events = _Events()  # (level, event, message) to report
+        self._events = self._world.events  # (level, event, message) to report
         self.stats = {'ticks': 0, 'overruns': 0, 'skipped': 0, 'max_late_ms': 0.0}
         self._overruns_reported = 0
         self._rivals: tuple[str, ...] = ()
@@ -304,16 +263,18 @@ class SimulatorNode(Node):
                     self._use_sim_time = bool(p.value)
                 else:
                     setattr(self, p.name, p.value)
-            if self._run is not None:
-                self._rebase(self._run)
+            for _entity, run in self._world.runs():
+                self._rebase(run)
         return SetParametersResult(successful=True)
 
-    def _rebase(self, run: _FlightRun) -> None:
+    @property
+    def _run(self) -> FlightRun | None:
+        """Return the default entity's flight run (the release node's ball)."""
+        return self._world.default.run
+
+    def _rebase(self, run: FlightRun) -> None:
         """Keep the flown time and continue with the current rate and real-time factor."""
-        run.time_offset, run.ticks = run.time, 0
-        run.tick_dt = self.real_time_factor / self.publish_rate
-        if run.trail.maxlen != max(self.trail_length, 1):
-            run.trail = collections.deque(run.trail, maxlen=max(self.trail_length, 1))
+        run.rebase(self.real_time_factor / self.publish_rate, self.trail_length)
 
     def _on_order(self, msg: String) -> None:
         """
@@ -365,9 +326,10 @@ class SimulatorNode(Node):
         )
         with self._lock:
             replaced = self._run is not None and self._run.flight.landing_time is None
-            run = _FlightRun(order, flight)
+            run = FlightRun(order.request_id, flight, order)
             self._rebase(run)
-            self._run, self._last_order = run, order
+            self._world.throw(self._world.default, run)
+            self._last_order = order
             self._events.append(('OK' if modes.stable else 'WARN', 'released', text))
         if replaced:
             self.get_logger().info('the flight in the air is replaced by a new release')
@@ -533,7 +495,7 @@ class SimulatorNode(Node):
                 sample = ahead[2]
             else:  # outside the lock: many steps at a high real-time factor
                 sample = run.flight.sample(t)
-            problem = self._runaway(run, sample)
+            problem = run.runaway(sample)
             if problem:
                 self._end_flight(run, problem)
                 return
@@ -543,11 +505,9 @@ class SimulatorNode(Node):
                     run_t = self._select_run(wall_stamp_ns)
                     continue
                 at_rest = run.landed_reported  # a held landed state (the landing has the impact)
-                if sample.landed and not run.landed_reported:
-                    run.landed_reported, run.last_hold_ns, landed_now = True, wall_stamp_ns, True
-                    text = f"flight '{run.order.request_id}' " + _landed_text(
-                        sample.position, sample.t
-                    )
+                text = run.mark_landed(sample, wall_stamp_ns)
+                if text:
+                    landed_now = True
                     self._events.append(('OK', 'landed', text))
             break
         else:
@@ -559,7 +519,7 @@ class SimulatorNode(Node):
         self._maybe_publish_markers(run, sample, stamp, wall_stamp_ns, force=landed_now)
         self._integrate_ahead(run)
 
-    def _integrate_ahead(self, run: _FlightRun) -> None:
+    def _integrate_ahead(self, run: FlightRun) -> None:
         """
         Sample the next tick's time now, after publishing.
 
@@ -579,94 +539,37 @@ class SimulatorNode(Node):
             t = run.time
         self._ahead = (run, t, run.flight.sample(t))
 
-    def _select_run(self, wall_stamp_ns: int) -> tuple[_FlightRun, float] | None:
+    def _select_run(self, wall_stamp_ns: int) -> tuple[FlightRun, float] | None:
         """Return the run to publish this tick and its time [s], or None (lock held by caller)."""
         run = self._run
-        if run is None or self._paused or run.ended is not None:
+        if run is None or self._paused:
             return None
-        if run.landed_reported:
-            if self.hold_rate <= 0 or wall_stamp_ns - run.last_hold_ns < 1e9 / self.hold_rate:
-                return None
-            run.last_hold_ns = wall_stamp_ns
-        t = run.time
-        run.ticks += 1
-        return run, t
+        t = run.select(wall_stamp_ns, self.hold_rate)
+        return None if t is None else (run, t)
 
-    def _runaway(self, run: _FlightRun, sample: BallSample) -> str | None:
-        """Why ``sample`` must not be published (the flight then ends), or None."""
-        values = np.concatenate(
-            (
-                sample.position,
-                sample.velocity,
-                sample.orientation,
-                sample.axis,
-                sample.angular_velocity,
-                sample.aero_angles,
-            )
-        )
-        if not np.isfinite(values).all():
-            return f'the state became non-finite at t = {sample.t:.4f} s'
-        if run.bounds is None:
-            run.bounds = _runaway_bounds(run.flight)
-        bounds = run.bounds
-        speed = float(np.linalg.norm(sample.velocity))
-        if speed > bounds[0]:
-            return (
-                f'runaway: speed {speed:.4g} m/s at t = {sample.t:.4f} s, far past the '
-                f'{bounds[0] / RUNAWAY_FACTOR:.4g} m/s the release allows'
-            )
-        rate = float(np.linalg.norm(sample.angular_velocity))
-        if rate > bounds[1]:
-            return (
-                f'runaway: angular rate {rate:.4g} rad/s at t = {sample.t:.4f} s, far past '
-                'the '
-                f'{bounds[1] / RUNAWAY_FACTOR:.4g} rad/s the release allows'
-            )
-        distance = float(np.linalg.norm(sample.position - run.flight.initial.position))
-        if distance > MAX_DISTANCE_M:
-            return f'runaway: {distance:.4g} m from the release point at t = {sample.t:.4f} s'
-        if not sample.landed and sample.t > MAX_FLIGHT_S:
-            return f'no landing within {MAX_FLIGHT_S:g} s of simulated flight'
-        return None
-
-    def _check_validity(self, run: _FlightRun, sample: BallSample) -> None:
-        """
-        Warn once per flight when the total angle leaves the data range of a form in force.
-
-        A WARN event and a log line with :func:`football_ros.physics.aero.out_of_validity`.
-        """
-        if run.validity_warned:
+    def _check_validity(self, run: FlightRun, sample: BallSample) -> None:
+        """Warn once per flight when the total angle leaves the data range of a form in force."""
+        text = run.left_validity(sample)
+        if text is None:
             return
-        flight = run.flight
-        if run.valid_delta is None:
-            run.valid_delta = max_valid_delta(flight.model, flight.moment, flight.aero)
-        delta = float(sample.aero_angles[2])
-        if delta <= run.valid_delta:
-            return
-        run.validity_warned = True
-        text = (
-            f"flight '{run.order.request_id}' left the data range at t = {sample.t:.3f} s: "
-            + '; '.join(out_of_validity(delta, flight.model, flight.moment, flight.aero))
-        )
         with self._lock:
             self._events.append(('WARN', 'validity', text))
         self.get_logger().warning(text)
 
-    def _end_flight(self, run: _FlightRun, reason: str) -> None:
+    def _end_flight(self, run: FlightRun, reason: str) -> None:
         """
         End ``run`` with an ERROR event (log line + /diagnostics).
 
         Nothing more is published for it until the next release or reset.
         """
         with self._lock:
-            if run.ended is not None:
+            text = run.end(reason)
+            if text is None:
                 return
-            run.ended = reason
-            text = f"flight '{run.order.request_id}' ended: {reason}"
             self._events.append(('ERROR', 'error', text))
         self.get_logger().error(text)
 
-    def _publish_state(self, run: _FlightRun, sample: BallSample, stamp, at_rest: bool) -> None:
+    def _publish_state(self, run: FlightRun, sample: BallSample, stamp, at_rest: bool) -> None:
         msgs = self._state_msgs
         msgs.fill(sample, stamp, self.frame_id, self.child_frame_id, at_rest)
         self._pubs[qos.POSE].publish(msgs.pose)
@@ -683,7 +586,7 @@ class SimulatorNode(Node):
                     (
                         'WARN',
                         'linear_diverged',
-                        f"flight '{run.order.request_id}': the linear prediction "
+                        f"flight '{run.label}': the linear prediction "
                         f'overflowed at t = {sample.t:.3f} s; aero_angles_linear '
                         'is not published for the rest of this flight',
                     )
@@ -712,7 +615,7 @@ class SimulatorNode(Node):
         self._tf_pub.publish(mb.tf_message(sample, stamp, self.frame_id, self.child_frame_id))
 
     def _maybe_publish_markers(
-        self, run: _FlightRun, sample: BallSample, stamp, wall_ns: int, force: bool
+        self, run: FlightRun, sample: BallSample, stamp, wall_ns: int, force: bool
     ) -> None:
         if self.marker_rate <= 0:
             return
@@ -750,14 +653,14 @@ class SimulatorNode(Node):
             flight = run.flight
             values.update(
                 {
-                    'flight_id': run.order.request_id,
+                    'flight_id': run.label,
                     'ball': run.order.ball_name,
                     'flight_time': run.time,
                     'stable': flight.modes.stable,
                 }
             )
             if run.ended is not None:
-                level, message = 'ERROR', f"flight '{run.order.request_id}' ended: {run.ended}"
+                level, message = 'ERROR', f"flight '{run.label}' ended: {run.ended}"
             elif flight.landing_time is not None:
                 landing = flight.state_at(flight.landing_time)
                 values.update(
@@ -767,7 +670,7 @@ class SimulatorNode(Node):
                         'landing_y': float(landing[1]),
                     }
                 )
-                message = _landed_text(landing, flight.landing_time)
+                message = landed_text(landing, flight.landing_time)
             else:
                 message = f'flying: t = {run.time:.3f} s'
             if not flight.modes.stable and level == 'OK':
@@ -837,27 +740,6 @@ def _order_name(text: str) -> str:
 
 def _qualified(namespace: str, name: str) -> str:
     return f'{namespace.rstrip("/")}/{name}'
-
-
-def _runaway_bounds(flight: Flight) -> tuple[float, float]:
-    """
-    Speed [m/s] and angular rate [rad/s] past which a flight is a runaway.
-
-    RUNAWAY_FACTOR times the bounds of :mod:`football_ros.physics.limits` (ground speed <= air
-    speed + wind; |w| <= transverse bound + |p|).
-    """
-    wind = flight.params[limits.dyn.P_WIND:limits.dyn.P_WIND + 3]
-    speed = limits.max_air_speed(flight.initial, wind) + float(np.linalg.norm(wind))
-    rate = limits.fastest_rates(flight.params, flight.initial)['angular rate'] + abs(
-        flight.initial.spin
-    )
-    return RUNAWAY_FACTOR * speed, RUNAWAY_FACTOR * rate
-
-
-def _landed_text(position, time_of_flight: float) -> str:
-    return (
-        f'landed at x = {position[0]:.3f} m, y = {position[1]:.3f} m after {time_of_flight:.4f} s'
-    )
 
 
 def _warm_up() -> None:
