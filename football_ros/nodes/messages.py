@@ -27,7 +27,15 @@ from typing import Iterable, Mapping, Sequence, TYPE_CHECKING
 
 from builtin_interfaces.msg import Time
 from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
-from geometry_msgs.msg import Point, PoseStamped, Quaternion, Vector3, Vector3Stamped
+from geometry_msgs.msg import (
+    Point,
+    Pose,
+    PoseStamped,
+    Quaternion,
+    Twist,
+    Vector3,
+    Vector3Stamped,
+)
 from nav_msgs.msg import Odometry
 import numpy as np
 from std_msgs.msg import ColorRGBA, Header
@@ -76,6 +84,16 @@ def _vector(v: Sequence[float]) -> Vector3:
 
 def _quaternion(q: Sequence[float]) -> Quaternion:
     return Quaternion(x=float(q[0]), y=float(q[1]), z=float(q[2]), w=float(q[3]))
+
+
+def pose_of(position: Sequence[float], orientation: Sequence[float]) -> Pose:
+    """geometry_msgs/Pose: position [m] and orientation (x, y, z, w)."""
+    return Pose(position=_point(position), orientation=_quaternion(orientation))
+
+
+def twist_of(linear: Sequence[float], angular: Sequence[float]) -> Twist:
+    """geometry_msgs/Twist: linear [m/s] and angular [rad/s] velocity (frame: the caller's)."""
+    return Twist(linear=_vector(linear), angular=_vector(angular))
 
 
 def pose_stamped(sample: BallSample, stamp: Time, frame_id: str) -> PoseStamped:

@@ -65,12 +65,18 @@ from . import qos
 from .observation_hook import ObservationHook
 from .params import declare, ParamSpec
 from .runner import run_node
+
+try:  # the system package on a Jazzy install; pip_ros/simulation_interfaces on the pip ROS
+    from .simulation_services import SimulationServices
+except ImportError:  # pragma: no cover - no simulation_interfaces: the node runs without them
+    SimulationServices = None
 from ..physics import Release
 from ..physics.flight import BallSample, Flight
 from ..physics.frames import BODY_FRAME, FIELD_FRAME
 from ..physics.release import RPM
 from ..requests import capped, FlightOrder, load_strict
 from ..simulation.world import (  # noqa: F401  (MAX_*: the limits, documented here too)
+    Entity,
     FlightRun,
     landed_text,
     MAX_EVENTS,
@@ -133,6 +139,13 @@ PARAMETERS = (
         'model',
         'release',
         "Equations of motion: 'release' (as each release asks), 'paper' or 'full'",
+    ),
+    ParamSpec(
+        'max_entities',
+        100,
+        'Most entities (balls) in the world, the default one included; SpawnEntity past it is '
+        'refused',
+        (1, 1000),
     ),
 )
 
@@ -223,7 +236,12 @@ class SimulatorNode(Node):
         self._clock_msg = Clock()
 
         self._lock = threading.Lock()
-        self._world = World()
+        self._world = World(self.max_entities)
+        # Held by the pacer for a whole tick and by the simulation_interfaces services that
+        # change entities or step: taken before self._lock, never inside it.
+        self._world_lock = threading.RLock()
+        self._stopped = False  # SetSimulationState STOPPED (paused and reset)
+        self._entity_pubs: dict[str, tuple] = {}
         self._last_order: FlightOrder | None = None
         self._paused = False
         self._ahead = None  # (run, t, sample): the next tick's sample, integrated ahead
@@ -232,6 +250,13 @@ class SimulatorNode(Node):
         self.stats = {'ticks': 0, 'overruns': 0, 'skipped': 0, 'max_late_ms': 0.0}
         self._overruns_reported = 0
         self._rivals: tuple[str, ...] = ()
+        self._sim_services = None
+        if SimulationServices is not None:
+            self._sim_services = SimulationServices(self)
+        else:  # pragma: no cover - a ROS without simulation_interfaces
+            self.get_logger().warning(
+                'simulation_interfaces is not installed: no spawn/step/... services'
+            )
         self._last_error_log = 0.0
         self.create_timer(RIVAL_CHECK_PERIOD_S, self._check_rivals)
         _warm_up()
@@ -263,6 +288,7 @@ class SimulatorNode(Node):
                     self._use_sim_time = bool(p.value)
                 else:
                     setattr(self, p.name, p.value)
+            self._world.max_entities = int(self.max_entities)
             for _entity, run in self._world.runs():
                 self._rebase(run)
         return SetParametersResult(successful=True)
@@ -365,7 +391,7 @@ class SimulatorNode(Node):
 
     def _on_pause(self, request, response):
         with self._lock:
-            self._paused = bool(request.data)
+            self._paused, self._stopped = bool(request.data), False
         response.success = True
         response.message = 'paused' if request.data else 'running'
         self.get_logger().info(f'simulation {response.message}')
@@ -474,17 +500,25 @@ class SimulatorNode(Node):
         return wall_stamp_ns
 
     def _tick(self, wall_stamp_ns: int, period_ns: int) -> None:
-        with self._lock:
-            self.stats['ticks'] += 1
-            if not self._paused:
-                self._sim_clock_ns += int(period_ns * self.real_time_factor)
-            stamp_ns = self._stamp_ns(wall_stamp_ns)
-            publish_clock = self.publish_clock
-            run_t = self._select_run(wall_stamp_ns)
-        stamp = mb.time_msg(stamp_ns)
-        if publish_clock:
-            self._clock_msg.clock = stamp
-            self._clock_pub.publish(self._clock_msg)
+        with self._world_lock:
+            with self._lock:
+                self.stats['ticks'] += 1
+                if not self._paused:
+                    self._sim_clock_ns += int(period_ns * self.real_time_factor)
+                stamp_ns = self._stamp_ns(wall_stamp_ns)
+                publish_clock = self.publish_clock
+                run_t = self._select_run(wall_stamp_ns)
+                items = self._select_entities(wall_stamp_ns)
+            stamp = mb.time_msg(stamp_ns)
+            if publish_clock:
+                self._clock_msg.clock = stamp
+                self._clock_pub.publish(self._clock_msg)
+            self._tick_default(run_t, stamp, wall_stamp_ns)
+            if items:
+                self._tick_entities(items, stamp, wall_stamp_ns)
+
+    def _tick_default(self, run_t, stamp, wall_stamp_ns: int) -> None:
+        """Tick the default entity: today's single-ball topics, markers and camera."""
         for _attempt in range(2):  # a release that replaces the flight meanwhile: its first tick
             if run_t is None:
                 return
@@ -505,6 +539,7 @@ class SimulatorNode(Node):
                     run_t = self._select_run(wall_stamp_ns)
                     continue
                 at_rest = run.landed_reported  # a held landed state (the landing has the impact)
+                self._world.default.last = sample
                 text = run.mark_landed(sample, wall_stamp_ns)
                 if text:
                     landed_now = True
@@ -518,6 +553,149 @@ class SimulatorNode(Node):
         self._publish_state(run, sample, stamp, at_rest)
         self._maybe_publish_markers(run, sample, stamp, wall_stamp_ns, force=landed_now)
         self._integrate_ahead(run)
+
+    def _select_entities(self, wall_stamp_ns: int) -> list[tuple[Entity, FlightRun, float]]:
+        """Return the spawned entities' runs this tick publishes, with their times (locked)."""
+        if self._paused:
+            return []
+        items = []
+        for entity in self._world.entities.values():
+            run = entity.run
+            if entity.spawned and run is not None:
+                t = run.select(wall_stamp_ns, self.hold_rate)
+                if t is not None:
+                    items.append((entity, run, t))
+        return items
+
+    def _tick_entities(self, items, stamp, wall_stamp_ns: int) -> None:
+        """
+        Tick the spawned entities: one kernel call for all, then their pose, odom and TF.
+
+        World lock held: no entity is deleted or thrown meanwhile.
+        """
+        held = [run.landed_reported for _entity, run, _t in items]
+        samples = self._world.sample([(run, t) for _entity, run, t in items])
+        publish = []
+        with self._lock:
+            for (entity, run, _t), sample, at_rest in zip(items, samples, held):
+                if self._world.judge(entity, run, sample, wall_stamp_ns):
+                    publish.append((entity, sample, at_rest))
+        self._publish_entities(publish, stamp)
+
+    def _publish_entities(self, items, stamp) -> None:
+        """Publish (entity, sample, at_rest) on football/<name>/pose, .../odom and one /tf."""
+        transforms = []
+        for entity, sample, at_rest in items:
+            pubs = self._entity_pubs.get(entity.name)
+            if pubs is None:
+                continue
+            child = f'{self.child_frame_id}/{entity.name}'
+            pubs[0].publish(mb.pose_stamped(sample, stamp, self.frame_id))
+            odom = mb.odometry(sample, stamp, self.frame_id, child)
+            if at_rest or sample.landed:
+                odom.twist.twist = mb.twist_of((0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+            pubs[1].publish(odom)
+            transforms.append(mb.tf_message(sample, stamp, self.frame_id, child).transforms[0])
+        if transforms and self._tf_pub is not None and self.publish_tf:
+            self._tf_pub.publish(mb.TFMessage(transforms=transforms))
+
+    # --- simulation_interfaces (simulation_services.py calls these, executor thread) ---------
+    def add_entity_publishers(self, entity: Entity) -> None:
+        """Create a spawned entity's state publishers (world lock held)."""
+        self._entity_pubs[entity.name] = (
+            self.create_publisher(PoseStamped, qos.entity_topic(entity.name, 'pose'), qos.STATE),
+            self.create_publisher(Odometry, qos.entity_topic(entity.name, 'odom'), qos.STATE),
+        )
+
+    def remove_entity_publishers(self, entity: Entity) -> None:
+        """Destroy a deleted entity's publishers (world lock held)."""
+        for pub in self._entity_pubs.pop(entity.name, ()):
+            self.destroy_publisher(pub)
+
+    def stamp_now(self):
+        """
+        Return the stamp of a message sent now: simulated clock, /clock or wall clock.
+
+        Takes no lock (one integer read), so callers may hold the node's lock.
+        """
+        return mb.time_msg(self._stamp_ns(time.time_ns()))
+
+    def throw_entity(self, entity: Entity, order: FlightOrder, flight: Flight) -> None:
+        """Fly ``flight`` as ``entity`` from now on (the default entity: as a release)."""
+        if not entity.spawned:
+            self._start(order, flight)
+            return
+        run = FlightRun(entity.name, flight, order)
+        self._rebase(run)
+        modes = flight.modes
+        text = (
+            f"entity '{entity.name}' thrown at {np.linalg.norm(order.initial.velocity):.2f} m/s "
+            f'({"stable" if modes.stable else "gyroscopically UNSTABLE"})'
+        )
+        with self._lock:
+            self._world.throw(entity, run)
+            self._events.append(('OK' if modes.stable else 'WARN', 'released', text))
+
+    def reset_world(self, clock: bool, state: bool, spawned: bool) -> None:
+        """Reset: the clock to 0, entities back to their spawn poses, spawned ones deleted."""
+        with self._world_lock:
+            with self._lock:
+                doomed = [e for e in self._world.entities.values() if e.spawned] if spawned else []
+                self._world.reset(state=state, spawned=spawned)
+                if state:
+                    self._ahead = None
+                if clock:
+                    self._sim_clock_ns = 0
+                    self._tf_last = (None, -1)
+            for entity in doomed:
+                self.remove_entity_publishers(entity)
+        scopes = (('time', clock), ('state', state), ('spawned', spawned))
+        self.get_logger().info('reset: ' + ', '.join(k for k, v in scopes if v))
+
+    def simulation_state(self) -> int:
+        """simulation_interfaces SimulationState: STOPPED 0, PLAYING 1, PAUSED 2."""
+        with self._lock:
+            return 0 if self._stopped else (2 if self._paused else 1)
+
+    def set_simulation_state(self, target: int) -> None:
+        """Play (1), pause (2) or stop (0: pause and reset everything)."""
+        if target == 0:
+            with self._lock:
+                self._paused = True
+            self.reset_world(clock=True, state=True, spawned=True)
+        with self._lock:
+            self._paused, self._stopped = target != 1, target == 0
+        self.get_logger().info(f'simulation {("stopped", "playing", "paused")[target]}')
+
+    def step_world(self, n_steps: int) -> None:
+        """
+        Lock-step: advance every flight by exactly ``n_steps`` integration steps (paused).
+
+        The simulated clock advances by the same; the new states are published stamped with
+        it (publish_clock) and /clock with it.
+        """
+        if n_steps <= 0:
+            return
+        wall_ns = time.time_ns()
+        with self._world_lock:
+            with self._lock:
+                self._ahead = None
+                held = {e.name for e, run in self._world.runs() if run.landed_reported}
+            out = self._world.step(n_steps, self.integration_step, wall_ns)
+            with self._lock:
+                self._sim_clock_ns += int(round(n_steps * self.integration_step * 1e9))
+                self._stopped = False
+                stamp = mb.time_msg(self._stamp_ns(wall_ns))
+            if self.publish_clock:
+                self._clock_msg.clock = stamp
+                self._clock_pub.publish(self._clock_msg)
+            extras = []
+            for entity, sample in out:
+                if entity.spawned:
+                    extras.append((entity, sample, entity.name in held))
+                else:
+                    self._publish_state(entity.run, sample, stamp, entity.name in held)
+            self._publish_entities(extras, stamp)
 
     def _integrate_ahead(self, run: FlightRun) -> None:
         """
@@ -748,6 +926,10 @@ def _warm_up() -> None:
 
     compile_ahead()  # every kernel of the nodes and commands (compiled once, then loaded)
     flight = Flight.from_release(Release())
+    world = World()
+    entity = world.spawn('warm_up', 'football_ros://american', [0, 0, 0], [0, 0, 0, 1])
+    world.throw(entity, FlightRun('warm_up', Flight.from_release(Release())))
+    world.sample([(entity.run, 0.0105)])  # the world's kernel (kernel.advance_many)
     flight.sample(0.0105)
     sample = flight.sample(10.0)
     mb.StateMessages().fill(sample, mb.time_msg(0), FIELD_FRAME, BODY_FRAME)
