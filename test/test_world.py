@@ -252,3 +252,19 @@ def test_kernel_equals_flight_at_any_time_and_landing(release):
         ):
             np.testing.assert_allclose(a, b, rtol=0, atol=1e-9)
     assert got.landed and got.position[2] == 0.0
+
+
+def test_scratch_rk4_step_is_bit_for_bit_dynamics_rk4_step():
+    from football_ros.physics import dynamics as dyn
+    from football_ros.simulation import kernel
+
+    scratch = np.empty((5, dyn.N_STATE))
+    for release in (Release(), Release(model='full', ball='rugby', spin_rpm=-250.0)):
+        flight = Flight.from_release(release)
+        states = flight.simulate(rate=50.0).states
+        for y in states:
+            for dt in (1e-3, 3.7e-4, 0.0):
+                a, b = np.empty(dyn.N_STATE), np.empty(dyn.N_STATE)
+                dyn.rk4_step(y, dt, flight.params, a)
+                kernel.rk4_step_into(y, dt, flight.params, b, scratch)
+                assert np.array_equal(a, b)

@@ -86,7 +86,7 @@ FEATURES = (
     SimulatorFeatures.STEP_SIMULATION_ACTION,
 )
 """Exactly what works (GetSimulatorFeatures)."""
-MAX_FEEDBACK = 100
+MAX_FEEDBACK = 20
 """Most feedback messages of one SimulateSteps goal (one per chunk of steps)."""
 RESET_SCOPES = ResetSimulation.Request.SCOPE_TIME | ResetSimulation.Request.SCOPE_STATE | (
     ResetSimulation.Request.SCOPE_SPAWNED
@@ -469,8 +469,8 @@ class SimulationServices:
             done = 0
             while done < steps:
                 n = min(chunk, steps - done)
-                self._node.step_world(n)
                 done += n
+                self._node.step_world(n, publish=done == steps)  # the states once, at the end
                 goal_handle.publish_feedback(
                     SimulateSteps.Feedback(completed_steps=done, remaining_steps=steps - done)
                 )

@@ -54,6 +54,7 @@ from geometry_msgs.msg import PoseStamped, Vector3Stamped
 from nav_msgs.msg import Odometry
 import numpy as np
 from rcl_interfaces.msg import SetParametersResult
+from rclpy.event_handler import PublisherEventCallbacks
 from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
 from std_msgs.msg import String
@@ -601,10 +602,19 @@ class SimulatorNode(Node):
 
     # --- simulation_interfaces (simulation_services.py calls these, executor thread) ---------
     def add_entity_publishers(self, entity: Entity) -> None:
-        """Create a spawned entity's state publishers (world lock held)."""
-        self._entity_pubs[entity.name] = (
-            self.create_publisher(PoseStamped, qos.entity_topic(entity.name, 'pose'), qos.STATE),
-            self.create_publisher(Odometry, qos.entity_topic(entity.name, 'odom'), qos.STATE),
+        """
+        Create a spawned entity's state publishers (world lock held).
+
+        Without rclpy's default QoS-event handlers: each would be a waitable of the node, and
+        the executor's cost per wake-up grows with the square of their number (hundreds of
+        entities made every service answer take over 100 ms).
+        """
+        quiet = PublisherEventCallbacks(use_default_callbacks=False)
+        self._entity_pubs[entity.name] = tuple(
+            self.create_publisher(
+                msg_type, qos.entity_topic(entity.name, leaf), qos.STATE, event_callbacks=quiet
+            )
+            for msg_type, leaf in ((PoseStamped, 'pose'), (Odometry, 'odom'))
         )
 
     def remove_entity_publishers(self, entity: Entity) -> None:
@@ -667,12 +677,12 @@ class SimulatorNode(Node):
             self._paused, self._stopped = target != 1, target == 0
         self.get_logger().info(f'simulation {("stopped", "playing", "paused")[target]}')
 
-    def step_world(self, n_steps: int) -> None:
+    def step_world(self, n_steps: int, publish: bool = True) -> None:
         """
         Lock-step: advance every flight by exactly ``n_steps`` integration steps (paused).
 
-        The simulated clock advances by the same; the new states are published stamped with
-        it (publish_clock) and /clock with it.
+        The simulated clock advances by the same; with ``publish`` the new states are
+        published stamped with it (publish_clock) and /clock with it.
         """
         if n_steps <= 0:
             return
@@ -686,6 +696,8 @@ class SimulatorNode(Node):
                 self._sim_clock_ns += int(round(n_steps * self.integration_step * 1e9))
                 self._stopped = False
                 stamp = mb.time_msg(self._stamp_ns(wall_ns))
+            if not publish:
+                return
             if self.publish_clock:
                 self._clock_msg.clock = stamp
                 self._clock_pub.publish(self._clock_msg)
