@@ -268,3 +268,23 @@ def test_scratch_rk4_step_is_bit_for_bit_dynamics_rk4_step():
                 dyn.rk4_step(y, dt, flight.params, a)
                 kernel.rk4_step_into(y, dt, flight.params, b, scratch)
                 assert np.array_equal(a, b)
+
+
+def test_batch_guard_clears_fine_balls_and_ends_a_broken_one():
+    world = wd.World()
+    a = world.spawn('a', 'football_ros://american', [0, 0, 0], UPRIGHT)
+    b = world.spawn('b', 'football_ros://american', [0, 0, 0], UPRIGHT)
+    for entity in (a, b):
+        world.throw(entity, run_of(Release(), entity.name))
+    world.step(10, 0.001, 0)
+    assert a.run.cleared is a.last and b.run.cleared is b.last  # the vectorised guard
+    b.run.y[3] = np.nan  # a broken state (the velocity)
+    out = world.step(10, 0.001, 0)
+    assert [e.name for e, _s in out] == ['a']
+    assert b.run.ended and 'non-finite' in b.run.ended
+    errors = [text for level, event, text in world.events if event == 'error']
+    assert errors == [f"flight 'b' ended: {b.run.ended}"]
+    b.run.ended, b.run.y, b.run.done = None, b.run.flight.y0.copy(), 0
+    b.run.y[0] = 2e5  # finite but far away: the batch guard defers to runaway()
+    world.step(1, 0.001, 0)
+    assert 'from the release point' in b.run.ended

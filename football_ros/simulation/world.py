@@ -115,6 +115,7 @@ class FlightRun:
     y: np.ndarray | None = None
     done: int = 0
     landing: BallSample | None = None
+    cleared: BallSample | None = None  # the sample the batch guard found fine (judge skips)
 
     @property
     def time(self) -> float:
@@ -234,6 +235,35 @@ def runaway_bounds(flight: Flight) -> tuple[float, float]:
         flight.initial.spin
     )
     return RUNAWAY_FACTOR * speed, RUNAWAY_FACTOR * rate
+
+
+def _batch_guard(runs, states, described, landing_times, times) -> np.ndarray:
+    """
+    Return, per ball of a kernel call, whether :meth:`FlightRun.runaway` would find nothing.
+
+    The same conditions, on the whole batch at once (a ball that fails any goes through
+    runaway() itself, which words the reason).
+    """
+    for run in runs:
+        if run.bounds is None:
+            run.bounds = runaway_bounds(run.flight)
+    bounds = np.array([run.bounds for run in runs])
+    origins = np.array([run.flight.initial.position for run in runs])
+    position = states[:, dyn.R:dyn.R + 3]
+    velocity = states[:, dyn.V:dyn.V + 3]
+    omega = described[:, dyn.D_OMEGA:dyn.D_OMEGA + 3]
+    landed = ~np.isnan(landing_times)
+    t = np.where(landed, landing_times, times)
+    with np.errstate(invalid='ignore', over='ignore'):
+        return (
+            np.isfinite(position).all(axis=1)
+            & np.isfinite(velocity).all(axis=1)
+            & np.isfinite(described).all(axis=1)
+            & (np.linalg.norm(velocity, axis=1) <= bounds[:, 0])
+            & (np.linalg.norm(omega, axis=1) <= bounds[:, 1])
+            & (np.linalg.norm(position - origins, axis=1) <= MAX_DISTANCE_M)
+            & (landed | (t <= MAX_FLIGHT_S))
+        )
 
 
 def landed_text(position, time_of_flight: float) -> str:
@@ -526,23 +556,25 @@ class World:
             kernel.advance_many(
                 states, done, steps, params, times, 0.0, new, described, landing_times
             )
+            fine = _batch_guard(runs, new, described, landing_times, times)
             nan2 = np.full(2, np.nan)
             for j, (k, run) in enumerate(zip(batch, runs)):
                 run.y, run.done = states[j], int(done[j])
                 landed = not math.isnan(landing_times[j])
                 d = described[j]
-                sample = BallSample(
+                sample = BallSample(  # views of this call's arrays: nothing else writes them
                     t=float(landing_times[j]) if landed else float(times[j]),
-                    position=new[j, dyn.R:dyn.R + 3].copy(),
-                    velocity=new[j, dyn.V:dyn.V + 3].copy(),
-                    orientation=d[dyn.D_ORIENT:dyn.D_ORIENT + 4].copy(),
-                    axis=d[dyn.D_AXIS:dyn.D_AXIS + 3].copy(),
-                    angular_velocity=d[dyn.D_OMEGA:dyn.D_OMEGA + 3].copy(),
-                    aero_angles=d[dyn.D_ALPHA:dyn.D_DELTA + 1].copy(),
+                    position=new[j, dyn.R:dyn.R + 3],
+                    velocity=new[j, dyn.V:dyn.V + 3],
+                    orientation=d[dyn.D_ORIENT:dyn.D_ORIENT + 4],
+                    axis=d[dyn.D_AXIS:dyn.D_AXIS + 3],
+                    angular_velocity=d[dyn.D_OMEGA:dyn.D_OMEGA + 3],
+                    aero_angles=d[dyn.D_ALPHA:dyn.D_DELTA + 1],
                     aero_angles_linear=nan2,
                     landed=landed,
                     aero_angles_quasi_steady=nan2,
                 )
+                run.cleared = sample if fine[j] else None
                 if landed:
                     run.landing = sample
                 out[k] = sample
@@ -555,7 +587,7 @@ class World:
         Queues the events; returns False when the guard ended the flight (the sample must not
         be published), else True (``entity.last`` is then the sample).
         """
-        problem = run.runaway(sample)
+        problem = None if run.cleared is sample else run.runaway(sample)
         if problem:
             text = run.end(problem)
             if text:
