@@ -59,7 +59,12 @@ setup(
             'ros-jazzy-rclpy[fastrtps]',
             'ros-jazzy-common-interfaces',
             'ros-jazzy-std-srvs',
-            # To build pip_ros/tf2_msgs (no wheel) with colcon into the venv: scripts/setup.sh.
+            # The simulator's SimulateSteps action server (rclpy.action) and the interfaces
+            # pip_ros/simulation_interfaces depends on.
+            'ros-jazzy-action-msgs',
+            'ros-jazzy-rcl-action',
+            # To build pip_ros/tf2_msgs and pip_ros/simulation_interfaces (no wheels) with colcon
+            # into the venv: scripts/setup.sh.
             'ros-jazzy-ament-cmake',
             'ros-jazzy-ament-cmake-ros',
             'ros-jazzy-ament-cmake-gmock',

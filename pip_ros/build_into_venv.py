@@ -15,6 +15,8 @@
 """
 Build the message packages in pip_ros/ with colcon into a venv of pip-installed ROS 2 Jazzy.
 
+tf2_msgs and simulation_interfaces (1.5.1, the Jazzy branch's interface files) have no wheel.
+
 Only for the pip ROS (scripts/setup.sh runs it): a real Jazzy install has these packages.
 The ROS wheels' CMake config files name the Python include directories of the machine that
 built them; those that do not exist here are pointed at this Python's before the build. The
@@ -36,7 +38,8 @@ import sys
 import sysconfig
 
 HERE = Path(__file__).resolve().parent
-PACKAGES = ('tf2_msgs',)
+# Built in this order; each only needs the wheels' packages.
+PACKAGES = ('tf2_msgs', 'simulation_interfaces')
 _INCLUDES = re.compile(r'(INTERFACE_INCLUDE_DIRECTORIES\s+")([^"]*)(")')
 
 

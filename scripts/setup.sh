@@ -23,9 +23,10 @@ if ! .venv/bin/python -m pip install --disable-pip-version-check -e ".[ros,test]
   echo "[setup] pip install failed; full log: .venv/pip-install.log" >&2
   exit 1
 fi
-# tf2_msgs has no wheel: build pip_ros/tf2_msgs with colcon into .venv (skipped once built).
+# tf2_msgs and simulation_interfaces have no wheel: build pip_ros/* with colcon into .venv
+# (each skipped once built; simulation_interfaces takes a few minutes the first time).
 if ! AMENT_PREFIX_PATH= .venv/bin/python pip_ros/build_into_venv.py; then
-  echo "[setup] building tf2_msgs failed (needs cmake and a C/C++ compiler)" >&2
+  echo "[setup] building tf2_msgs / simulation_interfaces failed (needs cmake and a C/C++ compiler)" >&2
   exit 1
 fi
 .venv/bin/python -c "import rclpy, football_ros; print('[setup] ok: rclpy and football_ros', football_ros.__version__)"

@@ -27,7 +27,15 @@ from typing import Iterable, Mapping, Sequence, TYPE_CHECKING
 
 from builtin_interfaces.msg import Time
 from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
-from geometry_msgs.msg import Point, PoseStamped, Quaternion, Vector3, Vector3Stamped
+from geometry_msgs.msg import (
+    Point,
+    Pose,
+    PoseStamped,
+    Quaternion,
+    Twist,
+    Vector3,
+    Vector3Stamped,
+)
 from nav_msgs.msg import Odometry
 import numpy as np
 from std_msgs.msg import ColorRGBA, Header
@@ -79,6 +87,22 @@ def vector3(v: Sequence[float]) -> Vector3:
 def quaternion(q: Sequence[float]) -> Quaternion:
     """geometry_msgs/Quaternion from (x, y, z, w)."""
     return Quaternion(x=float(q[0]), y=float(q[1]), z=float(q[2]), w=float(q[3]))
+
+
+def pose_of(position: Sequence[float], orientation: Sequence[float]) -> Pose:
+    """geometry_msgs/Pose: position [m] and orientation (x, y, z, w)."""
+    return Pose(position=point(position), orientation=quaternion(orientation))
+
+
+def twist_of(linear: Sequence[float], angular: Sequence[float]) -> Twist:
+    """geometry_msgs/Twist: linear [m/s] and angular [rad/s] velocity (frame: the caller's)."""
+    return Twist(linear=vector3(linear), angular=vector3(angular))
+
+
+def pose_stamped(sample: BallSample, stamp: Time, frame_id: str) -> PoseStamped:
+    """Position + orientation (body x = spin axis, spin angle included) in ``frame_id``."""
+    pose = pose_of(sample.position, sample.orientation)
+    return PoseStamped(header=header(stamp, frame_id), pose=pose)
 
 
 def odometry(sample: BallSample, stamp: Time, frame_id: str, child_frame_id: str) -> Odometry:

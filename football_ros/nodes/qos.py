@@ -35,6 +35,23 @@ FLIGHT_ACK = 'football/flight/ack'
 RESET_SERVICE = 'football/reset'
 PAUSE_SERVICE = 'football/pause'
 OBSERVATION, ESTIMATE = 'football/observation', 'football/estimate'  # camera fixes, tracker
+# The simulator's simulation_interfaces services and action: private names (~/ = under the
+# node's name), as ros_gz_sim names them under its server node.
+GET_SIMULATOR_FEATURES = '~/get_simulator_features'
+GET_SPAWNABLES = '~/get_spawnables'
+SPAWN_ENTITY = '~/spawn_entity'
+DELETE_ENTITY = '~/delete_entity'
+GET_ENTITIES = '~/get_entities'
+GET_ENTITY_INFO = '~/get_entity_info'
+GET_ENTITY_STATE = '~/get_entity_state'
+GET_ENTITIES_STATES = '~/get_entities_states'
+SET_ENTITY_STATE = '~/set_entity_state'
+RESET_SIMULATION = '~/reset_simulation'
+GET_SIMULATION_STATE = '~/get_simulation_state'
+SET_SIMULATION_STATE = '~/set_simulation_state'
+STEP_SIMULATION = '~/step_simulation'
+SIMULATE_STEPS = '~/simulate_steps'
+
 LANDING, PREDICTED_PATH = 'football/prediction/landing', 'football/prediction/path'  # tracker
 PLAN_REQUEST, PLAN_RESPONSE = 'football/plan/request', 'football/plan/response'  # planner
 PLAN_PATH = 'football/plan/path'
@@ -82,3 +99,8 @@ REQUEST = QoSProfile(
 # node): reliable, volatile (a simulator that is not there when a release is accepted must not
 # fly it later), as deep as the requests so that a burst is not cut short in transit.
 ORDER = REQUEST
+
+
+def entity_topic(entity: str, leaf: str) -> str:
+    """State topic of a spawned entity: football/<entity>/<leaf> (leaf 'pose' or 'odom')."""
+    return f'football/{entity}/{leaf}'

@@ -35,14 +35,13 @@ and at most ``MAX_EVENTS`` events wait for /diagnostics.
 
 Guard: a sample with a non-finite value, a speed or distance far past what the release allows,
 an exception while integrating, or no landing within ``MAX_FLIGHT_S`` ends the flight with an
-ERROR event; nothing non-finite is published.
+ERROR event; nothing non-finite is published. The flight run itself (time flown, guard, data
+range, landing, events) is ROS-free: :mod:`football_ros.simulation.world`.
 Topics, frames, units and QoS: msg_docs/.
 """
 
 from __future__ import annotations
 
-import collections
-from dataclasses import dataclass, field
 import gc
 import math
 import sys
@@ -55,6 +54,7 @@ from geometry_msgs.msg import PoseStamped, Vector3Stamped
 from nav_msgs.msg import Odometry
 import numpy as np
 from rcl_interfaces.msg import SetParametersResult
+from rclpy.event_handler import PublisherEventCallbacks
 from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
 from std_msgs.msg import String
@@ -66,12 +66,24 @@ from . import qos
 from .observation_hook import ObservationHook, PARAMETERS as OBSERVATION_PARAMETERS
 from .params import ParamSpec
 from .runner import run_node
-from ..physics import limits, Release
-from ..physics.aero import max_valid_delta, out_of_validity
+
+try:  # the system package on a Jazzy install; pip_ros/simulation_interfaces on the pip ROS
+    from .simulation_services import SimulationServices
+except ImportError:  # pragma: no cover - no simulation_interfaces: the node runs without them
+    SimulationServices = None
+from ..physics import Release
 from ..physics.flight import BallSample, Flight
 from ..physics.frames import BODY_FRAME, FIELD_FRAME
 from ..physics.release import RPM
 from ..requests import capped, FlightOrder, load_strict
+from ..simulation.world import (  # noqa: F401  (MAX_*: the limits, documented here too)
+    Entity,
+    FlightRun,
+    landed_text,
+    MAX_EVENTS,
+    MAX_FLIGHT_S,
+    World,
+)
 
 NODE_NAME = 'football_simulator'
 MODEL_CHOICES = ('release', 'paper', 'full')
@@ -80,14 +92,6 @@ MAX_CATCH_UP_S = 1.0
 MAX_STEPS_PER_SECOND = 2.0e5
 """Largest real_time_factor / integration_step [RK4 steps per wall second] (about 0.2 s of CPU
 per wall second at 0.85 us a step); larger combinations are refused (parameter callback)."""
-MAX_EVENTS = 32
-"""Events (released, landed, ERROR, ...) waiting for /diagnostics; older ones are dropped."""
-MAX_FLIGHT_S = 600.0
-"""A flight still in the air after this many simulated seconds is ended (ERROR)."""
-MAX_DISTANCE_M = 1.0e5
-"""A ball farther than this from its release point [m] is a runaway (ERROR)."""
-RUNAWAY_FACTOR = 10.0
-"""A speed or angular rate this many times the bound the release allows is a runaway."""
 RIVAL_CHECK_PERIOD_S = 1.0
 
 PARAMETERS = (
@@ -138,6 +142,13 @@ PARAMETERS = (
         "Equations of motion: 'release' (as each release asks), 'paper' or 'full'",
         choices=MODEL_CHOICES,
     ),
+    ParamSpec(
+        'max_entities',
+        100,
+        'Most entities (balls) in the world, the default one included; SpawnEntity past it is '
+        'refused',
+        (1, 1000),
+    ),
 )
 PUBLISH_TF = ParamSpec(
     'publish_tf',
@@ -169,44 +180,6 @@ def check_parameters(values: dict, flight_step: float | None = None) -> str | No
             'real-time tick allows: lower real_time_factor or raise integration_step'
         )
     return None
-
-
-class _Events(collections.deque):
-    """Bounded event queue (level, event, message); counts what it had to drop."""
-
-    def __init__(self) -> None:
-        super().__init__(maxlen=MAX_EVENTS)
-        self.dropped = 0
-
-    def append(self, item) -> None:
-        if len(self) == self.maxlen:
-            self.dropped += 1
-        super().append(item)
-
-
-@dataclass
-class _FlightRun:
-    """The flight in the air and its bookkeeping (guarded by the node's lock)."""
-
-    order: FlightOrder
-    flight: Flight
-    ticks: int = 0
-    tick_dt: float = 0.0  # simulated seconds per tick for this run
-    time_offset: float = 0.0  # simulated seconds flown before the last rate change
-    landed_reported: bool = False
-    last_hold_ns: int = 0
-    last_marker_ns: int | None = None
-    trail: collections.deque = field(default_factory=lambda: collections.deque(maxlen=500))
-    trail_count: int = 0  # positions ever appended to the trail
-    ended: str | None = None  # why the guard ended the flight (ERROR), None while fine
-    linear_diverged: bool = False  # the linear prediction overflowed (unstable ball)
-    bounds: tuple[float, float] | None = None  # runaway speed [m/s] and rate [rad/s]
-    valid_delta: float | None = None  # largest total angle inside the data ranges [rad]
-    validity_warned: bool = False  # the flight left a data range (warned once)
-
-    @property
-    def time(self) -> float:
-        return self.time_offset + self.ticks * self.tick_dt
 
 
 class SimulatorNode(Node):
@@ -265,15 +238,27 @@ class SimulatorNode(Node):
         self._clock_msg = Clock()
 
         self._lock = threading.Lock()
-        self._run: _FlightRun | None = None
+        self._world = World(self.max_entities)
+        # Held by the pacer for a whole tick and by the simulation_interfaces services that
+        # change entities or step: taken before self._lock, never inside it.
+        self._world_lock = threading.RLock()
+        self._stopped = False  # SetSimulationState STOPPED (paused and reset)
+        self._entity_pubs: dict[str, tuple] = {}
         self._last_order: FlightOrder | None = None
         self._paused = False
         self._ahead = None  # (run, t, sample): the next tick's sample, integrated ahead
         self._sim_clock_ns = 0
-        self._events: _Events = _Events()  # (level, event, message) to report
+        self._events = self._world.events  # (level, event, message) to report
         self.stats = {'ticks': 0, 'overruns': 0, 'skipped': 0, 'max_late_ms': 0.0}
         self._overruns_reported = 0
         self._rivals: tuple[str, ...] = ()
+        self._sim_services = None
+        if SimulationServices is not None:
+            self._sim_services = SimulationServices(self)
+        else:  # pragma: no cover - a ROS without simulation_interfaces
+            self.get_logger().warning(
+                'simulation_interfaces is not installed: no spawn/step/... services'
+            )
         self._last_error_log = 0.0
         self.create_timer(RIVAL_CHECK_PERIOD_S, self._check_rivals)
         _warm_up()
@@ -305,16 +290,19 @@ class SimulatorNode(Node):
                     self._use_sim_time = bool(p.value)
                 else:
                     setattr(self, p.name, p.value)
-            if self._run is not None:
-                self._rebase(self._run)
+            self._world.max_entities = int(self.max_entities)
+            for _entity, run in self._world.runs():
+                self._rebase(run)
         return SetParametersResult(successful=True)
 
-    def _rebase(self, run: _FlightRun) -> None:
+    @property
+    def _run(self) -> FlightRun | None:
+        """Return the default entity's flight run (the release node's ball)."""
+        return self._world.default.run
+
+    def _rebase(self, run: FlightRun) -> None:
         """Keep the flown time and continue with the current rate and real-time factor."""
-        run.time_offset, run.ticks = run.time, 0
-        run.tick_dt = self.real_time_factor / self.publish_rate
-        if run.trail.maxlen != max(self.trail_length, 1):
-            run.trail = collections.deque(run.trail, maxlen=max(self.trail_length, 1))
+        run.rebase(self.real_time_factor / self.publish_rate, self.trail_length)
 
     def _on_order(self, msg: String) -> None:
         """
@@ -366,9 +354,10 @@ class SimulatorNode(Node):
         )
         with self._lock:
             replaced = self._run is not None and self._run.flight.landing_time is None
-            run = _FlightRun(order, flight)
+            run = FlightRun(order.request_id, flight, order)
             self._rebase(run)
-            self._run, self._last_order = run, order
+            self._world.throw(self._world.default, run)
+            self._last_order = order
             self._events.append(('OK' if modes.stable else 'WARN', 'released', text))
         if replaced:
             self.get_logger().info('the flight in the air is replaced by a new release')
@@ -404,7 +393,7 @@ class SimulatorNode(Node):
 
     def _on_pause(self, request, response):
         with self._lock:
-            self._paused = bool(request.data)
+            self._paused, self._stopped = bool(request.data), False
         response.success = True
         response.message = 'paused' if request.data else 'running'
         self.get_logger().info(f'simulation {response.message}')
@@ -513,17 +502,25 @@ class SimulatorNode(Node):
         return wall_stamp_ns
 
     def _tick(self, wall_stamp_ns: int, period_ns: int) -> None:
-        with self._lock:
-            self.stats['ticks'] += 1
-            if not self._paused:
-                self._sim_clock_ns += int(period_ns * self.real_time_factor)
-            stamp_ns = self._stamp_ns(wall_stamp_ns)
-            publish_clock = self.publish_clock
-            run_t = self._select_run(wall_stamp_ns)
-        stamp = mb.time_msg(stamp_ns)
-        if publish_clock:
-            self._clock_msg.clock = stamp
-            self._clock_pub.publish(self._clock_msg)
+        with self._world_lock:
+            with self._lock:
+                self.stats['ticks'] += 1
+                if not self._paused:
+                    self._sim_clock_ns += int(period_ns * self.real_time_factor)
+                stamp_ns = self._stamp_ns(wall_stamp_ns)
+                publish_clock = self.publish_clock
+                run_t = self._select_run(wall_stamp_ns)
+                items = self._select_entities(wall_stamp_ns)
+            stamp = mb.time_msg(stamp_ns)
+            if publish_clock:
+                self._clock_msg.clock = stamp
+                self._clock_pub.publish(self._clock_msg)
+            self._tick_default(run_t, stamp, wall_stamp_ns)
+            if items:
+                self._tick_entities(items, stamp, wall_stamp_ns)
+
+    def _tick_default(self, run_t, stamp, wall_stamp_ns: int) -> None:
+        """Tick the default entity: today's single-ball topics, markers and camera."""
         for _attempt in range(2):  # a release that replaces the flight meanwhile: its first tick
             if run_t is None:
                 return
@@ -534,7 +531,7 @@ class SimulatorNode(Node):
                 sample = ahead[2]
             else:  # outside the lock: many steps at a high real-time factor
                 sample = run.flight.sample(t)
-            problem = self._runaway(run, sample)
+            problem = run.runaway(sample)
             if problem:
                 self._end_flight(run, problem)
                 return
@@ -544,11 +541,10 @@ class SimulatorNode(Node):
                     run_t = self._select_run(wall_stamp_ns)
                     continue
                 at_rest = run.landed_reported  # a held landed state (the landing has the impact)
-                if sample.landed and not run.landed_reported:
-                    run.landed_reported, run.last_hold_ns, landed_now = True, wall_stamp_ns, True
-                    text = f"flight '{run.order.request_id}' " + _landed_text(
-                        sample.position, sample.t
-                    )
+                self._world.default.last = sample
+                text = run.mark_landed(sample, wall_stamp_ns)
+                if text:
+                    landed_now = True
                     self._events.append(('OK', 'landed', text))
             break
         else:
@@ -560,7 +556,161 @@ class SimulatorNode(Node):
         self._maybe_publish_markers(run, sample, stamp, wall_stamp_ns, force=landed_now)
         self._integrate_ahead(run)
 
-    def _integrate_ahead(self, run: _FlightRun) -> None:
+    def _select_entities(self, wall_stamp_ns: int) -> list[tuple[Entity, FlightRun, float]]:
+        """Return the spawned entities' runs this tick publishes, with their times (locked)."""
+        if self._paused:
+            return []
+        items = []
+        for entity in self._world.entities.values():
+            run = entity.run
+            if entity.spawned and run is not None:
+                t = run.select(wall_stamp_ns, self.hold_rate)
+                if t is not None:
+                    items.append((entity, run, t))
+        return items
+
+    def _tick_entities(self, items, stamp, wall_stamp_ns: int) -> None:
+        """
+        Tick the spawned entities: one kernel call for all, then their pose, odom and TF.
+
+        World lock held: no entity is deleted or thrown meanwhile.
+        """
+        held = [run.landed_reported for _entity, run, _t in items]
+        samples = self._world.sample([(run, t) for _entity, run, t in items])
+        publish = []
+        with self._lock:
+            for (entity, run, _t), sample, at_rest in zip(items, samples, held):
+                if self._world.judge(entity, run, sample, wall_stamp_ns):
+                    publish.append((entity, sample, at_rest))
+        self._publish_entities(publish, stamp)
+
+    def _publish_entities(self, items, stamp) -> None:
+        """Publish (entity, sample, at_rest) on football/<name>/pose, .../odom and one /tf."""
+        transforms = []
+        for entity, sample, at_rest in items:
+            pubs = self._entity_pubs.get(entity.name)
+            if pubs is None:
+                continue
+            child = f'{self.child_frame_id}/{entity.name}'
+            pubs[0].publish(mb.pose_stamped(sample, stamp, self.frame_id))
+            odom = mb.odometry(sample, stamp, self.frame_id, child)
+            if at_rest or sample.landed:
+                odom.twist.twist = mb.twist_of((0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+            pubs[1].publish(odom)
+            transforms.append(mb.tf_message(sample, stamp, self.frame_id, child).transforms[0])
+        if transforms and self._tf_pub is not None and self.publish_tf:
+            self._tf_pub.publish(mb.TFMessage(transforms=transforms))
+
+    # --- simulation_interfaces (simulation_services.py calls these, executor thread) ---------
+    def add_entity_publishers(self, entity: Entity) -> None:
+        """
+        Create a spawned entity's state publishers (world lock held).
+
+        Without rclpy's default QoS-event handlers: each would be a waitable of the node, and
+        the executor's cost per wake-up grows with the square of their number (hundreds of
+        entities made every service answer take over 100 ms).
+        """
+        quiet = PublisherEventCallbacks(use_default_callbacks=False)
+        self._entity_pubs[entity.name] = tuple(
+            self.create_publisher(
+                msg_type, qos.entity_topic(entity.name, leaf), qos.STATE, event_callbacks=quiet
+            )
+            for msg_type, leaf in ((PoseStamped, 'pose'), (Odometry, 'odom'))
+        )
+
+    def remove_entity_publishers(self, entity: Entity) -> None:
+        """Destroy a deleted entity's publishers (world lock held)."""
+        for pub in self._entity_pubs.pop(entity.name, ()):
+            self.destroy_publisher(pub)
+
+    def stamp_now(self):
+        """
+        Return the stamp of a message sent now: simulated clock, /clock or wall clock.
+
+        Takes no lock (one integer read), so callers may hold the node's lock.
+        """
+        return mb.time_msg(self._stamp_ns(time.time_ns()))
+
+    def throw_entity(self, entity: Entity, order: FlightOrder, flight: Flight) -> None:
+        """Fly ``flight`` as ``entity`` from now on (the default entity: as a release)."""
+        if not entity.spawned:
+            self._start(order, flight)
+            return
+        run = FlightRun(entity.name, flight, order)
+        self._rebase(run)
+        modes = flight.modes
+        text = (
+            f"entity '{entity.name}' thrown at {np.linalg.norm(order.initial.velocity):.2f} m/s "
+            f'({"stable" if modes.stable else "gyroscopically UNSTABLE"})'
+        )
+        with self._lock:
+            self._world.throw(entity, run)
+            self._events.append(('OK' if modes.stable else 'WARN', 'released', text))
+
+    def reset_world(self, clock: bool, state: bool, spawned: bool) -> None:
+        """Reset: the clock to 0, entities back to their spawn poses, spawned ones deleted."""
+        with self._world_lock:
+            with self._lock:
+                doomed = [e for e in self._world.entities.values() if e.spawned] if spawned else []
+                self._world.reset(state=state, spawned=spawned)
+                if state:
+                    self._ahead = None
+                if clock:
+                    self._sim_clock_ns = 0
+                    self._tf_last = (None, -1)
+            for entity in doomed:
+                self.remove_entity_publishers(entity)
+        scopes = (('time', clock), ('state', state), ('spawned', spawned))
+        self.get_logger().info('reset: ' + ', '.join(k for k, v in scopes if v))
+
+    def simulation_state(self) -> int:
+        """simulation_interfaces SimulationState: STOPPED 0, PLAYING 1, PAUSED 2."""
+        with self._lock:
+            return 0 if self._stopped else (2 if self._paused else 1)
+
+    def set_simulation_state(self, target: int) -> None:
+        """Play (1), pause (2) or stop (0: pause and reset everything)."""
+        if target == 0:
+            with self._lock:
+                self._paused = True
+            self.reset_world(clock=True, state=True, spawned=True)
+        with self._lock:
+            self._paused, self._stopped = target != 1, target == 0
+        self.get_logger().info(f'simulation {("stopped", "playing", "paused")[target]}')
+
+    def step_world(self, n_steps: int, publish: bool = True) -> None:
+        """
+        Lock-step: advance every flight by exactly ``n_steps`` integration steps (paused).
+
+        The simulated clock advances by the same; with ``publish`` the new states are
+        published stamped with it (publish_clock) and /clock with it.
+        """
+        if n_steps <= 0:
+            return
+        wall_ns = time.time_ns()
+        with self._world_lock:
+            with self._lock:
+                self._ahead = None
+                held = {e.name for e, run in self._world.runs() if run.landed_reported}
+            out = self._world.step(n_steps, self.integration_step, wall_ns)
+            with self._lock:
+                self._sim_clock_ns += int(round(n_steps * self.integration_step * 1e9))
+                self._stopped = False
+                stamp = mb.time_msg(self._stamp_ns(wall_ns))
+            if not publish:
+                return
+            if self.publish_clock:
+                self._clock_msg.clock = stamp
+                self._clock_pub.publish(self._clock_msg)
+            extras = []
+            for entity, sample in out:
+                if entity.spawned:
+                    extras.append((entity, sample, entity.name in held))
+                else:
+                    self._publish_state(entity.run, sample, stamp, entity.name in held)
+            self._publish_entities(extras, stamp)
+
+    def _integrate_ahead(self, run: FlightRun) -> None:
         """
         Sample the next tick's time now, after publishing.
 
@@ -580,94 +730,37 @@ class SimulatorNode(Node):
             t = run.time
         self._ahead = (run, t, run.flight.sample(t))
 
-    def _select_run(self, wall_stamp_ns: int) -> tuple[_FlightRun, float] | None:
+    def _select_run(self, wall_stamp_ns: int) -> tuple[FlightRun, float] | None:
         """Return the run to publish this tick and its time [s], or None (lock held by caller)."""
         run = self._run
-        if run is None or self._paused or run.ended is not None:
+        if run is None or self._paused:
             return None
-        if run.landed_reported:
-            if self.hold_rate <= 0 or wall_stamp_ns - run.last_hold_ns < 1e9 / self.hold_rate:
-                return None
-            run.last_hold_ns = wall_stamp_ns
-        t = run.time
-        run.ticks += 1
-        return run, t
+        t = run.select(wall_stamp_ns, self.hold_rate)
+        return None if t is None else (run, t)
 
-    def _runaway(self, run: _FlightRun, sample: BallSample) -> str | None:
-        """Why ``sample`` must not be published (the flight then ends), or None."""
-        values = np.concatenate(
-            (
-                sample.position,
-                sample.velocity,
-                sample.orientation,
-                sample.axis,
-                sample.angular_velocity,
-                sample.aero_angles,
-            )
-        )
-        if not np.isfinite(values).all():
-            return f'the state became non-finite at t = {sample.t:.4f} s'
-        if run.bounds is None:
-            run.bounds = _runaway_bounds(run.flight)
-        bounds = run.bounds
-        speed = float(np.linalg.norm(sample.velocity))
-        if speed > bounds[0]:
-            return (
-                f'runaway: speed {speed:.4g} m/s at t = {sample.t:.4f} s, far past the '
-                f'{bounds[0] / RUNAWAY_FACTOR:.4g} m/s the release allows'
-            )
-        rate = float(np.linalg.norm(sample.angular_velocity))
-        if rate > bounds[1]:
-            return (
-                f'runaway: angular rate {rate:.4g} rad/s at t = {sample.t:.4f} s, far past '
-                'the '
-                f'{bounds[1] / RUNAWAY_FACTOR:.4g} rad/s the release allows'
-            )
-        distance = float(np.linalg.norm(sample.position - run.flight.initial.position))
-        if distance > MAX_DISTANCE_M:
-            return f'runaway: {distance:.4g} m from the release point at t = {sample.t:.4f} s'
-        if not sample.landed and sample.t > MAX_FLIGHT_S:
-            return f'no landing within {MAX_FLIGHT_S:g} s of simulated flight'
-        return None
-
-    def _check_validity(self, run: _FlightRun, sample: BallSample) -> None:
-        """
-        Warn once per flight when the total angle leaves the data range of a form in force.
-
-        A WARN event and a log line with :func:`football_ros.physics.aero.out_of_validity`.
-        """
-        if run.validity_warned:
+    def _check_validity(self, run: FlightRun, sample: BallSample) -> None:
+        """Warn once per flight when the total angle leaves the data range of a form in force."""
+        text = run.left_validity(sample)
+        if text is None:
             return
-        flight = run.flight
-        if run.valid_delta is None:
-            run.valid_delta = max_valid_delta(flight.model, flight.moment, flight.aero)
-        delta = float(sample.aero_angles[2])
-        if delta <= run.valid_delta:
-            return
-        run.validity_warned = True
-        text = (
-            f"flight '{run.order.request_id}' left the data range at t = {sample.t:.3f} s: "
-            + '; '.join(out_of_validity(delta, flight.model, flight.moment, flight.aero))
-        )
         with self._lock:
             self._events.append(('WARN', 'validity', text))
         self.get_logger().warning(text)
 
-    def _end_flight(self, run: _FlightRun, reason: str) -> None:
+    def _end_flight(self, run: FlightRun, reason: str) -> None:
         """
         End ``run`` with an ERROR event (log line + /diagnostics).
 
         Nothing more is published for it until the next release or reset.
         """
         with self._lock:
-            if run.ended is not None:
+            text = run.end(reason)
+            if text is None:
                 return
-            run.ended = reason
-            text = f"flight '{run.order.request_id}' ended: {reason}"
             self._events.append(('ERROR', 'error', text))
         self.get_logger().error(text)
 
-    def _publish_state(self, run: _FlightRun, sample: BallSample, stamp, at_rest: bool) -> None:
+    def _publish_state(self, run: FlightRun, sample: BallSample, stamp, at_rest: bool) -> None:
         msgs = self._state_msgs
         msgs.fill(sample, stamp, self.frame_id, self.child_frame_id, at_rest)
         self._pubs[qos.POSE].publish(msgs.pose)
@@ -684,7 +777,7 @@ class SimulatorNode(Node):
                     (
                         'WARN',
                         'linear_diverged',
-                        f"flight '{run.order.request_id}': the linear prediction "
+                        f"flight '{run.label}': the linear prediction "
                         f'overflowed at t = {sample.t:.3f} s; aero_angles_linear '
                         'is not published for the rest of this flight',
                     )
@@ -713,7 +806,7 @@ class SimulatorNode(Node):
         self._tf_pub.publish(mb.tf_message(sample, stamp, self.frame_id, self.child_frame_id))
 
     def _maybe_publish_markers(
-        self, run: _FlightRun, sample: BallSample, stamp, wall_ns: int, force: bool
+        self, run: FlightRun, sample: BallSample, stamp, wall_ns: int, force: bool
     ) -> None:
         if self.marker_rate <= 0:
             return
@@ -751,14 +844,14 @@ class SimulatorNode(Node):
             flight = run.flight
             values.update(
                 {
-                    'flight_id': run.order.request_id,
+                    'flight_id': run.label,
                     'ball': run.order.ball_name,
                     'flight_time': run.time,
                     'stable': flight.modes.stable,
                 }
             )
             if run.ended is not None:
-                level, message = 'ERROR', f"flight '{run.order.request_id}' ended: {run.ended}"
+                level, message = 'ERROR', f"flight '{run.label}' ended: {run.ended}"
             elif flight.landing_time is not None:
                 landing = flight.state_at(flight.landing_time)
                 values.update(
@@ -768,7 +861,7 @@ class SimulatorNode(Node):
                         'landing_y': float(landing[1]),
                     }
                 )
-                message = _landed_text(landing, flight.landing_time)
+                message = landed_text(landing, flight.landing_time)
             else:
                 message = f'flying: t = {run.time:.3f} s'
             if not flight.modes.stable and level == 'OK':
@@ -840,33 +933,16 @@ def _qualified(namespace: str, name: str) -> str:
     return f'{namespace.rstrip("/")}/{name}'
 
 
-def _runaway_bounds(flight: Flight) -> tuple[float, float]:
-    """
-    Speed [m/s] and angular rate [rad/s] past which a flight is a runaway.
-
-    RUNAWAY_FACTOR times the bounds of :mod:`football_ros.physics.limits` (ground speed <= air
-    speed + wind; |w| <= transverse bound + |p|).
-    """
-    wind = flight.params[limits.dyn.P_WIND:limits.dyn.P_WIND + 3]
-    speed = limits.max_air_speed(flight.initial, wind) + float(np.linalg.norm(wind))
-    rate = limits.fastest_rates(flight.params, flight.initial)['angular rate'] + abs(
-        flight.initial.spin
-    )
-    return RUNAWAY_FACTOR * speed, RUNAWAY_FACTOR * rate
-
-
-def _landed_text(position, time_of_flight: float) -> str:
-    return (
-        f'landed at x = {position[0]:.3f} m, y = {position[1]:.3f} m after {time_of_flight:.4f} s'
-    )
-
-
 def _warm_up() -> None:
     """Load the compiled kernels now, so that the first flight's ticks are not late."""
     from ..physics.precompile import compile_ahead
 
     compile_ahead()  # every kernel of the nodes and commands (compiled once, then loaded)
     flight = Flight.from_release(Release())
+    world = World()
+    entity = world.spawn('warm_up', 'football_ros://american', [0, 0, 0], [0, 0, 0, 1])
+    world.throw(entity, FlightRun('warm_up', Flight.from_release(Release())))
+    world.sample([(entity.run, 0.0105)])  # the world's kernel (kernel.advance_many)
     flight.sample(0.0105)
     sample = flight.sample(10.0)
     mb.StateMessages().fill(sample, mb.time_msg(0), FIELD_FRAME, BODY_FRAME)

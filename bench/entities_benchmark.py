@@ -1,0 +1,365 @@
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Many balls through simulation_interfaces: real-time pacing and lock-step speed (issue 19).
+
+    .venv/bin/python bench/entities_benchmark.py [--seconds 4] [--repeats 5]
+
+Real time: for each (balls, publish_rate) the simulator (a subprocess) spawns the balls with
+SpawnEntity, throws them with SetEntityState (lobs of 40 m/s at 75 deg: 7.9 s in the air,
+each on football/<name>/pose and .../odom and one /tf per tick), and its CPU time
+(/proc/<pid>/stat) and late or skipped ticks (its /diagnostics) are measured over
+``--seconds`` while every ball flies. Baselines from the same run and the same process:
+the idle simulator (no flight) at that rate and the single-ball path (the default entity
+flown by a flight order, as the release node does: today's six state topics, /tf, markers).
+CPU per ball-second = (CPU - idle CPU) / (balls x seconds).
+
+Lock-step: paused, StepSimulation(steps=1000) of 1 ms steps (1 s of flight) for 1 and 100
+balls in the air, timed end to end through the service (median of ``--repeats``); the same
+through the SimulateSteps action; 1000 calls of StepSimulation(steps=1); baselines: the
+offline Flight.state_at of one ball for 1 s in this process and a GetSimulationState round
+trip. Each measurement runs in a fresh client process: an rclpy client process that has seen
+many of the simulator's endpoints come and go, or made many calls, gets its answers ever
+later while the simulator's handler takes the same (< 1 ms for one step), and a new process
+does not: the client's cost, not the simulator's. Targets: real time with 0 missed ticks;
+lock-step >= 500x real time for 1 ball, >= 50x for 100.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+from pathlib import Path
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+os.environ.setdefault('ROS_DOMAIN_ID', str(150 + os.getpid() % 50))
+os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
+
+REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO))
+
+from diagnostic_msgs.msg import DiagnosticArray  # noqa: E402
+from football_ros.nodes import qos  # noqa: E402
+from football_ros.physics import Flight, Release  # noqa: E402
+from football_ros.requests import FlightOrder  # noqa: E402
+import rclpy  # noqa: E402
+from rclpy.action import ActionClient  # noqa: E402
+from simulation_interfaces.action import SimulateSteps  # noqa: E402
+from simulation_interfaces.msg import EntityState, Result, SimulationState  # noqa: E402
+from simulation_interfaces.srv import (  # noqa: E402
+    GetSimulationState,
+    ResetSimulation,
+    SetEntityState,
+    SetSimulationState,
+    SpawnEntity,
+    StepSimulation,
+)
+from std_msgs.msg import String  # noqa: E402
+
+NODE = '/football_simulator'
+LOB = Release(speed=40.0, elevation_deg=75.0)
+LOCK_STEP_LOB = Release(speed=60.0, elevation_deg=80.0)  # 12 s in the air
+
+
+class Simulator:
+    """The simulator node in a subprocess, its CPU time and its diagnostics."""
+
+    def __init__(self, rate: float, log_dir: Path) -> None:
+        self.log = log_dir / f'simulator_{rate:g}.log'
+        self.proc = subprocess.Popen(
+            [sys.executable, '-m', 'football_ros.cli', 'simulator', '--ros-args', '-p',
+             f'publish_rate:={rate}', '-p', 'max_entities:=200', '-p', 'marker_rate:=30.0'],
+            stdout=open(self.log, 'w'), stderr=subprocess.STDOUT, cwd=REPO,
+            env=dict(os.environ, PYTHONPATH=str(REPO)),
+        )
+        deadline = time.monotonic() + 120.0
+        while 'ready' not in self.log.read_text():
+            if self.proc.poll() is not None or time.monotonic() > deadline:
+                raise SystemExit(f'simulator did not start:\n{self.log.read_text()}')
+            time.sleep(0.1)
+
+    def stop(self) -> None:
+        self.proc.send_signal(2)
+        try:
+            self.proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+
+
+def cpu_seconds(pid: int) -> float:
+    """CPU seconds (user + system) of process ``pid`` so far."""
+    fields = Path(f'/proc/{pid}/stat').read_text().rsplit(')', 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf('SC_CLK_TCK')
+
+
+class Bench:
+    """Service clients and a /diagnostics subscription in this process."""
+
+    def __init__(self) -> None:
+        rclpy.init()
+        self.node = rclpy.create_node('entities_benchmark')
+        self.clients = {}
+        self.status = {}
+        self.node.create_subscription(
+            DiagnosticArray, qos.DIAGNOSTICS, self._on_diag, qos.DIAGNOSTICS_QOS
+        )
+        self.orders = self.node.create_publisher(String, qos.FLIGHT_ORDER, qos.ORDER)
+
+    def _on_diag(self, msg) -> None:
+        for status in msg.status:
+            if not status.name.endswith('event'):
+                self.status = {kv.key: kv.value for kv in status.values}
+
+    def call(self, srv_type, name: str, request, ok: bool = True):
+        client = self.clients.get(name)
+        if client is None:
+            client = self.clients[name] = self.node.create_client(srv_type, f'{NODE}/{name}')
+            if not client.wait_for_service(timeout_sec=30.0):
+                raise SystemExit(f'no {name}')
+        future = client.call_async(request)
+        rclpy.spin_until_future_complete(self.node, future, timeout_sec=120.0)
+        response = future.result()
+        if ok and hasattr(response, 'result') and response.result.result != Result.RESULT_OK:
+            raise SystemExit(f'{name}: {response.result.error_message}')
+        return response
+
+    def spin(self, seconds: float) -> None:
+        end = time.monotonic() + seconds
+        while time.monotonic() < end:
+            rclpy.spin_once(self.node, timeout_sec=0.05)
+
+    def late_ticks(self) -> tuple[int, int]:
+        """Return the simulator's late (caught up) and skipped (never published) ticks."""
+        self.status = {}
+        while 'overruns' not in self.status:
+            rclpy.spin_once(self.node, timeout_sec=0.1)
+        return int(self.status['overruns']), int(self.status['skipped_ticks'])
+
+    def set_state(self, state: int) -> None:
+        request = SetSimulationState.Request(state=SimulationState(state=state))
+        self.call(SetSimulationState, 'set_simulation_state', request, ok=False)
+
+    def reset(self) -> None:
+        request = ResetSimulation.Request(scope=ResetSimulation.Request.SCOPE_ALL)
+        self.call(ResetSimulation, 'reset_simulation', request)
+
+    def spawn_and_throw(self, n: int, release: Release = LOB) -> None:
+        st = release.initial_state()
+        for k in range(n):
+            spawn = SpawnEntity.Request(name=f'b{k}', uri='football_ros://american')
+            self.call(SpawnEntity, 'spawn_entity', spawn)
+            state = EntityState()
+            p, o = state.pose.position, state.pose.orientation
+            p.x, p.y, p.z = 0.0, 0.5 * k, 0.0
+            o.x, o.y, o.z, o.w = st.attitude.tolist()
+            v, w = state.twist.linear, state.twist.angular
+            v.x, v.y, v.z = st.velocity.tolist()
+            w.x, w.y, w.z = st.angular_velocity().tolist()
+            request = SetEntityState.Request(entity=f'b{k}', state=state)
+            self.call(SetEntityState, 'set_entity_state', request)
+
+    def step(self, steps: int) -> float:
+        start = time.perf_counter()
+        self.call(StepSimulation, 'step_simulation', StepSimulation.Request(steps=steps))
+        return time.perf_counter() - start
+
+    def simulate_steps(self, steps: int) -> float:
+        client = ActionClient(self.node, SimulateSteps, f'{NODE}/simulate_steps')
+        client.wait_for_server(timeout_sec=30.0)
+        start = time.perf_counter()
+        goal = client.send_goal_async(SimulateSteps.Goal(steps=steps))
+        rclpy.spin_until_future_complete(self.node, goal, timeout_sec=60.0)
+        done = goal.result().get_result_async()
+        rclpy.spin_until_future_complete(self.node, done, timeout_sec=60.0)
+        elapsed = time.perf_counter() - start
+        client.destroy()
+        return elapsed
+
+
+def window(bench: Bench, pid: int, seconds: float) -> tuple[float, int, int]:
+    """CPU seconds, late and skipped ticks of the simulator over ``seconds``."""
+    late, skipped = bench.late_ticks()
+    cpu = cpu_seconds(pid)
+    bench.spin(seconds)
+    cpu = cpu_seconds(pid) - cpu
+    late_after, skipped_after = bench.late_ticks()
+    return cpu, late_after - late, skipped_after - skipped
+
+
+def real_time(bench: Bench, pid: int, balls: int, seconds: float) -> dict:
+    """Idle, one default ball and ``balls`` spawned balls at the simulator's rate."""
+    out = {}
+    bench.reset()
+    bench.spin(0.5)
+    out['idle'] = window(bench, pid, seconds)
+    # The single-ball path: a flight order for the default entity (as the release node sends).
+    bench.orders.publish(String(data=FlightOrder.from_release('bench', LOB).to_json()))
+    bench.spin(0.5)
+    out['single'] = window(bench, pid, seconds)
+    bench.reset()
+    start = time.monotonic()
+    bench.spawn_and_throw(balls)
+    throw_s = time.monotonic() - start
+    bench.spin(0.3)
+    out['many'] = window(bench, pid, seconds)
+    out['throw_s'] = throw_s
+    bench.reset()
+    return out
+
+
+def lock_step(bench: Bench, balls: int, repeats: int) -> dict:
+    """
+    Median wall time of 1 s of flight (1000 steps) with ``balls`` in the air, paused.
+
+    The balls are thrown once (12 s lobs) and stepped on: StepSimulation(1000) ``repeats``
+    times, SimulateSteps(1000) as often, then (one ball) 1000 x StepSimulation(1).
+    """
+    bench.set_state(SimulationState.STATE_PAUSED)
+    bench.reset()
+    bench.spawn_and_throw(balls, LOCK_STEP_LOB)
+    service = [bench.step(1000) for _ in range(repeats)]
+    action = [bench.simulate_steps(1000) for _ in range(repeats)]
+    singles = None
+    if balls == 1:
+        start = time.perf_counter()
+        for _ in range(1000):
+            bench.step(1)
+        singles = time.perf_counter() - start
+    bench.reset()
+    bench.set_state(SimulationState.STATE_PLAYING)
+    return {
+        'service': statistics.median(service),
+        'action': statistics.median(action),
+        'singles': singles,
+    }
+
+
+def offline_second() -> float:
+    times = []
+    for _ in range(5):
+        flight = Flight.from_release(LOB)
+        start = time.perf_counter()
+        flight.state_at(1.0)
+        times.append(time.perf_counter() - start)
+    return statistics.median(times)
+
+
+def phase(args) -> dict:
+    """
+    Run one measurement in this (fresh) client process and return its numbers.
+
+    A fresh process each: an rclpy client process that has seen many of the simulator's
+    endpoints come and go gets its answers ever later (client side: a new process is fast).
+    """
+    bench = Bench()
+    try:
+        if args.phase == 'realtime':
+            return real_time(bench, args.pid, args.balls, args.seconds)
+        if args.phase == 'lockstep':
+            return lock_step(bench, args.balls, args.repeats)
+        started = time.perf_counter()
+        for _ in range(20):
+            bench.call(GetSimulationState, 'get_simulation_state', GetSimulationState.Request())
+        return {'round_trip': (time.perf_counter() - started) / 20}
+    finally:
+        bench.node.destroy_node()
+        rclpy.shutdown()
+
+
+def run_phase(name: str, **options) -> dict:
+    argv = [sys.executable, __file__, '--phase', name]
+    for key, value in options.items():
+        argv += [f'--{key}', str(value)]
+    out = subprocess.run(argv, capture_output=True, text=True, timeout=600)
+    if out.returncode != 0:
+        raise SystemExit(f'phase {name} failed:\n{out.stdout}\n{out.stderr[-3000:]}')
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
+    parser.add_argument('--seconds', type=float, default=4.0, help='real-time window [s] (<= 5)')
+    parser.add_argument('--repeats', type=int, default=5, help='lock-step repeats (median)')
+    parser.add_argument('--phase', choices=('realtime', 'lockstep', 'round_trip'),
+                        help=argparse.SUPPRESS)
+    parser.add_argument('--pid', type=int, help=argparse.SUPPRESS)
+    parser.add_argument('--balls', type=int, help=argparse.SUPPRESS)
+    args = parser.parse_args(argv)
+    args.seconds = min(args.seconds, 5.0)
+    if args.phase:
+        print(json.dumps(phase(args)))
+        return 0
+    seconds = args.seconds
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for balls, rate in ((100, 100.0), (10, 1000.0)):
+            sim = Simulator(rate, Path(tmp))
+            try:
+                rows.append((balls, rate, run_phase(
+                    'realtime', pid=sim.proc.pid, balls=balls, seconds=seconds)))
+                if rate == 100.0:
+                    round_trip = run_phase('round_trip')['round_trip']
+                    steps = {
+                        n: run_phase('lockstep', balls=n, repeats=args.repeats) for n in (1, 100)
+                    }
+            finally:
+                sim.stop()
+    offline = offline_second()
+
+    print(f'Real time ({seconds:g} s windows; CPU = simulator process user + system; late = '
+          'published after its deadline, skipped = never published)')
+    print('| case | rate Hz | balls | CPU s/s | late ticks | skipped ticks '
+          '| CPU ms per ball-second | vs single-ball path |')
+    print('|---|---|---|---|---|---|---|---|')
+    for balls, rate, r in rows:
+        idle_cpu = r['idle'][0]
+        single = (r['single'][0] - idle_cpu) / seconds
+        for name, n, (cpu, late, skipped) in (
+            ('idle (baseline)', 0, r['idle']),
+            ('single-ball path (baseline)', 1, r['single']),
+            ('spawned balls', balls, r['many']),
+        ):
+            per = (cpu - idle_cpu) / (max(n, 1) * seconds)
+            ratio = '' if n == 0 else f'{per / single:.3f}'
+            per_text = '' if n == 0 else f'{1e3 * per:.2f}'
+            print(f'| {name} | {rate:g} | {n} | {cpu / seconds:.3f} | {late} | {skipped} '
+                  f'| {per_text} | {ratio} |')
+        print(f'| (throwing the {balls} balls through the services: {r["throw_s"]:.2f} s) '
+              '| | | | | | | |')
+    print()
+    print('Lock-step: 1 s of flight (1000 steps of 1 ms), paused, end to end (median)')
+    print('| case | wall ms | x real time |')
+    print('|---|---|---|')
+    print(f'| offline Flight.state_at, 1 ball, in process (baseline) | {1e3 * offline:.2f} '
+          f'| {1.0 / offline:.0f} |')
+    print(f'| GetSimulationState round trip (baseline) | {1e3 * round_trip:.2f} | |')
+    for n, r in steps.items():
+        print(f'| StepSimulation(1000), {n} ball(s) | {1e3 * r["service"]:.2f} '
+              f'| {1.0 / r["service"]:.0f} |')
+        print(f'| SimulateSteps(1000), {n} ball(s) | {1e3 * r["action"]:.2f} '
+              f'| {1.0 / r["action"]:.0f} |')
+        if r['singles'] is not None:
+            print(f'| 1000 x StepSimulation(1), {n} ball | {1e3 * r["singles"]:.1f} '
+                  f'| {1.0 / r["singles"]:.1f} |')
+    return 0
+
+
+if __name__ == '__main__':
+    raise SystemExit(main())

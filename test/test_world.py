@@ -1,0 +1,290 @@
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""The simulator's ROS-free world: flight runs, guard, entities, lock-step (no ROS imported)."""
+
+import dataclasses
+import subprocess
+import sys
+
+from football_ros.physics import Flight, Release
+from football_ros.simulation import world as wd
+from hypothesis import given, settings, strategies as st
+import numpy as np
+import pytest
+
+UPRIGHT = np.array([0.0, 0.0, 0.0, 1.0])
+
+
+def run_of(release: Release, label: str = 'r') -> wd.FlightRun:
+    return wd.FlightRun(label, Flight.from_release(release))
+
+
+def test_no_ros_imported():
+    code = (
+        'import sys, football_ros.simulation.world; '
+        "print([m for m in sys.modules if m.split('.')[0] in ('rclpy', 'rcl_interfaces')])"
+    )
+    out = subprocess.run([sys.executable, '-c', code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == '[]'
+
+
+def test_guard_reasons():
+    run = run_of(Release(), 'guard')
+    good = run.flight.sample(1.0)
+    assert run.runaway(good) is None
+    nan = dataclasses.replace(good, axis=np.array([np.nan, 0.0, 0.0]))
+    assert 'non-finite' in run.runaway(nan)
+    # 27.4 m/s from 0 m: the release allows 27.4 m/s; 10 x that is a runaway.
+    fast = dataclasses.replace(good, velocity=np.array([275.0, 0.0, 0.0]))
+    assert 'runaway: speed 275' in run.runaway(fast)
+    spinning = dataclasses.replace(good, angular_velocity=np.array([1e5, 0.0, 0.0]))
+    assert 'angular rate' in run.runaway(spinning)
+    far = dataclasses.replace(good, position=np.array([2e5, 0.0, 1.0]))
+    assert 'from the release point' in run.runaway(far)
+    late = dataclasses.replace(good, t=wd.MAX_FLIGHT_S + 1.0)
+    assert 'no landing' in run.runaway(late)
+    assert run.end('because') == "flight 'guard' ended: because"
+    assert run.end('again') is None and run.select(0, 1.0) is None
+
+
+def test_run_ticks_hold_and_landing():
+    run = run_of(Release())
+    run.rebase(0.01, 10)
+    times = [run.select(0, 1.0) for _ in range(3)]
+    assert times == [0.0, 0.01, 0.02]
+    landing = run.flight.sample(10.0)
+    release = Release()
+    vz = release.speed * np.sin(np.radians(release.elevation_deg))
+    assert landing.landed and landing.t == pytest.approx(2 * vz / 9.81, rel=1e-3)  # parabola
+    assert run.mark_landed(landing, 5_000_000_000).startswith("flight 'r' landed at x = ")
+    assert run.mark_landed(landing, 6_000_000_000) is None
+    # Landed: held once per 1 / hold_rate of wall time.
+    assert run.select(5_500_000_000, 1.0) is None
+    assert run.select(6_000_000_000, 1.0) is not None
+    assert run.select(6_000_000_001, 0.0) is None
+
+
+def test_validity_warned_once():
+    run = run_of(Release(alpha0_deg=40.0))
+    sample = run.flight.sample(0.0)
+    text = run.left_validity(sample)
+    assert text and 'left the data range' in text
+    assert run.left_validity(sample) is None
+
+
+def test_spawn_names_limits_and_delete():
+    world = wd.World(max_entities=3)
+    assert list(world.entities) == [wd.DEFAULT_ENTITY]
+    a = world.spawn('a', 'football_ros://rugby', [1.0, 2.0, 0.0], UPRIGHT)
+    assert a.uri == 'football_ros://rugby' and a.condition == 'at rest'
+    position, orientation, velocity, omega = a.state()
+    assert position.tolist() == [1.0, 2.0, 0.0] and not velocity.any() and not omega.any()
+    refusals = [
+        (('a', 'football_ros://american'), 'name_not_unique'),
+        (('', 'football_ros://american'), 'name_invalid'),
+        (('9lives', 'football_ros://american'), 'name_invalid'),
+        (('x/y', 'football_ros://american'), 'name_invalid'),
+        (('b' * 64, 'football_ros://american'), 'name_invalid'),
+        (('b', ''), 'no_resource'),
+        (('b', 'model://ball.sdf'), 'unsupported_format'),
+        (('b', 'football_ros://soccer'), 'not_found'),
+    ]
+    for (name, uri), reason in refusals:
+        with pytest.raises(wd.EntityError) as info:
+            world.spawn(name, uri, [0.0, 0.0, 0.0], UPRIGHT)
+        assert info.value.reason == reason, (name, uri, str(info.value))
+    renamed = world.spawn('a', 'football_ros://american', [0, 0, 0], UPRIGHT, True)
+    assert renamed.name != 'a' and wd.NAME_PATTERN.fullmatch(renamed.name)
+    with pytest.raises(wd.EntityError) as info:
+        world.spawn('c', 'football_ros://american', [0, 0, 0], UPRIGHT)
+    assert info.value.reason == 'limit' and 'limit of 3' in str(info.value)
+    with pytest.raises(wd.EntityError) as info:
+        world.delete(wd.DEFAULT_ENTITY)
+    assert info.value.reason == 'default'
+    with pytest.raises(wd.EntityError) as info:
+        world.delete('nobody')
+    assert info.value.reason == 'not_found'
+    world.delete('a')
+    assert list(world.entities) == [wd.DEFAULT_ENTITY, renamed.name]
+
+
+@pytest.mark.parametrize(
+    'position, orientation, words',
+    [
+        ([np.nan, 0.0, 0.0], UPRIGHT, 'finite'),
+        ([0.0, 0.0, -1.0], UPRIGHT, 'outside the field'),
+        ([1e9, 0.0, 0.0], UPRIGHT, 'outside the field'),
+        ([0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0], 'unit quaternion'),
+        ([0.0, 0.0, 0.0], [np.inf, 0.0, 0.0, 1.0], 'finite'),
+        ([0.0, 0.0], UPRIGHT, 'position must be 3'),
+    ],
+)
+def test_bad_poses(position, orientation, words):
+    with pytest.raises(wd.EntityError) as info:
+        wd.check_pose(position, orientation)
+    assert info.value.reason == 'pose' and words in str(info.value)
+
+
+def test_select_filters():
+    world = wd.World()
+    world.spawn('near', 'football_ros://american', [1.0, 0.0, 0.0], UPRIGHT)
+    world.spawn('far', 'football_ros://rugby', [50.0, 0.0, 0.0], UPRIGHT)
+    names = [e.name for e in world.select()]
+    assert names == ['football', 'near', 'far']
+    assert [e.name for e in world.select('^f')] == ['football', 'far']
+    assert [e.name for e in world.select(tags=('rugby',))] == ['far']
+    assert [e.name for e in world.select(tags=('rugby', 'american'), all_tags=True)] == []
+    assert [e.name for e in world.select(sphere=(np.zeros(3), 1.0))] == ['football', 'near']
+    box = (np.array([40.0, -1.0, -1.0]), np.array([60.0, 1.0, 1.0]))
+    assert [e.name for e in world.select(box=box)] == ['far']
+    for bad in ('(', '(a+)+$', 'x' * 300):
+        with pytest.raises(wd.EntityError) as info:
+            world.select(bad)
+        assert info.value.reason == 'filter'
+
+
+def test_lock_step_equals_offline_flight_and_repeats_bit_for_bit():
+    def play():
+        world = wd.World()
+        releases = [Release(), Release(ball='rugby', spin_rpm=-300.0), Release(speed=15.0)]
+        for k, release in enumerate(releases):
+            entity = world.spawn(f'b{k}', f'football_ros://{release.ball}', [0, 0, 0], UPRIGHT)
+            world.throw(entity, run_of(release, entity.name))
+        out = []
+        for n in (1, 999, 500, 2000):
+            out.append([(e.name, s.t, s.position.copy()) for e, s in world.step(n, 0.001, 0)])
+        return world, releases, out
+
+    world, releases, first = play()
+    _, _, second = play()
+    for x, y in zip(first, second, strict=True):  # identical calls, identical bits
+        for (n1, t1, p1), (n2, t2, p2) in zip(x, y, strict=True):
+            assert n1 == n2 and t1 == t2 and np.array_equal(p1, p2)
+    # Against the offline Flight at the same times (1 + 999 + 500 + 2000 steps of 1 ms).
+    offline = [Flight.from_release(r) for r in releases]
+    for k, steps in enumerate((1, 1000, 1500, 3500)):
+        for (name, t, position), flight in zip(first[k], offline):
+            expected = flight.sample(steps * 0.001)
+            if expected.landed:
+                assert t == pytest.approx(expected.t, abs=1e-12)
+            np.testing.assert_allclose(position, expected.position, rtol=0, atol=1e-9)
+    # Every ball has landed by 3.5 s (the 15 m/s pass first, after 2 vz / g) and said so once.
+    landed = [text for level, event, text in world.events if event == 'landed']
+    assert sorted(text.split("'")[1] for text in landed) == ['b0', 'b1', 'b2']
+    assert world.entities['b2'].last.t == pytest.approx(2 * 7.5 / 9.81, rel=1e-3)
+    assert world.entities['b2'].condition == 'landed'
+    assert not world.entities['b2'].state()[2].any()  # at rest: no velocity
+
+
+def test_reset_scopes():
+    world = wd.World()
+    entity = world.spawn('a', 'football_ros://american', [3.0, 0.0, 1.0], UPRIGHT)
+    world.throw(entity, run_of(Release()))
+    world.step(100, 0.001, 0)
+    world.place(world.default, [5.0, 5.0, 1.0], UPRIGHT)
+    world.reset(state=True, spawned=False)
+    assert entity.run is None and entity.state()[0].tolist() == [3.0, 0.0, 1.0]
+    assert world.default.state()[0].tolist() == [0.0, 0.0, 0.0]
+    world.reset(state=False, spawned=True)
+    assert list(world.entities) == [wd.DEFAULT_ENTITY]
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    name=st.text(max_size=80),
+    uri=st.text(max_size=40) | st.sampled_from(['football_ros://american']),
+    pose=st.lists(st.floats(allow_nan=True, allow_infinity=True), min_size=7, max_size=7),
+    rename=st.booleans(),
+    pattern=st.text(max_size=20),
+)
+def test_fuzz_spawn_and_select(name, uri, pose, rename, pattern):
+    world = wd.World(max_entities=2)
+    try:
+        entity = world.spawn(name, uri, pose[:3], pose[3:], rename)
+    except wd.EntityError as exc:
+        assert exc.reason in (
+            'name_invalid',
+            'name_not_unique',
+            'no_resource',
+            'unsupported_format',
+            'not_found',
+            'pose',
+            'limit',
+        )
+    else:
+        assert wd.NAME_PATTERN.fullmatch(entity.name)
+        assert np.isfinite(np.concatenate(entity.state())).all()
+    try:
+        world.select(pattern)
+    except wd.EntityError as exc:
+        assert exc.reason == 'filter'
+
+
+@pytest.mark.parametrize('release', [Release(), Release(ball='rugby', spin_rpm=-300.0)])
+def test_kernel_equals_flight_at_any_time_and_landing(release):
+    world = wd.World()
+    entity = world.spawn('k', f'football_ros://{release.ball}', [0, 0, 0], UPRIGHT)
+    run = run_of(release, 'k')
+    world.throw(entity, run)
+    assert run.batched
+    offline = Flight.from_release(release)
+    for t in np.arange(0.0, 5.0, 0.0137):  # partial steps, then past the landing
+        (got,) = world.sample([(run, float(t))])
+        want = offline.sample(float(t))
+        assert got.landed == want.landed and got.t == pytest.approx(want.t, abs=1e-12)
+        for a, b in (
+            (got.position, want.position),
+            (got.velocity, want.velocity),
+            (got.orientation, want.orientation),
+            (got.angular_velocity, want.angular_velocity),
+        ):
+            np.testing.assert_allclose(a, b, rtol=0, atol=1e-9)
+    assert got.landed and got.position[2] == 0.0
+
+
+def test_scratch_rk4_step_is_bit_for_bit_dynamics_rk4_step():
+    from football_ros.physics import dynamics as dyn
+    from football_ros.simulation import kernel
+
+    scratch = np.empty((5, dyn.N_STATE))
+    for release in (Release(), Release(model='full', ball='rugby', spin_rpm=-250.0)):
+        flight = Flight.from_release(release)
+        states = flight.simulate(rate=50.0).states
+        for y in states:
+            for dt in (1e-3, 3.7e-4, 0.0):
+                a, b = np.empty(dyn.N_STATE), np.empty(dyn.N_STATE)
+                dyn.rk4_step(y, dt, flight.params, a)
+                kernel.rk4_step_into(y, dt, flight.params, b, scratch)
+                assert np.array_equal(a, b)
+
+
+def test_batch_guard_clears_fine_balls_and_ends_a_broken_one():
+    world = wd.World()
+    a = world.spawn('a', 'football_ros://american', [0, 0, 0], UPRIGHT)
+    b = world.spawn('b', 'football_ros://american', [0, 0, 0], UPRIGHT)
+    for entity in (a, b):
+        world.throw(entity, run_of(Release(), entity.name))
+    world.step(10, 0.001, 0)
+    assert a.run.cleared is a.last and b.run.cleared is b.last  # the vectorised guard
+    b.run.y[3] = np.nan  # a broken state (the velocity)
+    out = world.step(10, 0.001, 0)
+    assert [e.name for e, _s in out] == ['a']
+    assert b.run.ended and 'non-finite' in b.run.ended
+    errors = [text for level, event, text in world.events if event == 'error']
+    assert errors == [f"flight 'b' ended: {b.run.ended}"]
+    b.run.ended, b.run.y, b.run.done = None, b.run.flight.y0.copy(), 0
+    b.run.y[0] = 2e5  # finite but far away: the batch guard defers to runaway()
+    world.step(1, 0.001, 0)
+    assert 'from the release point' in b.run.ended
