@@ -20,8 +20,10 @@ import subprocess
 import sys
 import time
 
+from cli_run import run_cli
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from football_ros.nodes import qos
+from football_ros.nodes.topics import STATE_TOPICS
 from football_ros.physics import Flight, Release
 from football_ros.physics.frames import quaternion_to_matrix
 from geometry_msgs.msg import PoseStamped, Vector3Stamped
@@ -29,18 +31,11 @@ from nav_msgs.msg import Odometry
 import numpy as np
 import pytest
 from rosgraph_msgs.msg import Clock
-from rosutil import call, landed_event, order_flight
+from rosutil import call, landed_event, order_flight, resend_until
 from std_srvs.srv import SetBool, Trigger
 from visualization_msgs.msg import MarkerArray
 
-STATE_TYPES = {
-    qos.POSE: PoseStamped,
-    qos.ODOM: Odometry,
-    qos.SPIN_AXIS: Vector3Stamped,
-    qos.AERO_ANGLES: Vector3Stamped,
-    qos.AERO_ANGLES_LINEAR: Vector3Stamped,
-    qos.AERO_ANGLES_QUASI_STEADY: Vector3Stamped,
-}
+STATE_TYPES = STATE_TOPICS
 
 
 def stamp_ns(msg):
@@ -307,20 +302,7 @@ def test_model_parameter_forces_the_full_model(start_node, collector):
 
 
 def test_bad_model_parameter_is_refused(tmp_path):
-    proc = subprocess.run(
-        [
-            sys.executable,
-            '-m',
-            'football_ros.cli',
-            'simulator',
-            '--ros-args',
-            '-p',
-            'model:=magic',
-        ],
-        capture_output=True,
-        text=True,
-        timeout=60,
-    )
+    proc = run_cli('simulator', '--ros-args', '-p', 'model:=magic', timeout=60)
     assert proc.returncode == 2 and 'model' in proc.stderr and 'Traceback' not in proc.stderr
 
 
@@ -540,15 +522,12 @@ def test_namespaced_simulator_topics_and_unique_diagnostics(start_node, collecto
     pub = collector.publisher(String, '/team1/football/flight/order', qos.ORDER)
     collector.wait_for_subscribers(pub)
     text = FlightOrder.from_release('ns-1', Release()).to_json()
-    for _ in range(10):
-        pub.publish(String(data=text))
-        try:
-            collector.wait_for(
-                lambda: len(collector.get('/team1/football/pose')) > 5, 2.0, 'poses'
-            )
-            break
-        except AssertionError:
-            continue
+    resend_until(
+        collector,
+        lambda _k: pub.publish(String(data=text)),
+        lambda: len(collector.get('/team1/football/pose')) > 5,
+        'poses',
+    )
     assert collector.get('/team1/football/pose')[0].header.frame_id == 'field'
 
 
@@ -672,4 +651,6 @@ def test_parameter_combinations():
     )
     # A flight in the air with a smaller step than the next one counts too.
     assert sim.check_parameters(dict(values, real_time_factor=10.0), flight_step=1e-5)
-    assert 'frame_id' in sim.check_parameters(dict(values, frame_id=''))
+    frames = {s.name: s for s in sim.PARAMETERS if s.name in ('frame_id', 'child_frame_id')}
+    for name, spec in frames.items():  # a rule of the row itself, checked on every set
+        assert spec.check('') == f"'{name}' must not be empty"

@@ -256,7 +256,6 @@ def test_kernel_equals_flight_at_any_time_and_landing(release):
 
 def test_scratch_rk4_step_is_bit_for_bit_dynamics_rk4_step():
     from football_ros.physics import dynamics as dyn
-    from football_ros.simulation import kernel
 
     scratch = np.empty((5, dyn.N_STATE))
     for release in (Release(), Release(model='full', ball='rugby', spin_rpm=-250.0)):
@@ -266,7 +265,7 @@ def test_scratch_rk4_step_is_bit_for_bit_dynamics_rk4_step():
             for dt in (1e-3, 3.7e-4, 0.0):
                 a, b = np.empty(dyn.N_STATE), np.empty(dyn.N_STATE)
                 dyn.rk4_step(y, dt, flight.params, a)
-                kernel.rk4_step_into(y, dt, flight.params, b, scratch)
+                dyn.rk4_step_with(y, dt, flight.params, b, scratch)
                 assert np.array_equal(a, b)
 
 

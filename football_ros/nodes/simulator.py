@@ -64,7 +64,7 @@ from visualization_msgs.msg import MarkerArray
 from . import messages as mb
 from . import qos
 from .observation_hook import ObservationHook, PARAMETERS as OBSERVATION_PARAMETERS
-from .params import ParamSpec
+from .params import declare_all, ParamSpec
 from .runner import run_node
 
 try:  # the system package on a Jazzy install; pip_ros/simulation_interfaces on the pip ROS
@@ -75,7 +75,7 @@ from ..physics import Release
 from ..physics.flight import BallSample, Flight
 from ..physics.frames import BODY_FRAME, FIELD_FRAME
 from ..physics.release import RPM
-from ..requests import capped, FlightOrder, load_strict
+from ..requests import capped, FlightOrder, OrderError
 from ..simulation.world import (  # noqa: F401  (MAX_*: the limits, documented here too)
     Entity,
     FlightRun,
@@ -115,11 +115,14 @@ PARAMETERS = (
         False,
         'Publish the global /clock (simulated time) and stamp every message with it',
     ),
-    ParamSpec('frame_id', FIELD_FRAME, 'World frame (REP-103: x downfield, z up)'),
+    ParamSpec(
+        'frame_id', FIELD_FRAME, 'World frame (REP-103: x downfield, z up)', non_empty=True
+    ),
     ParamSpec(
         'child_frame_id',
         BODY_FRAME,
         'Body frame of the ball (x = spin axis toward the leading nose)',
+        non_empty=True,
     ),
     ParamSpec('marker_rate', 30.0, 'RViz markers per second [Hz], 0 = off', (0.0, 200.0)),
     ParamSpec(
@@ -161,16 +164,10 @@ def check_parameters(values: dict, flight_step: float | None = None) -> str | No
     """
     Return the reason a combination of parameter values is refused, or None.
 
-    Ranges are enforced by the descriptors. ``flight_step``: the step [s] of the flight in
-    the air, if any.
+    The rows' own rules (ranges, choices, non-empty frames) are the table's
+    (:func:`~football_ros.nodes.params.declare_all`); this is the rule that ties two
+    parameters. ``flight_step``: the step [s] of the flight in the air, if any.
     """
-    for name in ('frame_id', 'child_frame_id'):
-        if not values[name]:
-            return f'{name} must not be empty'
-    if values['model'] not in MODEL_CHOICES:
-        return (
-            f"model must be one of {', '.join(MODEL_CHOICES)}, got '{str(values['model'])[:40]}'"
-        )
     step = min(values['integration_step'], flight_step or math.inf)
     rate = values['real_time_factor'] / step
     if rate > MAX_STEPS_PER_SECOND:
@@ -194,8 +191,7 @@ class SimulatorNode(Node):
 
     def __init__(self) -> None:
         super().__init__(NODE_NAME)
-        for spec in PARAMETERS:
-            setattr(self, spec.name, spec.declare(self))
+        declare_all(self, PARAMETERS)
         reason = check_parameters({spec.name: getattr(self, spec.name) for spec in PARAMETERS})
         if reason:
             raise ValueError(reason)
@@ -313,9 +309,14 @@ class SimulatorNode(Node):
         """
         name = 'unknown'
         try:
-            name = _order_name(msg.data)
-            order = FlightOrder.from_json(msg.data)
+            order = FlightOrder.from_json(msg.data)  # one parse; a refusal names the order
+            name = order.name
             flight = order.flight(self.integration_step, self._model_override())
+        except OrderError as exc:
+            name = exc.name
+            self.get_logger().error(f"refused flight order '{name}': {exc}")
+            self._acknowledge(name, 'ERROR', str(exc), {})
+            return
         except (ValueError, ArithmeticError, RecursionError) as exc:
             reason = capped(str(exc) or type(exc).__name__)
             self.get_logger().error(f"refused flight order '{name}': {reason}")
@@ -909,24 +910,6 @@ class SimulatorNode(Node):
         """Stop the pacing thread (called before the node is destroyed)."""
         self._stop.set()
         self._thread.join(timeout=2.0)
-
-
-def _order_name(text: str) -> str:
-    """Return the ``order`` (else ``id``) of an order's text, to acknowledge even a bad one."""
-    try:
-        data = load_strict(text) if isinstance(text, str) and len(text) <= 1 << 20 else None
-    except ValueError as exc:
-        data = getattr(exc, 'partial', None)
-    if isinstance(data, dict):
-        for key in ('order', 'id'):
-            value = data.get(key)
-            if (
-                isinstance(value, (str, int))
-                and not isinstance(value, bool)
-                and str(value).isprintable()
-            ):
-                return str(value)[:128] or 'unknown'
-    return 'unknown'
 
 
 def _qualified(namespace: str, name: str) -> str:

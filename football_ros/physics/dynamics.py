@@ -188,8 +188,9 @@ def rk4_step_with(
 @njit(cache=True)
 def advance(y: np.ndarray, n_steps: int, dt: float, params: np.ndarray) -> None:
     """Take ``n_steps`` RK4 steps of ``dt`` in place."""
+    work = np.empty((5, y.size))
     for _ in range(n_steps):
-        rk4_step(y, dt, params, y)
+        rk4_step_with(y, dt, params, y, work)
 
 
 @njit(cache=True)
@@ -241,16 +242,17 @@ def propagate(
     states = np.empty((n_max, y0.size))
     y = y0.copy()
     nxt = np.empty(y0.size)
+    work = np.empty((5, y0.size))
     n_steps = 0
     for k in range(n_max):
         t_sample = k * sample_period
         while (n_steps + 1) * dt <= t_sample + 1e-12:
-            rk4_step(y, dt, params, nxt)
+            rk4_step_with(y, dt, params, nxt, work)
             if crossed_ground(y, nxt, ground):
                 return _finish_with_landing(times, states, k, y, n_steps * dt, dt, params, ground)
             y[:] = nxt
             n_steps += 1
-        rk4_step(y, t_sample - n_steps * dt, params, nxt)
+        rk4_step_with(y, t_sample - n_steps * dt, params, nxt, work)
         if crossed_ground(y, nxt, ground):
             return _finish_with_landing(
                 times, states, k, y, n_steps * dt, t_sample - n_steps * dt, params, ground

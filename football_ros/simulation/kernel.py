@@ -22,10 +22,8 @@ the asked time is a partial step, a step that crosses the ground ends the flight
 landing. Only the loop over the balls and their steps is compiled here, so that a world of
 many balls costs one call per tick instead of a Python loop over balls and steps.
 
-:func:`rk4_step_into` is :func:`~football_ros.physics.dynamics.rk4_step` with the caller's
-scratch rows instead of five arrays allocated per step (the allocations are most of a step's
-cost); test/test_world.py checks that both give the same bits. Folding it into dynamics.py
-(rk4_step taking optional scratch) would leave one RK4 step.
+The steps are :func:`~football_ros.physics.dynamics.rk4_step_with` on one set of scratch rows
+(allocating them per step was most of a step's cost).
 """
 
 from __future__ import annotations
@@ -36,32 +34,6 @@ from numba import njit
 import numpy as np
 
 from ..physics import dynamics as dyn
-
-
-@njit(cache=True, nogil=True)
-def rk4_step_into(
-    y: np.ndarray, dt: float, params: np.ndarray, out: np.ndarray, scratch: np.ndarray
-) -> None:
-    """
-    One RK4 step of ``dt`` [s] from ``y`` into ``out`` (may alias ``y``), projected.
-
-    Bit for bit :func:`football_ros.physics.dynamics.rk4_step`; ``scratch`` is (5, N_STATE).
-    """
-    n = y.size
-    k1, k2, k3, k4, tmp = scratch[0], scratch[1], scratch[2], scratch[3], scratch[4]
-    dyn.derivative(y, params, k1)
-    for i in range(n):
-        tmp[i] = y[i] + 0.5 * dt * k1[i]
-    dyn.derivative(tmp, params, k2)
-    for i in range(n):
-        tmp[i] = y[i] + 0.5 * dt * k2[i]
-    dyn.derivative(tmp, params, k3)
-    for i in range(n):
-        tmp[i] = y[i] + dt * k3[i]
-    dyn.derivative(tmp, params, k4)
-    for i in range(n):
-        out[i] = y[i] + dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
-    dyn._project(out)
 
 
 @njit(cache=True, nogil=True)
@@ -95,18 +67,44 @@ def advance_many(
         target = int(math.floor(times[b] / dt + 1e-9))
         landed = False
         while done[b] < target:
-            rk4_step_into(y, dt, p, nxt, scratch)
+            dyn.rk4_step_with(y, dt, p, nxt, scratch)
             if dyn.crossed_ground(y, nxt, ground):
                 landed = True
                 break
             y[:] = nxt
             done[b] += 1
         rest = dt if landed else times[b] - done[b] * dt
-        rk4_step_into(y, rest, p, nxt, scratch)
+        dyn.rk4_step_with(y, rest, p, nxt, scratch)
         if landed or dyn.crossed_ground(y, nxt, ground):
             tau = dyn.landing_time_in_step(y, rest, p, ground)
-            dyn.rk4_step(y, tau, p, nxt)
+            dyn.rk4_step_with(y, tau, p, nxt, scratch)
             nxt[dyn.R + 2] = ground
             landing_times[b] = done[b] * dt + tau
         out[b] = nxt
         described[b] = dyn.describe(out[b:b + 1], p)[0]
+
+
+def warm_up():
+    """Load (or compile) :func:`advance_many` now; returns a precompile.CompileStep."""
+    import time
+
+    from ..physics.precompile import CompileStep
+
+    start = time.perf_counter()
+    stats = advance_many.stats
+    hits, misses = sum(stats.cache_hits.values()), sum(stats.cache_misses.values())
+    ball = np.zeros((1, dyn.N_STATE))
+    ball[0, dyn.Q + 3] = 1.0
+    ball[0, dyn.R + 2] = 1.0
+    ball[0, dyn.V] = 10.0
+    params = np.zeros((1, dyn.N_PARAM))
+    params[0, dyn.P_SPIN_RATIO] = 1.0
+    params[0, dyn.P_GRAVITY] = 9.81
+    advance_many(
+        ball, np.zeros(1, dtype=np.int64), np.full(1, 1e-3), params, np.full(1, 2.0), 0.0,
+        np.empty((1, dyn.N_STATE)), np.empty((1, dyn.N_DESCRIBE)), np.empty(1),
+    )
+    hits, misses = sum(stats.cache_hits.values()) - hits, sum(stats.cache_misses.values()) - misses
+    return CompileStep(
+        'many-ball kernel (simulator world)', time.perf_counter() - start, hits, misses
+    )

@@ -204,7 +204,9 @@ class FlightRun:
         self.validity_warned = True
         return (
             f"flight '{self.label}' left the data range at t = {sample.t:.3f} s: "
-            + '; '.join(out_of_validity(delta, flight.model, flight.moment, flight.aero))
+            + '; '.join(
+                out_of_validity(delta, flight.model, flight.moment, flight.aero, flight.ball)
+            )
         )
 
     def mark_landed(self, sample: BallSample, wall_ns: int) -> str | None:
