@@ -55,6 +55,31 @@ LIMITS: dict[str, tuple[float, float]] = {
 }
 
 
+STATE_KEYS = (
+    'speed',
+    'elevation_deg',
+    'azimuth_deg',
+    'spin_rpm',
+    'alpha0_deg',
+    'beta0_deg',
+    'alpha_rate_deg_s',
+    'beta_rate_deg_s',
+)
+"""The release's numbers that set its state: :func:`release_states`' arguments, in order."""
+
+ERROR_SIGMAS = {
+    'speed': 0.5,
+    'elevation_deg': 1.0,
+    'azimuth_deg': 1.0,
+    'spin_rpm': 30.0,
+    'alpha0_deg': 1.0,
+    'beta0_deg': 1.0,
+    'alpha_rate_deg_s': 10.0,
+    'beta_rate_deg_s': 10.0,
+}
+"""Default standard deviations of a thrower's release errors, in each key's units (the Monte
+Carlo's spreads and the planner's hit probability)."""
+
 DERIVED_SLACK = 1e-9
 """Round-off allowance (fraction of a range) for quantities derived from a rigid-body state."""
 
@@ -241,14 +266,7 @@ class Release:
 
     FIELDS = (
         'ball',
-        'speed',
-        'elevation_deg',
-        'azimuth_deg',
-        'spin_rpm',
-        'alpha0_deg',
-        'beta0_deg',
-        'alpha_rate_deg_s',
-        'beta_rate_deg_s',
+        *STATE_KEYS,
         'position',
         'model',
         'moment',

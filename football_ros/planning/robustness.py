@@ -30,18 +30,9 @@ from typing import Mapping
 import numpy as np
 
 from .planner import Plan, plan, PlanError
-from ..physics.release import LIMITS, release_states
+from ..physics.release import ERROR_SIGMAS, LIMITS, release_states
 
-DEFAULT_SIGMAS = {
-    'speed': 0.5,
-    'elevation_deg': 1.0,
-    'azimuth_deg': 1.0,
-    'spin_rpm': 30.0,
-    'alpha0_deg': 1.0,
-    'beta0_deg': 1.0,
-    'alpha_rate_deg_s': 10.0,
-    'beta_rate_deg_s': 10.0,
-}
+DEFAULT_SIGMAS = ERROR_SIGMAS
 """Default release-error sigmas (units of each key; the montecarlo command's defaults)."""
 DEFAULT_CATCH_RADIUS = 0.5
 """Catch radius [m] unless told."""

@@ -52,18 +52,9 @@ from typing import Callable, Iterator, Mapping, Sequence
 import numpy as np
 
 from ..physics import Release
-from ..physics.release import LIMITS
+from ..physics.release import LIMITS, STATE_KEYS
 
-INPUT_KEYS = (
-    'speed',
-    'elevation_deg',
-    'azimuth_deg',
-    'spin_rpm',
-    'alpha0_deg',
-    'beta0_deg',
-    'alpha_rate_deg_s',
-    'beta_rate_deg_s',
-)
+INPUT_KEYS = STATE_KEYS
 """The sampled release quantities (units in the name; speed m/s), in their column order."""
 OUTPUT_KEYS = (
     'landing_x',

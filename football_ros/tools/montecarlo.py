@@ -59,18 +59,9 @@ from .mc_engine import (  # noqa: F401  (COLUMNS and CHUNK: this module's public
     wilson,
 )
 from ..physics import Release
-from ..physics.release import LIMITS
+from ..physics.release import ERROR_SIGMAS, LIMITS
 
-SPREAD_DEFAULTS = {
-    'speed': 0.5,
-    'elevation_deg': 1.0,
-    'azimuth_deg': 1.0,
-    'spin_rpm': 30.0,
-    'alpha0_deg': 1.0,
-    'beta0_deg': 1.0,
-    'alpha_rate_deg_s': 10.0,
-    'beta_rate_deg_s': 10.0,
-}
+SPREAD_DEFAULTS = ERROR_SIGMAS
 """Default standard deviations of the (Gaussian) release errors (units of each quantity)."""
 UNITS = {
     'speed': 'm/s',
