@@ -305,7 +305,10 @@ def test_validity_ranges_flag_large_angles():
     assert len(msgs) == 2 and '24.6 deg' in msgs[0]  # linear moment and pitch damping (Magnus off)
     assert any('pitch damping' in m for m in msgs)
     msgs = out_of_validity(math.radians(55.0), 'full', 'sin2delta', aero)
-    assert any('0.165 sin 2 delta' in m for m in msgs) and any('lift' in m for m in msgs)
+    assert any('C_Malpha/2 sin 2 delta' in m for m in msgs) and any('lift' in m for m in msgs)
+    with_ball = out_of_validity(math.radians(55.0), 'full', 'sin2delta', aero,
+                                get_preset('american'))
+    assert any('0.165 sin 2 delta' in m for m in with_ball)  # the ball's own C_Malpha / 2
     assert not any('drag' in m for m in msgs)  # drag covers 0-90 deg
     assert len(out_of_validity(math.radians(95.0), 'full', 'sin2delta', aero)) == 4
     assert out_of_validity(math.radians(20.0), 'paper', 'linear') == []
