@@ -46,7 +46,7 @@ from std_msgs.msg import String
 
 from . import messages as mb
 from . import qos
-from .params import declare_all, ParamSpec
+from .params import declare_all, GUARD, ParamSpec
 from .runner import run_node
 from ..physics import compile_ahead, Flight, InitialState, PRESETS, ReleaseError
 from ..physics.flight import flight_summary
@@ -67,6 +67,18 @@ HARDWARE_ID = 'football_ros/release'
 PREDICTION_HORIZON_S = 60.0
 MAX_PENDING = 64
 """Orders waiting for the simulator's acknowledgement at most (more: answered 'busy')."""
+GRAPH_CACHE_S = 0.5
+"""How long the set of matched simulators is reused before the graph is asked again [s]."""
+GRAPH_REFRESH_S = 0.1
+"""Earliest re-read of the graph for an unknown sender after the last read [s]."""
+MAX_NAMED = 16
+"""Participants named in warnings at most (each once)."""
+
+
+def node_fqn(info) -> str:
+    """Fully qualified node name of a TopicEndpointInfo: '/ns/name' ('/name' at the root)."""
+    namespace = info.node_namespace.rstrip('/')
+    return f'{namespace}/{info.node_name}'
 
 
 def prediction(flight: Flight) -> dict[str, object]:
@@ -120,15 +132,21 @@ PARAMETERS = (
         MAX_REQUEST_BYTES,
         'Largest accepted request text [bytes]',
         (64, 1 << 20),
+        guard=GUARD,
     ),
     ParamSpec(
-        'integration_step', 0.001, 'Integration step of the landing prediction [s]', (5e-4, 0.01)
+        'integration_step',
+        0.001,
+        'Integration step of the landing prediction [s]',
+        (5e-4, 0.01),
+        guard=GUARD,
     ),
     ParamSpec(
         'ack_timeout',
         1.0,
         "Wall time to wait for the simulator's acknowledgement [s]",
         (0.1, 10.0),
+        guard=GUARD,
     ),
     ParamSpec(
         'queue_depth',
@@ -142,16 +160,22 @@ PARAMETERS = (
         'american',
         'Ball preset of releases given as an Odometry on football/release/state',
         choices=tuple(PRESETS),
+        guard=GUARD,
     ),
-    ParamSpec('state_model', 'paper', 'Model of Odometry releases', choices=MODELS),
+    ParamSpec('state_model', 'paper', 'Model of Odometry releases', choices=MODELS, guard=GUARD),
     ParamSpec(
-        'state_moment', 'linear', 'Moment curve of Odometry releases', choices=MOMENT_CURVES
+        'state_moment',
+        'linear',
+        'Moment curve of Odometry releases',
+        choices=MOMENT_CURVES,
+        guard=GUARD,
     ),
     ParamSpec(
         'body_frame_id',
         BODY_FRAME,
         'Body frame an Odometry release may give its twist in',
         non_empty=True,
+        guard=GUARD,
     ),
 )
 
@@ -169,8 +193,10 @@ class ReleaseNode(Node):
         self._lock = threading.Lock()  # pending orders and the response publisher
         self._pending: dict[str, _Pending] = {}
         self._other_simulators: set[str] = set()
+        self._strangers: set[str] = set()  # ack writers named in a warning (bounded)
+        self._simulators: tuple[float, frozenset[str]] = (-math.inf, frozenset())
         self._work: queue.Queue[_Work] = queue.Queue(maxsize=self.queue_depth)
-        self.counts = {'received': 0, 'accepted': 0, 'rejected': 0, 'busy': 0}
+        self.counts = {'received': 0, 'accepted': 0, 'rejected': 0, 'busy': 0, 'ignored_acks': 0}
         self._responses = self.create_publisher(
             DiagnosticStatus, qos.RELEASE_RESPONSE, qos.REQUEST
         )
@@ -352,16 +378,58 @@ class ReleaseNode(Node):
             )
 
     # --- executor thread: acknowledgements ---------------------------------------------------
+    def matched_simulators(self, refresh: bool = False) -> frozenset[str]:
+        """
+        Return the fully qualified names of the nodes that may acknowledge our orders.
+
+        A matched simulator reads ``football/flight/order`` and writes ``football/flight/ack``
+        (the graph, as ``ros2 topic info -v`` shows it). The graph is read at most every
+        GRAPH_CACHE_S seconds, or GRAPH_REFRESH_S after the last read with ``refresh``. Ack
+        writers that read no orders are named in one warning each.
+        """
+        now = time.monotonic()
+        read_at, names = self._simulators
+        if now - read_at < (GRAPH_REFRESH_S if refresh else GRAPH_CACHE_S):
+            return names
+        order_topic = self.resolve_topic_name(qos.FLIGHT_ORDER)
+        ack_topic = self.resolve_topic_name(qos.FLIGHT_ACK)
+        readers = {node_fqn(i) for i in self.get_subscriptions_info_by_topic(order_topic)}
+        writers = {node_fqn(i) for i in self.get_publishers_info_by_topic(ack_topic)}
+        names = frozenset(readers & writers)
+        self._simulators = (now, names)
+        for stranger in sorted(writers - readers):
+            if stranger not in self._strangers and len(self._strangers) < MAX_NAMED:
+                self._strangers.add(stranger)
+                self.get_logger().warning(
+                    f"'{capped(stranger, 120)}' publishes on '{ack_topic}' but reads no flight "
+                    'orders: '
+                    'its acknowledgements are not taken'
+                )
+        return names
+
     def _on_ack(self, msg: DiagnosticStatus) -> None:
         try:
+            simulator = msg.hardware_id[:120]
+            with self._lock:
+                known = msg.name in self._pending
+            if known and simulator not in self.matched_simulators(refresh=False):
+                if simulator not in self.matched_simulators(refresh=True):
+                    self.counts['ignored_acks'] += 1
+                    self.get_logger().warning(
+                        f"acknowledgement of flight order '{msg.name[:40]}' ignored: it names "
+                        f"'{capped(simulator, 120)}', which is not a simulator this node matched "
+                        '(a node reading the flight orders and writing the acknowledgements); '
+                        'another participant sent it',
+                        throttle_duration_sec=1.0,
+                    )
+                    return
             with self._lock:
                 pending = self._pending.pop(msg.name, None)
-            simulator = msg.hardware_id[:120]
             if pending is None:
                 if (
                     msg.name.startswith(self._token + '-')
                     and simulator not in self._other_simulators
-                    and len(self._other_simulators) < 16
+                    and len(self._other_simulators) < MAX_NAMED
                 ):
                     self._other_simulators.add(simulator)
                     self.get_logger().warning(
@@ -373,7 +441,9 @@ class ReleaseNode(Node):
             values = dict(pending.values, simulator=simulator)
             if mb.level_of(msg) == 'ERROR':
                 self._reject(
-                    pending.request_id, f'the simulator refused the flight: {msg.message}', values
+                    pending.request_id,
+                    f'the simulator refused the flight: {capped(msg.message)}',
+                    values,
                 )
                 return
             level = 'OK' if pending.stable else 'WARN'
