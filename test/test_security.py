@@ -191,3 +191,31 @@ def test_a_forged_error_naming_another_node_does_not_refuse_a_real_flight(
         values = {kv.key: kv.value for kv in answer.values}
         assert values['simulator'] == '/football_simulator'
     release.wait_for_log("'/football_simulator_rival', which is not a simulator")
+
+
+# --- launch: enclaves and the guard -------------------------------------------------------
+def test_security_true_starts_every_node_in_its_enclave(monkeypatch, tmp_path):
+    from test_launch import CONFIG, launch
+
+    _, nodes = launch(monkeypatch, security='true', tracker='true', record='true')
+    enclaves = {name: node.kwargs['ros_arguments'] for name, (node, _) in nodes.items()}
+    assert enclaves == {
+        f'football_{n}': ['--enclave', f'/football_ros/{n}']
+        for n in ('simulator', 'release', 'tracker', 'recorder')
+    }
+    assert all('additional_env' not in node.kwargs for node, _ in nodes.values())
+    _, nodes = launch(monkeypatch, keystore=str(tmp_path))
+    node, _ = nodes['football_release']
+    assert node.kwargs['ros_arguments'] == ['--enclave', '/football_ros/release']
+    assert node.kwargs['additional_env'] == {
+        'ROS_SECURITY_KEYSTORE': str(tmp_path),
+        'ROS_SECURITY_ENABLE': 'true',
+        'ROS_SECURITY_STRATEGY': 'Enforce',
+    }
+    with pytest.raises(ValueError, match="'keystore'"):
+        launch(monkeypatch, keystore=str(tmp_path / 'missing'))
+    _, nodes = launch(monkeypatch, allow_reconfigure='true')
+    assert nodes['football_simulator'][1] == [str(CONFIG), {'allow_reconfigure': True}]
+    assert nodes['football_release'][1][1] == {'use_sim_time': False, 'allow_reconfigure': True}
+    _, nodes = launch(monkeypatch)
+    assert 'ros_arguments' not in nodes['football_simulator'][0].kwargs
