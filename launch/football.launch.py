@@ -154,8 +154,10 @@ def _nodes(context, *args, **kwargs):
     reconfigure = _optional_flag(context, 'allow_reconfigure')
     guard = {} if reconfigure is None else {'allow_reconfigure': reconfigure}
     overrides.update(guard)
-    secure = {name: security_options(context, name) for name in ('simulator', 'release',
-                                                                  'tracker', 'recorder')}
+    secure = {
+        name: security_options(context, name)
+        for name in ('simulator', 'release', 'tracker', 'recorder')
+    }
     params_file = LaunchConfiguration('params_file').perform(context)
     if not os.path.isfile(params_file) or not os.access(params_file, os.R_OK):
         raise ValueError(f"launch argument 'params_file': cannot read '{params_file[:200]}'")

@@ -43,7 +43,7 @@ RULES = {  # policy element -> (graph kind, rule attribute)
 
 
 def resolve(name: str, ns: str, node: str) -> str:
-    """A policy name as sros2's permissions.xsl expands it (absolute, ~ = the node's own)."""
+    """Expand a policy name as sros2's permissions.xsl does (absolute; ~ = the node's own)."""
     ns = ns if ns.endswith('/') else ns + '/'
     if name.startswith('/'):
         return name
