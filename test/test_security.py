@@ -219,3 +219,34 @@ def test_security_true_starts_every_node_in_its_enclave(monkeypatch, tmp_path):
     assert nodes['football_release'][1][1] == {'use_sim_time': False, 'allow_reconfigure': True}
     _, nodes = launch(monkeypatch)
     assert 'ros_arguments' not in nodes['football_simulator'][0].kwargs
+
+
+# --- the 1 MB frame_id attack: no way in through parameters --------------------------------
+@pytest.mark.parametrize('node, name', [('simulator', 'frame_id'), ('release', 'body_frame_id')])
+def test_a_megabyte_frame_id_is_refused_at_start_up(node, name, tmp_path):
+    import subprocess
+    import sys
+
+    import yaml
+
+    params = tmp_path / 'big.yaml'
+    full = {'simulator': 'football_simulator', 'release': 'football_release'}[node]
+    params.write_text(yaml.safe_dump({full: {'ros__parameters': {name: 'x' * (1 << 20)}}}))
+    proc = subprocess.run(
+        [sys.executable, '-m', 'football_ros.cli', node, '--ros-args', '--params-file',
+         str(params)],
+        capture_output=True, text=True, timeout=120,
+    )
+    assert proc.returncode == 2, proc.stdout[-2000:] + proc.stderr[-2000:]
+    assert f"'{name}' must be at most 256 characters" in proc.stderr
+    assert len(proc.stderr) < 4000  # the value is not echoed back
+
+
+def test_a_megabyte_frame_id_is_refused_at_run_time(start_node, collector):
+    start_node('release', '--ros-args', '-p', f'{GUARD}:=true')
+    result = _set(collector, 'football_release', 'body_frame_id', 'x' * (1 << 20))
+    assert not result.successful and '256' in result.reason and len(result.reason) < 200
+    assert _get(collector, 'football_release', 'body_frame_id').string_value == 'football'
+    start_node('simulator')
+    result = _set(collector, 'football_simulator', 'frame_id', 'x' * (1 << 20))
+    assert not result.successful and 'read-only' in result.reason
