@@ -250,3 +250,40 @@ def test_a_megabyte_frame_id_is_refused_at_run_time(start_node, collector):
     start_node('simulator')
     result = _set(collector, 'football_simulator', 'frame_id', 'x' * (1 << 20))
     assert not result.successful and 'read-only' in result.reason
+
+
+# --- log lines under a flood -----------------------------------------------------------------
+def test_the_log_budget_allows_a_burst_a_second_and_counts_the_rest():
+    from football_ros.nodes.release import LogBudget
+
+    now = [100.2]
+    budget = LogBudget(3, clock=lambda: now[0])
+    assert [budget.take() for _ in range(5)] == [(True, 0)] * 3 + [(False, 0)] * 2
+    now[0] = 101.0
+    assert budget.take() == (True, 2)  # the next line says how many were not logged
+    assert budget.take() == (True, 0)
+
+
+def test_a_flood_of_bad_requests_logs_a_bounded_number_of_lines(start_node, collector):
+    import time
+
+    from diagnostic_msgs.msg import DiagnosticStatus
+    from football_ros.nodes import qos
+    from football_ros.nodes.release import LOG_LINES_PER_S
+    from std_msgs.msg import String
+
+    release = start_node('release')
+    collector.subscribe(DiagnosticStatus, qos.RELEASE_RESPONSE, qos.REQUEST)
+    requests = collector.publisher(String, qos.RELEASE_REQUEST, qos.REQUEST)
+    collector.wait_for_subscribers(requests)
+    before = release.log().count('\n')
+    t0 = time.monotonic()
+    for k in range(600):
+        requests.publish(String(data=f'{{id: bad-{k}, speed: -1}}'))
+        time.sleep(0.002)
+    collector.wait_for(lambda: len(collector.get(qos.RELEASE_RESPONSE)) >= 600, 30.0, 'answers')
+    seconds = time.monotonic() - t0
+    lines = release.log().count('\n') - before
+    assert all(_level(r) == 2 for r in collector.get(qos.RELEASE_RESPONSE))  # each answered
+    assert lines <= LOG_LINES_PER_S * (seconds + 2), (lines, seconds)
+    assert 'were not logged: flood' in release.log()

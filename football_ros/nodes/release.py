@@ -73,6 +73,28 @@ GRAPH_REFRESH_S = 0.1
 """Earliest re-read of the graph for an unknown sender after the last read [s]."""
 MAX_NAMED = 16
 """Participants named in warnings at most (each once)."""
+LOG_LINES_PER_S = 50
+"""Answers logged per second at most; under a flood the rest are counted in the next line."""
+
+
+class LogBudget:
+    """At most ``per_second`` lines in each wall-clock second; counts the lines it refused."""
+
+    def __init__(self, per_second: int, clock=time.monotonic) -> None:
+        self.per_second, self._clock = per_second, clock
+        self._window, self._used, self.dropped = -1, 0, 0
+
+    def take(self) -> tuple[bool, int]:
+        """Return (may log now, lines refused since the last allowed one)."""
+        window = int(self._clock())
+        if window != self._window:
+            self._window, self._used = window, 0
+        if self._used >= self.per_second:
+            self.dropped += 1
+            return False, 0
+        self._used += 1
+        dropped, self.dropped = self.dropped, 0
+        return True, dropped
 
 
 def node_fqn(info) -> str:
@@ -195,6 +217,7 @@ class ReleaseNode(Node):
         self._other_simulators: set[str] = set()
         self._strangers: set[str] = set()  # ack writers named in a warning (bounded)
         self._simulators: tuple[float, frozenset[str]] = (-math.inf, frozenset())
+        self._log_budget = LogBudget(LOG_LINES_PER_S)
         self._work: queue.Queue[_Work] = queue.Queue(maxsize=self.queue_depth)
         self.counts = {'received': 0, 'accepted': 0, 'rejected': 0, 'busy': 0, 'ignored_acks': 0}
         self._responses = self.create_publisher(
@@ -458,9 +481,9 @@ class ReleaseNode(Node):
         self._respond(request_id, 'ERROR', f'rejected: {capped(reason)}', values or {})
 
     def _internal_error(self, request_id: str, exc: Exception) -> None:
-        self.get_logger().error(
-            f"request '{request_id}': internal error\n{traceback.format_exc()}"
-        )
+        if self._log_budget.take()[0]:
+            details = capped(traceback.format_exc(), 4000)
+            self.get_logger().error(f"request '{request_id}': internal error\n{details}")
         self._reject(
             request_id, f'internal error ({type(exc).__name__}); the node logged the details'
         )
@@ -468,10 +491,15 @@ class ReleaseNode(Node):
     def _respond(
         self, request_id: str, level: str, message: str, values: dict, log: bool = True
     ) -> None:
-        if log and level == 'OK':
-            self.get_logger().info(f"request '{request_id}' {message}")
-        elif log:  # rclpy fixes one severity per call site
-            self.get_logger().warning(f"request '{request_id}' {message}")
+        allowed, dropped = self._log_budget.take() if log else (False, 0)
+        if dropped:
+            message_log = f'{message} ({dropped} answers before it were not logged: flood)'
+        else:
+            message_log = message
+        if allowed and level == 'OK':
+            self.get_logger().info(f"request '{request_id}' {message_log}")
+        elif allowed:  # rclpy fixes one severity per call site
+            self.get_logger().warning(f"request '{request_id}' {message_log}")
         status = mb.diagnostic_status(request_id, level, message, values, hardware_id=HARDWARE_ID)
         with self._lock:
             self._responses.publish(status)
