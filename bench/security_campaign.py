@@ -55,7 +55,7 @@ from std_msgs.msg import String  # noqa: E402
 from std_srvs.srv import SetBool, Trigger  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
-OK, ERROR = 0, 2
+OK, ERROR = b'\x00', b'\x02'  # DiagnosticStatus levels (a byte)
 
 
 def rss_mb(pid: int) -> float:
@@ -114,7 +114,7 @@ class Stranger:
         self.answers = self.node.create_publisher(DiagnosticStatus, qos.RELEASE_RESPONSE,
                                                   qos.REQUEST)
         self.acks = self.node.create_publisher(DiagnosticStatus, qos.FLIGHT_ACK, qos.ORDER)
-        self.forge: tuple[int, str] | None = None  # (level, hardware_id) of forged acks
+        self.forge: tuple[bytes, str] | None = None  # (level, hardware_id) of forged acks
         self.node.create_subscription(String, qos.FLIGHT_ORDER, self._on_order, qos.ORDER)
         self._thread = threading.Thread(target=self._spin, daemon=True)
         self._thread.start()
@@ -173,8 +173,8 @@ class Stranger:
         self.context.try_shutdown()
 
 
-def level(status) -> int:
-    return status.level[0] if isinstance(status.level, bytes) else status.level
+def level(status) -> bytes:
+    return bytes(status.level)[:1] if isinstance(status.level, bytes) else bytes([status.level])
 
 
 def campaign(setup: str, args, tmp: Path, stranger: Stranger) -> dict[str, str]:

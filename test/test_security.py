@@ -170,7 +170,7 @@ def _level(status):
 
 def test_a_forged_ok_without_simulator_is_not_accepted(start_node, collector):
     release = start_node('release')
-    _stranger(collector, '/football_simulator', 0)  # OK, naming the absent simulator
+    _stranger(collector, '/football_simulator', b'\x00')  # OK, naming the absent simulator
     for answer in _answers(collector, [f'forged-ok-{k}' for k in range(3)]):
         assert _level(answer) == 2, answer.message
         assert 'no simulator acknowledged' in answer.message
@@ -184,7 +184,7 @@ def test_a_forged_error_naming_another_node_does_not_refuse_a_real_flight(
 ):
     start_node('simulator')
     release = start_node('release')
-    _stranger(collector, '/football_simulator_rival', 2)
+    _stranger(collector, '/football_simulator_rival', b'\x02')
     answers = _answers(collector, [f'real-{k}' for k in range(3)])
     for answer in answers:
         assert _level(answer) == 0 and 'accepted' in answer.message, answer.message
@@ -287,3 +287,13 @@ def test_a_flood_of_bad_requests_logs_a_bounded_number_of_lines(start_node, coll
     assert all(_level(r) == 2 for r in collector.get(qos.RELEASE_RESPONSE))  # each answered
     assert lines <= LOG_LINES_PER_S * (seconds + 2), (lines, seconds)
     assert 'were not logged: flood' in release.log()
+
+
+def test_an_acknowledgement_with_an_unknown_level_is_ignored(start_node, collector):
+    start_node('simulator')
+    release = start_node('release')
+    _stranger(collector, '/football_simulator', b'\xbd')  # names the real simulator
+    for answer in _answers(collector, [f'odd-level-{k}' for k in range(3)]):
+        assert _level(answer) == 0 and 'accepted' in answer.message, answer.message
+    assert collector.forged
+    assert 'Traceback' not in release.log() and 'internal error' not in release.log()

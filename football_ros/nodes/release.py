@@ -446,6 +446,16 @@ class ReleaseNode(Node):
                         throttle_duration_sec=1.0,
                     )
                     return
+            try:
+                ack_level = mb.level_of(msg)
+            except KeyError:  # a level byte no simulator sends
+                self.counts['ignored_acks'] += 1
+                self.get_logger().warning(
+                    f"acknowledgement of '{msg.name[:40]}' ignored: unknown level "
+                    f'{bytes(msg.level)[:1]!r} (another participant sent it)',
+                    throttle_duration_sec=1.0,
+                )
+                return
             with self._lock:
                 pending = self._pending.pop(msg.name, None)
             if pending is None:
@@ -462,7 +472,7 @@ class ReleaseNode(Node):
                     )
                 return
             values = dict(pending.values, simulator=simulator)
-            if mb.level_of(msg) == 'ERROR':
+            if ack_level == 'ERROR':
                 self._reject(
                     pending.request_id,
                     f'the simulator refused the flight: {capped(msg.message)}',
