@@ -168,9 +168,10 @@ class Stranger:
         return None
 
     def close(self) -> None:
+        self.context.try_shutdown()  # the spinning thread returns first
+        self._thread.join(timeout=2.0)
         self.executor.shutdown(timeout_sec=1.0)
         self.node.destroy_node()
-        self.context.try_shutdown()
 
 
 def level(status) -> bytes:
