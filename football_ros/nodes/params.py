@@ -168,7 +168,13 @@ class ParamSpec:
 
     def help_line(self) -> str:
         """One ``--help`` line: name, default, range or choices, description."""
-        return f'  {self.name} (default {self.default!r}{self._rules()}): {self.description}'
+        return (
+            f'  {self.name} (default {self.default!r}{self._rules()}): {self.description}'
+            + self._guarded()
+        )
+
+    def _guarded(self) -> str:
+        return f' (guarded: {self.guard})' if self.guard and not self.read_only else ''
 
     def _rules(self) -> str:
         rules = []
@@ -178,8 +184,6 @@ class ParamSpec:
             rules.append(' | '.join(self.choices))
         if self.read_only:
             rules.append('read-only')
-        elif self.guard is not None:
-            rules.append(f'guarded: {self.guard}')
         return f' [{", ".join(rules)}]' if rules else ''
 
 
@@ -285,7 +289,7 @@ def markdown(tables: dict[str, Sequence[ParamSpec]]) -> str:
         "Generated from the nodes' parameter tables (`python -m football_ros.nodes.reference`);",
         "do not edit by hand. Each node's `--help` prints the same table. Integers are accepted",
         'for float parameters (`-p publish_rate:=200`, `ros2 param set ... publish_rate 200`).',
-        f'A row *guarded: {GUARD}* is read-only at run time unless the node is started with',
+        f'A row *(guarded: {GUARD})* is read-only at run time unless the node is started with',
         f'`-p {GUARD}:=true` (launch: `{GUARD}:=true`): by default no other participant on the',
         'domain can change it with `ros2 param set`. A read-only row is set at start-up only.',
     ]
@@ -295,5 +299,6 @@ def markdown(tables: dict[str, Sequence[ParamSpec]]) -> str:
         for spec in specs:
             rules = spec._rules().strip(' []').replace('|', '\\|')
             default = repr(spec.default).replace('|', '\\|')
-            lines.append(f'| `{spec.name}` | `{default}` | {rules} | {spec.description} |')
+            text = spec.description + spec._guarded()
+            lines.append(f'| `{spec.name}` | `{default}` | {rules} | {text} |')
     return '\n'.join(lines) + '\n'
