@@ -38,6 +38,7 @@ setup(
         (f'share/{package_name}/config', glob('config/*.yaml')),
         (f'share/{package_name}/rviz', glob('rviz/*.rviz')),
         (f'share/{package_name}/msg_docs', glob('msg_docs/*.md')),
+        (f'share/{package_name}/security', glob('security/*.xml')),
     ],
     python_requires='>=3.10',
     install_requires=[

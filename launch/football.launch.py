@@ -36,6 +36,13 @@ the simulator's own parameter ranges, the params file readable): a bad one ends 
 with one error naming it and nothing running. ``rviz:=true`` without rviz2 installed starts
 the rest with a warning. The simulator and the release node end the launch when either exits,
 so that no node is left running alone.
+
+Security (README, section Security): ``security:=true`` starts every football_ros node in its
+SROS2 enclave (``--ros-args --enclave /football_ros/<node>``, the enclaves of
+security/football_ros_policy.xml); ``keystore:=DIR`` also sets ROS_SECURITY_KEYSTORE=DIR,
+ROS_SECURITY_ENABLE=true and ROS_SECURITY_STRATEGY=Enforce for them. ``allow_reconfigure:=true``
+lets the guarded parameters of the simulator and the release node change at run time (empty:
+the params file decides; its default is false).
 """
 
 import math
@@ -49,7 +56,9 @@ from launch_ros.actions import Node, PushRosNamespace
 
 PACKAGE = 'football_ros'
 DEFAULT_CAMERA_RATE = 60.0
-FLAGS = ('use_sim_time', 'record', 'tracker', 'planner', 'rviz')
+FLAGS = ('use_sim_time', 'record', 'tracker', 'planner', 'rviz', 'security')
+ENCLAVE_ROOT = '/football_ros'
+"""Enclaves of the nodes: ENCLAVE_ROOT/<executable> (security/football_ros_policy.xml)."""
 
 
 def _flag(context, name):
@@ -107,6 +116,30 @@ def simulator_overrides(context):
     return overrides
 
 
+def _optional_flag(context, name):
+    """Read a boolean launch argument that may be left empty (None: not given)."""
+    if not LaunchConfiguration(name).perform(context).strip():
+        return None
+    return _flag(context, name)
+
+
+def security_options(context, executable):
+    """Return the Node keyword arguments that start ``executable`` in its enclave, or {}."""
+    keystore = LaunchConfiguration('keystore').perform(context).strip()
+    if not (_flag(context, 'security') or keystore):
+        return {}
+    options = {'ros_arguments': ['--enclave', f'{ENCLAVE_ROOT}/{executable}']}
+    if keystore:
+        if not os.path.isdir(keystore):
+            raise ValueError(f"launch argument 'keystore': no folder '{keystore[:200]}'")
+        options['additional_env'] = {
+            'ROS_SECURITY_KEYSTORE': keystore,
+            'ROS_SECURITY_ENABLE': 'true',
+            'ROS_SECURITY_STRATEGY': 'Enforce',
+        }
+    return options
+
+
 def _rviz_available():
     try:
         get_package_share_directory('rviz2')
@@ -119,6 +152,13 @@ def _nodes(context, *args, **kwargs):
     """Check every argument, then return the nodes to start (all or nothing)."""
     flags = {name: _flag(context, name) for name in FLAGS}
     overrides = simulator_overrides(context)
+    reconfigure = _optional_flag(context, 'allow_reconfigure')
+    guard = {} if reconfigure is None else {'allow_reconfigure': reconfigure}
+    overrides.update(guard)
+    secure = {
+        name: security_options(context, name)
+        for name in ('simulator', 'release', 'tracker', 'planner', 'recorder')
+    }
     params_file = LaunchConfiguration('params_file').perform(context)
     if not os.path.isfile(params_file) or not os.access(params_file, os.R_OK):
         raise ValueError(f"launch argument 'params_file': cannot read '{params_file[:200]}'")
@@ -132,14 +172,16 @@ def _nodes(context, *args, **kwargs):
             output='screen',
             parameters=[params_file] + ([overrides] if overrides else []),
             **ending,
+            **secure['simulator'],
         ),
         Node(
             package=PACKAGE,
             executable='release',
             name='football_release',
             output='screen',
-            parameters=[params_file, sim_time],
+            parameters=[params_file, dict(sim_time, **guard)],
             **ending,
+            **secure['release'],
         ),
     ]
     for flag, executable, name in (
@@ -154,7 +196,8 @@ def _nodes(context, *args, **kwargs):
                     executable=executable,
                     name=name,
                     output='screen',
-                    parameters=[params_file, sim_time],
+                    parameters=[params_file, dict(sim_time, **guard)],
+                    **secure[executable],
                 )
             )
     if flags['rviz'] and not _rviz_available():
@@ -218,6 +261,23 @@ def generate_launch_description():
             ),
             DeclareLaunchArgument(
                 'planner', default_value='false', description='also run the throw planner'
+            ),
+            DeclareLaunchArgument(
+                'security',
+                default_value='false',
+                description='start every football_ros node in its SROS2 enclave '
+                f'({ENCLAVE_ROOT}/<node>)',
+            ),
+            DeclareLaunchArgument(
+                'keystore',
+                default_value='',
+                description='SROS2 keystore: also enable and enforce security for the nodes',
+            ),
+            DeclareLaunchArgument(
+                'allow_reconfigure',
+                default_value='',
+                description='guarded parameters changeable at run time (true/false); '
+                'empty = params file (false)',
             ),
             DeclareLaunchArgument(
                 'rviz_config',

@@ -162,6 +162,9 @@ def test_defaults_leave_the_params_file_in_force(monkeypatch):
         'rviz',
         'rviz_config',
         'planner',
+        'security',
+        'keystore',
+        'allow_reconfigure',
     }
     assert set(nodes) == {'football_simulator', 'football_release'}
     assert nodes['football_simulator'][1] == [str(CONFIG)]  # no override of the file's values

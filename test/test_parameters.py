@@ -97,11 +97,11 @@ def _set(collector, node, name, value, kind):
 
 
 def test_integers_set_at_run_time_on_float_parameters_are_taken(start_node, collector):
-    start_node('simulator')
+    start_node('simulator', '--ros-args', '-p', 'allow_reconfigure:=true')
     result = _set(collector, 'football_simulator', 'publish_rate', 200,
                   ParameterType.PARAMETER_INTEGER)
     assert result.successful, result.reason
-    start_node('release')
+    start_node('release', '--ros-args', '-p', 'allow_reconfigure:=true')
     result = _set(collector, 'football_release', 'ack_timeout', 2,
                   ParameterType.PARAMETER_INTEGER)
     assert result.successful, result.reason

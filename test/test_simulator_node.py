@@ -213,7 +213,7 @@ def test_parameters_have_ranges_and_live_changes_are_validated(start_node, colle
     from rcl_interfaces.srv import DescribeParameters, SetParameters
     from rclpy.parameter import Parameter
 
-    start_node('simulator')
+    start_node('simulator', '--ros-args', '-p', 'allow_reconfigure:=true')
     desc = call(
         collector,
         DescribeParameters,
@@ -449,6 +449,8 @@ def test_services_answer_at_the_worst_accepted_combination(start_node, collector
         'real_time_factor:=5.0',
         '-p',
         'integration_step:=0.000025',
+        '-p',
+        'allow_reconfigure:=true',
     )
     collector.subscribe(PoseStamped, qos.POSE, qos.STATE, raw=True)
     collector.subscribe(MarkerArray, qos.MARKERS, qos.MARKERS_QOS)

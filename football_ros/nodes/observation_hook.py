@@ -34,7 +34,7 @@ from .params import ParamSpec
 from ..estimation.sensor import Camera, CameraSettings, LIMITS
 
 PARAMETERS = tuple(
-    ParamSpec(*row)
+    ParamSpec(*row, guard='allow_reconfigure')
     for row in (
         (
             'observation_rate',

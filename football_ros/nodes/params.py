@@ -40,6 +40,8 @@ from rclpy.parameter import Parameter
 
 MAX_STRING = 256
 """Characters a string parameter may hold (frame ids, names, paths): a bound on every copy."""
+GUARD = 'allow_reconfigure'
+"""The parameter that guards a row with ``guard=GUARD`` (read-only: set at start-up only)."""
 
 
 @dataclass(frozen=True)
@@ -51,6 +53,9 @@ class ParamSpec:
     string may take (listed in the descriptor's additional_constraints, checked on every set);
     ``read_only``: fixed after start-up; ``non_empty``: a string that must not be '';
     ``optional``: may be left unset (``null`` or ``[]`` in a params file), meaning the default.
+    ``guard``: the name of the start-up-only boolean (:data:`GUARD`) without which the row is
+    read-only at run time: a stranger on the domain cannot change it with ``ros2 param set``
+    unless the node was started with ``-p allow_reconfigure:=true``.
     """
 
     name: str
@@ -61,16 +66,31 @@ class ParamSpec:
     read_only: bool = False
     non_empty: bool = False
     optional: bool = False
+    guard: str | None = None
 
-    def descriptor(self) -> ParameterDescriptor:
-        """Return the ParameterDescriptor that ``ros2 param describe`` shows."""
+    def __post_init__(self) -> None:
+        """Refuse a guard that is not in :data:`GUARDS`."""
+        if self.guard is not None and self.guard not in GUARDS:
+            raise ValueError(f'{self.name}: unknown guard {self.guard!r} (one of {GUARDS})')
+
+    def descriptor(self, writable: bool = True) -> ParameterDescriptor:
+        """
+        Return the ParameterDescriptor that ``ros2 param describe`` shows.
+
+        ``writable``: the guard's value on the node (a guarded row is read-only without it).
+        """
+        read_only = self.read_only or (self.guard is not None and not writable)
         descriptor = ParameterDescriptor(
-            description=self.description, read_only=self.read_only, dynamic_typing=self.optional
+            description=self.description, read_only=read_only, dynamic_typing=self.optional
         )
         if self.choices:
             descriptor.additional_constraints = f'one of: {", ".join(self.choices)}'
         elif self.non_empty:
             descriptor.additional_constraints = 'must not be empty'
+        if read_only and not self.read_only:  # by the guard
+            rule = f'read-only unless the node is started with {self.guard}:=true'
+            before = descriptor.additional_constraints
+            descriptor.additional_constraints = f'{before}; {rule}' if before else rule
         if self.limits is not None:
             lo, hi = self.limits
             if isinstance(self.default, bool) or not isinstance(self.default, (int, float)):
@@ -105,9 +125,19 @@ class ParamSpec:
         """
         Declare on ``node``; return the value in force (default or override).
 
+        A guarded row first declares its guard (if the node has not yet) and is declared
+        read-only unless the guard is true: rclpy then refuses a run-time set before any
+        on-set callback runs, whatever the order of the node's callbacks.
         Raises ValueError naming the parameter for a value the rules refuse.
         """
-        descriptor = self.descriptor()
+        if self.name in GUARDS and node.has_parameter(self.name):
+            return node.get_parameter(self.name).value  # declared by a guarded row before
+        writable = True
+        if self.guard is not None:
+            if not node.has_parameter(self.guard):
+                GUARDS[self.guard].declare(node)
+            writable = node.get_parameter(self.guard).value is True
+        descriptor = self.descriptor(writable)
         try:
             value = node.declare_parameter(self.name, self.default, descriptor).value
             if self.optional:
@@ -138,7 +168,13 @@ class ParamSpec:
 
     def help_line(self) -> str:
         """One ``--help`` line: name, default, range or choices, description."""
-        return f'  {self.name} (default {self.default!r}{self._rules()}): {self.description}'
+        return (
+            f'  {self.name} (default {self.default!r}{self._rules()}): {self.description}'
+            + self._guarded()
+        )
+
+    def _guarded(self) -> str:
+        return f' (guarded: {self.guard})' if self.guard and not self.read_only else ''
 
     def _rules(self) -> str:
         rules = []
@@ -149,6 +185,24 @@ class ParamSpec:
         if self.read_only:
             rules.append('read-only')
         return f' [{", ".join(rules)}]' if rules else ''
+
+
+GUARDS = {
+    GUARD: ParamSpec(
+        GUARD,
+        False,
+        'Let the guarded parameters be changed at run time (ros2 param set); start-up only',
+        read_only=True,
+    ),
+}
+"""Guard name -> its row (declared by the first guarded row of a node that lacks it)."""
+
+
+def with_guards(specs: Sequence[ParamSpec]) -> tuple[ParamSpec, ...]:
+    """Return ``specs`` with the guards its rows name first (those not in it): what is declared."""
+    names = {spec.name for spec in specs}
+    named = dict.fromkeys(s.guard for s in specs if s.guard is not None and s.guard not in names)
+    return tuple(GUARDS[g] for g in named) + tuple(specs)
 
 
 def _number(x: float) -> str:
@@ -235,6 +289,9 @@ def markdown(tables: dict[str, Sequence[ParamSpec]]) -> str:
         "Generated from the nodes' parameter tables (`python -m football_ros.nodes.reference`);",
         "do not edit by hand. Each node's `--help` prints the same table. Integers are accepted",
         'for float parameters (`-p publish_rate:=200`, `ros2 param set ... publish_rate 200`).',
+        f'A row *(guarded: {GUARD})* is read-only at run time unless the node is started with',
+        f'`-p {GUARD}:=true` (launch: `{GUARD}:=true`): by default no other participant on the',
+        'domain can change it with `ros2 param set`. A read-only row is set at start-up only.',
     ]
     for node, specs in tables.items():
         lines += ['', f'## {node}', '', '| name | default | range / choices | description |',
@@ -242,5 +299,6 @@ def markdown(tables: dict[str, Sequence[ParamSpec]]) -> str:
         for spec in specs:
             rules = spec._rules().strip(' []').replace('|', '\\|')
             default = repr(spec.default).replace('|', '\\|')
-            lines.append(f'| `{spec.name}` | `{default}` | {rules} | {spec.description} |')
+            text = spec.description + spec._guarded()
+            lines.append(f'| `{spec.name}` | `{default}` | {rules} | {text} |')
     return '\n'.join(lines) + '\n'

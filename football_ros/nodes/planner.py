@@ -47,7 +47,7 @@ from std_msgs.msg import String
 
 from . import messages as mb
 from . import qos
-from .params import declare_all, ParamSpec
+from .params import declare_all, GUARD, ParamSpec
 from .runner import run_node
 from ..physics import compile_ahead
 from ..physics.frames import FIELD_FRAME
@@ -61,13 +61,13 @@ MAX_PATH_POSES = 500
 
 PARAMETERS = (
     ParamSpec('max_request_bytes', MAX_REQUEST_BYTES, 'Largest accepted request text [bytes]',
-              (64, 1 << 20)),
+              (64, 1 << 20), guard=GUARD),
     ParamSpec('queue_depth', 16, 'Plan requests waiting for the worker at most; more are '
               'answered busy', (1, 1000), read_only=True),
     ParamSpec('hit_n', 1000, 'Balls flown for the hit probability unless a request says '
-              '(0 = none)', (0, 100000)),
+              '(0 = none)', (0, 100000), guard=GUARD),
     ParamSpec('frame_id', FIELD_FRAME, 'Frame of the path and of every point (field)',
-              non_empty=True),
+              non_empty=True, guard=GUARD),
     ParamSpec('receiver_topic', '', "Odometry topic of a receiver ('' = none); requests "
               'with receiver: odom plan for its last pose and twist', read_only=True),
 )

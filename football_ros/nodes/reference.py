@@ -27,7 +27,7 @@ from typing import Sequence
 
 from rclpy.node import Node
 
-from .params import markdown, ParamSpec
+from .params import markdown, ParamSpec, with_guards
 from ..programs import NODES
 
 
@@ -45,8 +45,8 @@ def node_class(module_name: str) -> type[Node]:
 
 
 def node_tables() -> dict[str, Sequence[ParamSpec]]:
-    """Return {executable name: its node's parameter table} for every node."""
-    return {name: node_class(module).PARAMETERS for name, module in NODES.items()}
+    """Return {executable name: its node's parameter table, guards first} for every node."""
+    return {name: with_guards(node_class(module).PARAMETERS) for name, module in NODES.items()}
 
 
 def main() -> int:

@@ -46,7 +46,7 @@ from std_msgs.msg import String
 
 from . import messages as mb
 from . import qos
-from .params import declare_all, ParamSpec
+from .params import declare_all, GUARD, ParamSpec
 from .runner import run_node
 from ..physics import compile_ahead, Flight, InitialState, PRESETS, ReleaseError
 from ..physics.flight import flight_summary
@@ -67,6 +67,40 @@ HARDWARE_ID = 'football_ros/release'
 PREDICTION_HORIZON_S = 60.0
 MAX_PENDING = 64
 """Orders waiting for the simulator's acknowledgement at most (more: answered 'busy')."""
+GRAPH_CACHE_S = 0.5
+"""How long the set of matched simulators is reused before the graph is asked again [s]."""
+GRAPH_REFRESH_S = 0.1
+"""Earliest re-read of the graph for an unknown sender after the last read [s]."""
+MAX_NAMED = 16
+"""Participants named in warnings at most (each once)."""
+LOG_LINES_PER_S = 50
+"""Answers logged per second at most; under a flood the rest are counted in the next line."""
+
+
+class LogBudget:
+    """At most ``per_second`` lines in each wall-clock second; counts the lines it refused."""
+
+    def __init__(self, per_second: int, clock=time.monotonic) -> None:
+        self.per_second, self._clock = per_second, clock
+        self._window, self._used, self.dropped = -1, 0, 0
+
+    def take(self) -> tuple[bool, int]:
+        """Return (may log now, lines refused since the last allowed one)."""
+        window = int(self._clock())
+        if window != self._window:
+            self._window, self._used = window, 0
+        if self._used >= self.per_second:
+            self.dropped += 1
+            return False, 0
+        self._used += 1
+        dropped, self.dropped = self.dropped, 0
+        return True, dropped
+
+
+def node_fqn(info) -> str:
+    """Fully qualified node name of a TopicEndpointInfo: '/ns/name' ('/name' at the root)."""
+    namespace = info.node_namespace.rstrip('/')
+    return f'{namespace}/{info.node_name}'
 
 
 def prediction(flight: Flight) -> dict[str, object]:
@@ -120,15 +154,21 @@ PARAMETERS = (
         MAX_REQUEST_BYTES,
         'Largest accepted request text [bytes]',
         (64, 1 << 20),
+        guard=GUARD,
     ),
     ParamSpec(
-        'integration_step', 0.001, 'Integration step of the landing prediction [s]', (5e-4, 0.01)
+        'integration_step',
+        0.001,
+        'Integration step of the landing prediction [s]',
+        (5e-4, 0.01),
+        guard=GUARD,
     ),
     ParamSpec(
         'ack_timeout',
         1.0,
         "Wall time to wait for the simulator's acknowledgement [s]",
         (0.1, 10.0),
+        guard=GUARD,
     ),
     ParamSpec(
         'queue_depth',
@@ -142,16 +182,22 @@ PARAMETERS = (
         'american',
         'Ball preset of releases given as an Odometry on football/release/state',
         choices=tuple(PRESETS),
+        guard=GUARD,
     ),
-    ParamSpec('state_model', 'paper', 'Model of Odometry releases', choices=MODELS),
+    ParamSpec('state_model', 'paper', 'Model of Odometry releases', choices=MODELS, guard=GUARD),
     ParamSpec(
-        'state_moment', 'linear', 'Moment curve of Odometry releases', choices=MOMENT_CURVES
+        'state_moment',
+        'linear',
+        'Moment curve of Odometry releases',
+        choices=MOMENT_CURVES,
+        guard=GUARD,
     ),
     ParamSpec(
         'body_frame_id',
         BODY_FRAME,
         'Body frame an Odometry release may give its twist in',
         non_empty=True,
+        guard=GUARD,
     ),
 )
 
@@ -169,8 +215,11 @@ class ReleaseNode(Node):
         self._lock = threading.Lock()  # pending orders and the response publisher
         self._pending: dict[str, _Pending] = {}
         self._other_simulators: set[str] = set()
+        self._strangers: set[str] = set()  # ack writers named in a warning (bounded)
+        self._simulators: tuple[float, frozenset[str]] = (-math.inf, frozenset())
+        self._log_budget = LogBudget(LOG_LINES_PER_S)
         self._work: queue.Queue[_Work] = queue.Queue(maxsize=self.queue_depth)
-        self.counts = {'received': 0, 'accepted': 0, 'rejected': 0, 'busy': 0}
+        self.counts = {'received': 0, 'accepted': 0, 'rejected': 0, 'busy': 0, 'ignored_acks': 0}
         self._responses = self.create_publisher(
             DiagnosticStatus, qos.RELEASE_RESPONSE, qos.REQUEST
         )
@@ -352,16 +401,68 @@ class ReleaseNode(Node):
             )
 
     # --- executor thread: acknowledgements ---------------------------------------------------
+    def matched_simulators(self, refresh: bool = False) -> frozenset[str]:
+        """
+        Return the fully qualified names of the nodes that may acknowledge our orders.
+
+        A matched simulator reads ``football/flight/order`` and writes ``football/flight/ack``
+        (the graph, as ``ros2 topic info -v`` shows it). The graph is read at most every
+        GRAPH_CACHE_S seconds, or GRAPH_REFRESH_S after the last read with ``refresh``. Ack
+        writers that read no orders are named in one warning each.
+        """
+        now = time.monotonic()
+        read_at, names = self._simulators
+        if now - read_at < (GRAPH_REFRESH_S if refresh else GRAPH_CACHE_S):
+            return names
+        order_topic = self.resolve_topic_name(qos.FLIGHT_ORDER)
+        ack_topic = self.resolve_topic_name(qos.FLIGHT_ACK)
+        readers = {node_fqn(i) for i in self.get_subscriptions_info_by_topic(order_topic)}
+        writers = {node_fqn(i) for i in self.get_publishers_info_by_topic(ack_topic)}
+        names = frozenset(readers & writers)
+        self._simulators = (now, names)
+        for stranger in sorted(writers - readers):
+            if stranger not in self._strangers and len(self._strangers) < MAX_NAMED:
+                self._strangers.add(stranger)
+                self.get_logger().warning(
+                    f"'{capped(stranger, 120)}' publishes on '{ack_topic}' but reads no flight "
+                    'orders: '
+                    'its acknowledgements are not taken'
+                )
+        return names
+
     def _on_ack(self, msg: DiagnosticStatus) -> None:
         try:
+            simulator = msg.hardware_id[:120]
+            with self._lock:
+                known = msg.name in self._pending
+            if known and simulator not in self.matched_simulators(refresh=False):
+                if simulator not in self.matched_simulators(refresh=True):
+                    self.counts['ignored_acks'] += 1
+                    self.get_logger().warning(
+                        f"acknowledgement of flight order '{msg.name[:40]}' ignored: it names "
+                        f"'{capped(simulator, 120)}', which is not a simulator this node matched "
+                        '(a node reading the flight orders and writing the acknowledgements); '
+                        'another participant sent it',
+                        throttle_duration_sec=1.0,
+                    )
+                    return
+            try:
+                ack_level = mb.level_of(msg)
+            except KeyError:  # a level byte no simulator sends
+                self.counts['ignored_acks'] += 1
+                self.get_logger().warning(
+                    f"acknowledgement of '{msg.name[:40]}' ignored: unknown level "
+                    f'{bytes(msg.level)[:1]!r} (another participant sent it)',
+                    throttle_duration_sec=1.0,
+                )
+                return
             with self._lock:
                 pending = self._pending.pop(msg.name, None)
-            simulator = msg.hardware_id[:120]
             if pending is None:
                 if (
                     msg.name.startswith(self._token + '-')
                     and simulator not in self._other_simulators
-                    and len(self._other_simulators) < 16
+                    and len(self._other_simulators) < MAX_NAMED
                 ):
                     self._other_simulators.add(simulator)
                     self.get_logger().warning(
@@ -371,9 +472,11 @@ class ReleaseNode(Node):
                     )
                 return
             values = dict(pending.values, simulator=simulator)
-            if mb.level_of(msg) == 'ERROR':
+            if ack_level == 'ERROR':
                 self._reject(
-                    pending.request_id, f'the simulator refused the flight: {msg.message}', values
+                    pending.request_id,
+                    f'the simulator refused the flight: {capped(msg.message)}',
+                    values,
                 )
                 return
             level = 'OK' if pending.stable else 'WARN'
@@ -388,9 +491,9 @@ class ReleaseNode(Node):
         self._respond(request_id, 'ERROR', f'rejected: {capped(reason)}', values or {})
 
     def _internal_error(self, request_id: str, exc: Exception) -> None:
-        self.get_logger().error(
-            f"request '{request_id}': internal error\n{traceback.format_exc()}"
-        )
+        if self._log_budget.take()[0]:
+            details = capped(traceback.format_exc(), 4000)
+            self.get_logger().error(f"request '{request_id}': internal error\n{details}")
         self._reject(
             request_id, f'internal error ({type(exc).__name__}); the node logged the details'
         )
@@ -398,10 +501,15 @@ class ReleaseNode(Node):
     def _respond(
         self, request_id: str, level: str, message: str, values: dict, log: bool = True
     ) -> None:
-        if log and level == 'OK':
-            self.get_logger().info(f"request '{request_id}' {message}")
-        elif log:  # rclpy fixes one severity per call site
-            self.get_logger().warning(f"request '{request_id}' {message}")
+        allowed, dropped = self._log_budget.take() if log else (False, 0)
+        if dropped:
+            message_log = f'{message} ({dropped} answers before it were not logged: flood)'
+        else:
+            message_log = message
+        if allowed and level == 'OK':
+            self.get_logger().info(f"request '{request_id}' {message_log}")
+        elif allowed:  # rclpy fixes one severity per call site
+            self.get_logger().warning(f"request '{request_id}' {message_log}")
         status = mb.diagnostic_status(request_id, level, message, values, hardware_id=HARDWARE_ID)
         with self._lock:
             self._responses.publish(status)

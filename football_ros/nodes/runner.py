@@ -45,7 +45,7 @@ from rclpy.node import Node
 import rclpy.signals
 
 from .dds import use_package_profile
-from .params import accept_integers_for_floats
+from .params import accept_integers_for_floats, with_guards
 from .._early_signals import ignore_further_signals
 from ..command_line import plain
 
@@ -109,7 +109,7 @@ def print_help(factory: Callable[[], Node], program: str, out=sys.stdout) -> Non
     if doc:
         print(plain(doc) + '\n', file=out)
     print('parameters (name, default [range, choices]: description):', file=out)
-    for spec in getattr(factory, 'PARAMETERS', ()):
+    for spec in with_guards(getattr(factory, 'PARAMETERS', ())):
         print(spec.help_line(), file=out)
     print('\ntopics, frames, units and QoS: msg_docs/ (installed in share/football_ros)', file=out)
 

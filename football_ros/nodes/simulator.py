@@ -95,13 +95,20 @@ per wall second at 0.85 us a step); larger combinations are refused (parameter c
 RIVAL_CHECK_PERIOD_S = 1.0
 
 PARAMETERS = (
-    ParamSpec('publish_rate', 100.0, 'State messages per second of wall time [Hz]', (1.0, 2000.0)),
+    ParamSpec(
+        'publish_rate',
+        100.0,
+        'State messages per second of wall time [Hz]',
+        (1.0, 2000.0),
+        guard='allow_reconfigure',
+    ),
     ParamSpec(
         'integration_step',
         0.001,
         'Fixed RK4 step of the integrator [s] (next flight); real_time_factor / '
         f'integration_step <= {MAX_STEPS_PER_SECOND:g}',
         (1e-5, 0.01),
+        guard='allow_reconfigure',
     ),
     ParamSpec(
         'real_time_factor',
@@ -109,41 +116,63 @@ PARAMETERS = (
         'Simulated seconds per wall second; real_time_factor / '
         f'integration_step <= {MAX_STEPS_PER_SECOND:g}',
         (0.01, 100.0),
+        guard='allow_reconfigure',
     ),
     ParamSpec(
         'publish_clock',
         False,
         'Publish the global /clock (simulated time) and stamp every message with it',
+        guard='allow_reconfigure',
     ),
     ParamSpec(
-        'frame_id', FIELD_FRAME, 'World frame (REP-103: x downfield, z up)', non_empty=True
+        'frame_id',
+        FIELD_FRAME,
+        'World frame (REP-103: x downfield, z up)',
+        non_empty=True,
+        guard='allow_reconfigure',
     ),
     ParamSpec(
         'child_frame_id',
         BODY_FRAME,
         'Body frame of the ball (x = spin axis toward the leading nose)',
         non_empty=True,
+        guard='allow_reconfigure',
     ),
-    ParamSpec('marker_rate', 30.0, 'RViz markers per second [Hz], 0 = off', (0.0, 200.0)),
+    ParamSpec(
+        'marker_rate',
+        30.0,
+        'RViz markers per second [Hz], 0 = off',
+        (0.0, 200.0),
+        guard='allow_reconfigure',
+    ),
     ParamSpec(
         'trail_length',
         500,
         'Positions kept for the trail marker (one per marker); a '
         f'marker carries at most {mb.MAX_TRAIL_POINTS} of them, evenly spaced',
         (0, 100000),
+        guard='allow_reconfigure',
     ),
     ParamSpec(
         'hold_rate',
         1.0,
         'Rate at which the landed state is republished [Hz], 0 = never',
         (0.0, 100.0),
+        guard='allow_reconfigure',
     ),
-    ParamSpec('diagnostics_rate', 1.0, 'Periodic /diagnostics [Hz]', (0.1, 100.0)),
+    ParamSpec(
+        'diagnostics_rate',
+        1.0,
+        'Periodic /diagnostics [Hz]',
+        (0.1, 100.0),
+        guard='allow_reconfigure',
+    ),
     ParamSpec(
         'model',
         'release',
         "Equations of motion: 'release' (as each release asks), 'paper' or 'full'",
         choices=MODEL_CHOICES,
+        guard='allow_reconfigure',
     ),
     ParamSpec(
         'max_entities',
@@ -151,12 +180,14 @@ PARAMETERS = (
         'Most entities (balls) in the world, the default one included; SpawnEntity past it is '
         'refused',
         (1, 1000),
+        guard='allow_reconfigure',
     ),
 )
 PUBLISH_TF = ParamSpec(
     'publish_tf',
     mb.TFMessage is not None,
     'Publish the ball on /tf (frame_id -> child_frame_id)',
+    guard='allow_reconfigure',
 )
 
 
