@@ -227,3 +227,72 @@ def test_hostile_fixes_never_crash_or_poison_the_tracker(start_node, collector):
     x_land, y_land = truth.positions[-1, :2]
     assert math.hypot(final.x - x_land, final.y - y_land) < 0.15
     assert tracker.log().count('new throw') == 1  # the outliers never started a throw
+
+
+def test_prediction_throttle_runs_on_the_fixes_clock():
+    from football_ros.nodes.tracker import PredictionThrottle
+
+    throttle = PredictionThrottle(30.0)
+    stamps = 1e6 + np.arange(120) / 60.0  # 2 s of 60 Hz fixes, whatever the node clock says
+    assert sum(throttle.due(t) for t in stamps) == 60
+    # Fixes stamped on a clock that started again: predictions at once, then every 1 / 30 s.
+    again = np.arange(30) / 60.0
+    assert [throttle.due(t) for t in again[:3]] == [True, False, True]
+
+
+def _clock(seconds):
+    from rosgraph_msgs.msg import Clock
+
+    msg = Clock()
+    msg.clock.sec = int(seconds)
+    msg.clock.nanosec = int(round((seconds - int(seconds)) * 1e9))
+    return msg
+
+
+def test_a_strangers_clock_and_a_clock_restart_under_sim_time(start_node, collector):
+    from rosgraph_msgs.msg import Clock
+
+    tracker = start_node('tracker', '--ros-args', '-p', 'use_sim_time:=true')
+    subscribe_outputs(collector)
+    clock = collector.publisher(Clock, '/clock', 10)
+    pub = collector.publisher(PointStamped, qos.OBSERVATION, qos.STATE)
+    collector.wait_for_subscribers(pub)
+    release = Release(model='full', position=(0.0, 0.0, 1.8))
+    truth = Flight.from_release(release).simulate(rate=60.0)
+    rng = np.random.default_rng(4)
+
+    def throw(base, clock_at, n_landed):
+        for k, (t, p) in enumerate(zip(truth.times[:-1], truth.positions[:-1])):
+            if k % 6 == 0:
+                clock.publish(_clock(clock_at))  # a stalled /clock: it never moves
+            pub.publish(point(base + t, p + rng.normal(0.0, 0.02, 3)))
+            time.sleep(0.004)
+        deadline = time.monotonic() + 20.0
+        while tracker.log().count('landed:') < n_landed and time.monotonic() < deadline:
+            time.sleep(0.1)
+        time.sleep(0.3)
+
+    for _ in range(10):
+        clock.publish(_clock(1e6))
+        time.sleep(0.05)
+    throw(1000.0, 1e6, 1)  # a stranger's /clock at 1e6 s: predictions still at ~30 Hz of fixes
+    n_first = len(collector.get(qos.LANDING))
+    t_flight = float(truth.times[-1])
+    # (the node clock's throttle gave a handful; frames may be lost on a busy machine)
+    assert n_first > 0.4 * 30.0 * (t_flight - 0.1), (n_first, tracker.log())
+    # The simulator restarted: /clock back at 50 s, the next throw stamped on it.
+    collector.clear()
+    for _ in range(10):
+        clock.publish(_clock(50.0))
+        time.sleep(0.05)
+    throw(20.0, 50.0, 2)
+    log = tracker.log()
+    assert 'clock jumped back' in log and log.count('new throw') == 2, log
+    landings = collector.get(qos.LANDING)
+    assert len(landings) > 0.4 * 30.0 * (t_flight - 0.1), (len(landings), log)
+    final = landings[-1]
+    x_land, y_land = truth.positions[-1, :2]
+    p = final.pose.pose.position
+    assert math.hypot(p.x - x_land, p.y - y_land) < 0.15
+    assert abs(stamp_s(final) - (20.0 + t_flight)) < 0.02
+    assert 'Traceback' not in log

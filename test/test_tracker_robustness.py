@@ -16,12 +16,39 @@
 
 import math
 
-from football_ros.estimation import FlightTracker, TrackerSettings
+from football_ros.estimation import Camera, CameraSettings, FlightTracker, TrackerSettings
 from football_ros.estimation.motion import land_points, N_X, path_of, propagate_points
+from football_ros.physics import Flight, Release
 import numpy as np
 import pytest
 
 G = 9.80665
+RELEASE = Release(model='full', position=(0.0, 0.0, 1.8))
+OTHER = Release(
+    model='full',
+    speed=20.0,
+    elevation_deg=40.0,
+    spin_rpm=-500.0,
+    azimuth_deg=30.0,
+    position=(10.0, 5.0, 1.5),
+)
+
+
+def fixes(release, seed=1):
+    """Return the camera's detections (60 Hz, 2 cm) before the landing, its time and x y."""
+    flight = Flight.from_release(release)
+    truth = flight.simulate(rate=1000.0)
+    t_land = float(truth.times[-1])
+    cam = Camera(CameraSettings(rate=60.0, noise=0.02, latency=0.0, seed=seed))
+    obs = cam.record(t_land + 1.0, lambda t: flight.state_at(t)[:3])
+    kept = [(o.stamp, o.position) for o in obs if o.stamp < t_land]
+    return kept, t_land, truth.positions[-1, :2]
+
+
+def landing_error(tracker, xy):
+    pred = tracker.predict_landing()
+    assert pred is not None
+    return float(np.linalg.norm(pred.position[:2] - xy)), pred
 
 
 def _at_rest(z: float, axis=(1.0, 0.0, 0.0)) -> np.ndarray:
@@ -74,3 +101,75 @@ def test_a_ball_held_still_is_tracked_without_an_internal_error():
         assert np.all(np.isfinite(pred.position)) and np.all(np.isfinite(pred.covariance))
     if path is not None:
         assert np.all(np.isfinite(path[1]))
+
+
+def test_a_clock_that_jumps_back_resets_the_time_base_and_tracks_the_next_throw():
+    first, t1, _ = fixes(RELEASE, seed=3)
+    second, t2, xy2 = fixes(OTHER, seed=4)
+    tracker = FlightTracker()
+    for t, z in first:
+        tracker.update(500.0 + t, z)  # the old clock, 500 s in
+    assert tracker.throws == 1 and tracker.landed
+    statuses = []
+    for t, z in second:  # the simulator restarted: its clock starts again at 0
+        if t <= t2 - 0.5:
+            result = tracker.update(t, z)
+            statuses.append(result.status)
+            if result.status == 'started':
+                assert 'clock jumped back' in result.reason
+    assert tracker.time_resets == 1 and tracker.throws == 2
+    # The new throw is found within its first few frames, and tracked as a fresh tracker would.
+    assert statuses.index('started') <= 6
+    err, pred = landing_error(tracker, xy2)
+    assert err < 0.15 and pred.time == pytest.approx(t2, abs=0.02)
+    # A single wild old stamp during a throw is only refused, not taken for a restart.
+    assert tracker.update(1.0, (0.0, 0.0, 2.0)).status == 'late'
+    assert tracker.time_resets == 1
+
+
+def test_one_wild_stamped_fix_per_genuine_fix_does_not_stop_a_track_starting():
+    obs, t_land, xy = fixes(RELEASE, seed=5)
+    rng = np.random.default_rng(7)
+    tracker = FlightTracker()
+    started_at = None
+    for t, z in obs:
+        wild = float(rng.uniform(-1e4, 1e4))
+        tracker.update(wild, z + rng.normal(0.0, 3.0, 3))  # the stamp of a broken clock
+        if tracker.update(t, z).status == 'started' and started_at is None:
+            started_at = t
+        if t > t_land - 0.5:
+            break
+    assert started_at is not None and started_at < 0.15
+    assert tracker.throws == 1
+    err, pred = landing_error(tracker, xy)
+    assert err < 0.1 and pred.time == pytest.approx(t_land, abs=0.02)
+
+
+def test_clutter_at_the_frame_rate_does_not_stop_a_track_starting():
+    obs, t_land, xy = fixes(RELEASE, seed=6)
+    rng = np.random.default_rng(8)
+    tracker = FlightTracker()
+    for t, z in obs:  # each frame one false detection anywhere over the field, same stamp
+        tracker.update(t, rng.uniform((-5.0, -20.0, 0.0), (50.0, 20.0, 12.0)))
+        tracker.update(t, z)
+        if t > t_land - 0.5:
+            break
+    assert tracker.throws == 1
+    err, pred = landing_error(tracker, xy)
+    assert err < 0.1 and pred.time == pytest.approx(t_land, abs=0.02)
+    assert tracker.counts['outlier'] > 0.9 * tracker.counts['accepted']
+
+
+def test_a_second_ball_in_the_air_does_not_stop_a_track_starting():
+    a, ta, xya = fixes(RELEASE, seed=9)
+    b, tb, xyb = fixes(OTHER, seed=10)
+    tracker = FlightTracker()
+    merged = sorted(a + [(t + 0.004, z) for t, z in b], key=lambda f: f[0])
+    for t, z in merged:
+        if t > min(ta, tb) - 0.5:
+            break
+        tracker.update(t, z)
+    assert tracker.throws >= 1
+    pred = tracker.predict_landing()
+    err = min(np.linalg.norm(pred.position[:2] - xya), np.linalg.norm(pred.position[:2] - xyb))
+    assert err < 0.15

@@ -258,8 +258,11 @@ class FlightTracker:
         self.nominal_h1 = ball.inertia_ratio * spin  # [rad/s]
         self.track: _Track | None = None
         self.throws = 0
-        self._candidates: collections.deque = collections.deque(maxlen=4 * s.min_points + 8)
+        depth = max(64, 8 * s.min_points)  # candidate fixes kept (clutter, wild stamps too)
+        self._candidates: collections.deque = collections.deque(maxlen=depth)
+        self._old: collections.deque = collections.deque(maxlen=depth)
         self._newest = -math.inf
+        self.time_resets = 0
         self.counts: collections.Counter = collections.Counter()
 
     # --- public API -----------------------------------------------------------------------
@@ -285,6 +288,11 @@ class FlightTracker:
             return None
         best = self.track.best
         return self.track.t, best.x.copy(), best.P.copy()
+
+    @property
+    def newest(self) -> float:
+        """Stamp [s] of the newest fix the filter used (-inf before any, after a reset)."""
+        return self._newest
 
     @property
     def landed(self) -> bool:
@@ -365,7 +373,10 @@ class FlightTracker:
         if now is not None and math.isfinite(now) and t > now + s.max_future:
             return UpdateResult('future', f'stamp {t - now:.3f} s ahead of now')
         if t < self._newest - s.max_lag:
-            return UpdateResult('late', f'stamp {self._newest - t:.3f} s behind the newest fix')
+            result = self._behind(t, z)
+            if result.used:
+                self._newest = t
+            return result
         tr = self.track
         if tr is None or tr.landed or abs(t - tr.t) > s.max_gap:
             # No live throw, or a fix far from it in time (the ball lost for a while, or a
@@ -373,8 +384,8 @@ class FlightTracker:
             result = self._candidate(t, z)
         elif t < tr.t or (tr.history and t < tr.history[-1].stamp):
             result = self._late(tr, t, z)
-        elif tr.history and abs(tr.history[-1].stamp - t) < 1e-9:
-            result = UpdateResult('duplicate', 'a fix with this stamp was already processed')
+        elif tr.history and _same(tr.history[-1], t, z):
+            result = UpdateResult('duplicate', 'this fix was already processed')
         else:
             result = self._filter(tr, t, z, record=True)
         if result.used:  # only fixes the filter took move the "newest" (no wild stamp can)
@@ -456,8 +467,8 @@ class FlightTracker:
         j = bisect.bisect_right(stamps, t)
         if j == 0:
             return UpdateResult('late', 'older than the kept history of the throw')
-        if abs(stamps[j - 1] - t) < 1e-9:
-            return UpdateResult('duplicate', 'a fix with this stamp was already processed')
+        if any(_same(e, t, z) for e in list(tr.history)[max(0, j - 8):j]):
+            return UpdateResult('duplicate', 'this fix was already processed')
         later = list(tr.history)[j:]
         base = tr.history[j - 1]
         for _ in range(len(later)):
@@ -493,31 +504,90 @@ class FlightTracker:
         return xm, 0.5 * (Pm + Pm.T), ok
 
     def _candidate(self, t: float, z: np.ndarray) -> UpdateResult:
-        """Keep the fix; start a throw when the recent ones fit a ballistic arc."""
-        s = self.settings
+        """Keep the fix; start a throw when it and recent ones fit a ballistic arc."""
         self._candidates.append((t, z))
-        recent = sorted(
-            (c for c in self._candidates if abs(c[0] - t) <= s.init_window), key=lambda c: c[0]
+        arc = self._find_arc(self._candidates, t, z)
+        if isinstance(arc, str):
+            return UpdateResult('candidate', arc)
+        times, zs, x0, cov, used = arc
+        self._candidates = collections.deque(
+            (c for k, c in enumerate(self._candidates) if k not in used),
+            maxlen=self._candidates.maxlen,
         )
-        self._candidates = collections.deque(recent, maxlen=self._candidates.maxlen)
-        if len(recent) < s.min_points:
-            return UpdateResult('candidate', 'waiting for enough fixes to start a throw')
-        times = np.array([c[0] for c in recent])
-        zs = np.array([c[1] for c in recent])
-        for _ in range(3):  # drop the worst fix at most a few times (outliers among them)
-            fit = self._ballistic_fit(times, zs)
+        return self._start(times[-1], zs[-1], x0, cov, times[-1] - times[0])
+
+    def _behind(self, t: float, z: np.ndarray) -> UpdateResult:
+        """
+        Handle a fix older than the newest by more than ``max_lag``: late or a clock restart.
+
+        Kept apart; when such fixes (the newest among them this one) fit a ballistic arc of
+        their own, the clock of the fixes jumped back (a simulator restarted under
+        use_sim_time, a detector rebooted): the time base is reset and a throw starts.
+        """
+        self._old.append((t, z))
+        arc = self._find_arc(self._old, t, z)
+        if isinstance(arc, str):
+            return UpdateResult('late', f'stamp {self._newest - t:.3f} s behind the newest fix')
+        jump = self._newest - t
+        self.reset_time_base()
+        times, zs, x0, cov, _ = arc
+        self._start(times[-1], zs[-1], x0, cov, times[-1] - times[0])
+        return UpdateResult('started', f'the clock jumped back {jump:.3f} s: time base reset')
+
+    def reset_time_base(self) -> None:
+        """Forget the throw, the newest stamp and every buffered fix (a clock that restarted)."""
+        self.track = None
+        self._newest = -math.inf
+        self._candidates.clear()
+        self._old.clear()
+        self.time_resets += 1
+
+    def _find_arc(self, buffer, t: float, z: np.ndarray):
+        """
+        Find a ballistic arc through the fix (``t``, ``z``) among the ``buffer``'s fixes.
+
+        Fixes within ``init_window`` of ``t``; consensus (RANSAC over the pairs with the new
+        fix, at most one fix per stamp) so that clutter, a second ball or wild stamps among
+        them do not hide it; then a least-squares fit of the inliers to within the noise.
+        Returns (times, fixes, x0, cov, buffer indices used) or the reason (str) there is none.
+        """
+        s = self.settings
+        idx = [k for k, c in enumerate(buffer) if abs(c[0] - t) <= s.init_window]
+        if len(idx) < s.min_points:
+            return 'waiting for enough fixes to start a throw'
+        times = np.array([buffer[k][0] for k in idx])
+        zs = np.array([buffer[k][1] for k in idx])
+        g = np.array([0.0, 0.0, self.params[dyn.P_GRAVITY]])
+        loose = 8.0 * s.noise + 0.05
+        best = None
+        for j in range(len(idx)):
+            dt = times[j] - t
+            if abs(dt) < 1e-3:
+                continue
+            v = (zs[j] - z) / dt + 0.5 * g * dt  # velocity at t of the arc through both
+            tau = (times - t)[:, None]
+            err = np.linalg.norm(z + v * tau - 0.5 * g * tau**2 - zs, axis=1)
+            inl = _one_per_stamp(times, err, loose)
+            if best is None or inl.size > best.size:
+                best = inl
+        if best is None or best.size < s.min_points:
+            return 'the recent fixes do not fit a ballistic arc yet'
+        order = best[np.argsort(times[best], kind='stable')]
+        keep = list(order)
+        for _ in range(3):  # drop the worst fix at most a few times
+            fit = self._ballistic_fit(times[keep], zs[keep])
             if fit is None:
                 break
             x0, cov, resid = fit
             worst = int(np.argmax(resid))
             if resid[worst] <= 4.0 * s.noise + 0.01:
                 if np.linalg.norm(x0[3:6]) < s.min_speed:
-                    return UpdateResult('candidate', 'the fixes do not move like a throw')
-                return self._start(times[-1], zs[-1], x0, cov, times[-1] - times[0])
-            if len(times) - 1 < s.min_points:
+                    return 'the fixes do not move like a throw'
+                return times[keep], zs[keep], x0, cov, {idx[k] for k in keep}
+            if len(keep) - 1 < s.min_points:
                 break
-            times, zs = np.delete(times, worst), np.delete(zs, worst, axis=0)
-        return UpdateResult('candidate', 'the recent fixes do not fit a ballistic arc yet')
+            del keep[worst]
+        return 'the recent fixes do not fit a ballistic arc yet'
 
     def _ballistic_fit(self, times, zs):
         """r(t) = r1 + v1 (t - t1) - g/2 (t - t1)^2 z_hat, least squares per axis (t1 = last)."""
@@ -588,7 +658,6 @@ class FlightTracker:
                 0,
             )
         )
-        self._candidates.clear()
         self.throws += 1
         return UpdateResult('started')
 
@@ -615,6 +684,26 @@ def _sigma_points(x: np.ndarray, P: np.ndarray, spread: float):
     wc = wm.copy()
     wc[0] += 3.0 - spread**2
     return pts, wm, wc
+
+
+def _same(entry: _Entry, t: float, z: np.ndarray) -> bool:
+    """
+    Tell whether the fix (``t``, ``z``) is the one ``entry`` holds.
+
+    Another detection in the same frame (clutter, a second ball) is not a duplicate.
+    """
+    return abs(entry.stamp - t) < 1e-9 and bool(np.all(np.abs(entry.z - z) < 1e-9))
+
+
+def _one_per_stamp(times: np.ndarray, err: np.ndarray, limit: float) -> np.ndarray:
+    """Return the indices with ``err`` <= ``limit``, the smallest error for each stamp."""
+    ok = np.flatnonzero(err <= limit)
+    chosen: dict = {}
+    for k in ok:
+        key = round(float(times[k]), 9)
+        if key not in chosen or err[k] < err[chosen[key]]:
+            chosen[key] = k
+    return np.array(sorted(chosen.values()), dtype=int)
 
 
 def _moments(vals: np.ndarray, wm: np.ndarray, wc: np.ndarray):

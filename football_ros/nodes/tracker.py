@@ -32,6 +32,8 @@ import math
 from geometry_msgs.msg import Point, PointStamped, PoseStamped, PoseWithCovarianceStamped
 from nav_msgs.msg import Odometry, Path
 import numpy as np
+from rclpy.clock import JumpThreshold
+from rclpy.duration import Duration
 from rclpy.node import Node
 
 from . import messages as mb
@@ -110,12 +112,29 @@ class TrackerNode(Node):
         )
         self._path_pub = self.create_publisher(Path, qos.PREDICTED_PATH, qos.STATE)
         self.create_subscription(PointStamped, qos.OBSERVATION, self._on_fix, qos.STATE)
-        self._last_prediction = -math.inf
+        self._throttle = PredictionThrottle(self.prediction_rate)
+        self._jump = self.get_clock().create_jump_callback(
+            JumpThreshold(min_forward=None, min_backward=Duration(seconds=-1.0)),
+            post_callback=self._on_clock_jump,
+        )
         _warm_up(self.tracker)
         self.get_logger().info(
             f"ready: tracking '{self.resolve_topic_name(qos.OBSERVATION)}' in "
             f"'{self.frame_id}' ({self.ball}, noise {self.observation_noise:g} m)"
         )
+
+    def _on_clock_jump(self, jump) -> None:
+        """Reset the time base: the node's clock went back (a /clock source restarted)."""
+        try:
+            back = -jump.delta.nanoseconds * 1e-9
+            if math.isfinite(self.tracker.newest):  # else nothing to reset (start-up)
+                self.tracker.reset_time_base()
+                self._throttle.reset()
+                self.get_logger().warning(
+                    f'the clock jumped back {back:.3f} s: time base reset'
+                )
+        except Exception as exc:  # noqa: BLE001 - never from a clock callback
+            self.get_logger().error(f'clock jump not handled: {exc!r}'[:300])
 
     def _on_fix(self, msg: PointStamped) -> None:
         try:
@@ -135,6 +154,9 @@ class TrackerNode(Node):
         now = self.get_clock().now().nanoseconds * 1e-9 if self.max_future > 0 else None
         result = self.tracker.update(stamp, (msg.point.x, msg.point.y, msg.point.z), now)
         if result.status == 'started':
+            if result.reason:  # the clock of the fixes jumped back
+                self.get_logger().warning(result.reason)
+                self._throttle.reset()
             self.get_logger().info(f'new throw #{self.tracker.throws} at t = {stamp:.3f} s')
         elif not result.used:
             if result.status != 'candidate':
@@ -143,9 +165,8 @@ class TrackerNode(Node):
                 )
             return
         self._publish_estimate()
-        wall = self.get_clock().now().nanoseconds * 1e-9
-        if result.landed or wall - self._last_prediction >= 1.0 / self.prediction_rate:
-            self._last_prediction = wall
+        est = self.tracker.estimate
+        if result.landed or (est is not None and self._throttle.due(est[0])):
             self._publish_predictions(result.landed)
 
     def _publish_estimate(self) -> None:
@@ -174,6 +195,32 @@ class TrackerNode(Node):
             msg = path_message(est[0], *path, self.frame_id)
             if msg is not None:
                 self._path_pub.publish(msg)
+
+
+class PredictionThrottle:
+    """
+    At most ``rate`` [Hz] predictions per second of the fixes' own clock.
+
+    On the observations' clock, not the node's: a stranger's or a stalled /clock must not
+    starve (or flood) the predictions; a time that goes back re-arms it.
+    """
+
+    def __init__(self, rate: float) -> None:
+        self.period = 1.0 / rate
+        self._last = -math.inf
+
+    def due(self, t: float) -> bool:
+        """Tell whether a prediction is due at ``t`` [s] (the estimate's time); if so, take it."""
+        if t < self._last:  # the fixes' clock went back
+            self._last = -math.inf
+        if t - self._last >= self.period - 1e-9:
+            self._last = t
+            return True
+        return False
+
+    def reset(self) -> None:
+        """Forget the last prediction's time."""
+        self._last = -math.inf
 
 
 def _finite(*arrays) -> bool:
