@@ -19,6 +19,7 @@ simulator camera -> tracker -> landing prediction, and hostile fixes.
 """
 
 import math
+import re
 import time
 
 from football_ros.nodes import qos
@@ -26,6 +27,7 @@ from football_ros.physics import Flight, Release
 from geometry_msgs.msg import PointStamped, PoseStamped, PoseWithCovarianceStamped
 from nav_msgs.msg import Odometry, Path
 import numpy as np
+import pytest
 from rosutil import order_flight
 
 
@@ -296,3 +298,43 @@ def test_a_strangers_clock_and_a_clock_restart_under_sim_time(start_node, collec
     assert math.hypot(p.x - x_land, p.y - y_land) < 0.15
     assert abs(stamp_s(final) - (20.0 + t_flight)) < 0.02
     assert 'Traceback' not in log
+
+
+def test_the_camera_delivers_past_rate_times_latency_and_says_what_it_dropped(
+    start_node, collector
+):
+    # 500 Hz x 0.6 s: 300 fixes in flight at once (the old queue of 256 published none).
+    sim = start_node(
+        'simulator',
+        '--ros-args',
+        '-p',
+        'model:=full',
+        '-p',
+        'observation_rate:=500.0',
+        '-p',
+        'observation_latency:=0.6',
+        '-p',
+        'observation_dropout:=0.1',
+        '-p',
+        'hold_rate:=0.0',
+    )
+    collector.subscribe(PointStamped, qos.OBSERVATION, qos.STATE)
+    collector.wait_for(
+        lambda: collector.node.count_publishers('/' + qos.OBSERVATION) >= 1, 20.0, 'the camera'
+    )
+    time.sleep(0.5)
+    release = Release(position=(0.0, 0.0, 1.8))
+    order_flight(collector, release, 'camera-queue')
+    collector.wait_for(lambda: len(landed_values(collector)) >= 1, 15.0, 'the landing')
+    sim.wait_for_log('camera, flight 1 (landed)', 5.0)
+    time.sleep(0.5)
+    t_flight = float(landed_values(collector)[0]['time_of_flight'])
+    obs = collector.get(qos.OBSERVATION)
+    # 90 % of the frames up to the landing, the last 0.6 s of them published at the landing.
+    assert 0.85 * 500 * t_flight < len(obs) < 500 * t_flight + 10, (len(obs), sim.log())
+    line = next(x for x in sim.log().splitlines() if 'camera, flight 1' in x)
+    assert '0 dropped from a full queue' in line and '0 still waiting dropped' in line, line
+    found = re.search(r'(\d+) of (\d+) fixes published \((\d+) at the landing\), (\d+) lost', line)
+    published, captured, at_landing, dropout = (int(g) for g in found.groups())
+    assert published + dropout == captured and published >= len(obs)
+    assert at_landing == pytest.approx(0.9 * 0.6 * 500, abs=40)

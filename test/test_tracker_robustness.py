@@ -173,3 +173,31 @@ def test_a_second_ball_in_the_air_does_not_stop_a_track_starting():
     pred = tracker.predict_landing()
     err = min(np.linalg.norm(pred.position[:2] - xya), np.linalg.norm(pred.position[:2] - xyb))
     assert err < 0.15
+
+
+def test_the_camera_queue_holds_rate_times_latency_and_counts_every_loss():
+    # 1000 Hz x 0.26 s: 260 frames in flight at once (the old fixed queue of 256 gave 0 fixes).
+    settings = CameraSettings(rate=1000.0, noise=0.01, latency=0.26, dropout=0.1, seed=2)
+    cam = Camera(settings)
+    assert cam.depth >= 260 + 256
+    got = []
+    for k in range(1, 301):  # stepped at 100 Hz for 3 s
+        got += cam.step(k * 0.01, lambda t: np.array([t, 0.0, 1.0]))
+    c = cam.counts
+    assert c['queue_full'] == 0 and c['captured'] == 3001
+    assert c['delivered'] == len(got) == c['captured'] - c['dropout'] - cam.waiting
+    assert c['dropout'] == pytest.approx(300, abs=60)
+    assert 0.26 * 1000 * 0.8 <= cam.waiting <= 0.26 * 1000 + 1  # those still in flight
+    assert all(o.delivery <= 3.0 + 1e-9 for o in got)
+    assert got[0].stamp == 0.0 or got[0].stamp == pytest.approx(0.001, abs=0.01)
+    # The flight ends (the simulator stops ticking): what waits is handed over, and counted.
+    waiting = cam.waiting
+    rest = cam.flush()
+    assert len(rest) == waiting and cam.waiting == 0 and c['flushed'] == waiting
+    assert rest[-1].stamp == pytest.approx(3.0) and rest[0].stamp > got[-1].stamp
+    # A camera not stepped for more than its slack drops the oldest, and says so.
+    cam = Camera(settings)
+    cam.step(10.0, lambda t: np.zeros(3))
+    c = cam.counts
+    assert c['queue_full'] > 0
+    assert c['captured'] == c['dropout'] + c['queue_full'] + c['delivered'] + cam.waiting
