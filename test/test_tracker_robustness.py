@@ -201,3 +201,57 @@ def test_the_camera_queue_holds_rate_times_latency_and_counts_every_loss():
     c = cam.counts
     assert c['queue_full'] > 0
     assert c['captured'] == c['dropout'] + c['queue_full'] + c['delivered'] + cam.waiting
+
+
+def test_two_balls_and_clutter_give_two_tracks_each_on_its_own_ball():
+    from football_ros.estimation.multi import MultiTracker
+
+    a, ta, xya = fixes(RELEASE, seed=11)
+    b, tb, xyb = fixes(OTHER, seed=12)
+    rng = np.random.default_rng(13)
+    multi = MultiTracker()
+    stream = sorted(a + [(t + 0.3 + 0.004, z) for t, z in b], key=lambda f: f[0])
+    ids_a, ids_b, preds = set(), set(), {}
+    for t, z in stream:
+        if rng.random() < 0.5:  # clutter at half the frame rate, and a wild stamp now and then
+            multi.update(t, rng.uniform((-5.0, -20.0, 0.0), (50.0, 20.0, 12.0)))
+        if rng.random() < 0.1:
+            multi.update(float(rng.uniform(0.0, 1e5)), z)
+        track_id, result = multi.update(t, z)
+        if track_id is not None:
+            (ids_a if any(t == s for s, _ in a) else ids_b).add(track_id)
+        if t > ta - 0.5 and t < ta - 0.45 and track_id in ids_a:
+            preds['a'] = multi.taken_by.predict_landing()
+        if t - 0.304 > tb - 0.5 and t - 0.304 < tb - 0.45 and track_id in ids_b:
+            preds['b'] = multi.taken_by.predict_landing()
+    # One track per ball, from the start to the landing; clutter and wild stamps start none.
+    assert ids_a == {1} and ids_b == {2}, (ids_a, ids_b, multi.events)
+    started = [e.track_id for e in multi.events if e.kind == 'started']
+    ended = [(e.track_id, e.reason) for e in multi.events if e.kind == 'ended']
+    assert started == [1, 2] and sorted(ended) == [(1, 'landed'), (2, 'landed')]
+    assert np.linalg.norm(preds['a'].position[:2] - xya) < 0.1
+    assert np.linalg.norm(preds['b'].position[:2] - xyb) < 0.1
+    assert preds['b'].time == pytest.approx(tb + 0.304, abs=0.02)
+    assert multi.tracks == {}
+
+
+def test_multi_tracker_limits_and_hostile_values():
+    from football_ros.estimation.multi import MultiTracker
+
+    for bad in (0, 65, 2.5, True, None):
+        with pytest.raises(ValueError, match='max_tracks'):
+            MultiTracker(max_tracks=bad)
+    multi = MultiTracker(max_tracks=1)
+    for value in ((math.nan, 0.0, 1.0), (1.0, 2.0), 'abc', None, (1e300, 0.0, 0.0)):
+        track_id, result = multi.update(0.0, value)
+        assert track_id is None and not result.used
+    assert multi.update(math.inf, (0.0, 0.0, 1.0))[1].status == 'invalid'
+    # A second ball while only one track is allowed: the oldest ends for the new one.
+    a, _, _ = fixes(RELEASE, seed=14)
+    b, _, xyb = fixes(OTHER, seed=15)
+    for t, z in a[:20]:
+        multi.update(t, z)
+    for t, z in b[:20]:
+        multi.update(t + 0.2, z)
+    assert list(multi.tracks) == [2]
+    assert ('ended', 1) in [(e.kind, e.track_id) for e in multi.events]
