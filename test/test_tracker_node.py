@@ -338,3 +338,47 @@ def test_the_camera_delivers_past_rate_times_latency_and_says_what_it_dropped(
     published, captured, at_landing, dropout = (int(g) for g in found.groups())
     assert published + dropout == captured and published >= len(obs)
     assert at_landing == pytest.approx(0.9 * 0.6 * 500, abs=40)
+
+
+def test_two_balls_get_a_stream_each(start_node, collector):
+    tracker = start_node('tracker')
+    for k in (1, 2):
+        collector.subscribe(
+            PoseWithCovarianceStamped, qos.track_topic(k, qos.LANDING), qos.STATE
+        )
+    collector.subscribe(PoseWithCovarianceStamped, qos.LANDING, qos.STATE)
+    pub = collector.publisher(PointStamped, qos.OBSERVATION, qos.STATE)
+    collector.wait_for_subscribers(pub)
+    first = Release(model='full', position=(0.0, 0.0, 1.8))
+    second = Release(
+        model='full', speed=20.0, elevation_deg=40.0, spin_rpm=-500.0, azimuth_deg=30.0,
+        position=(10.0, 5.0, 1.5),
+    )
+    flights = [Flight.from_release(r).simulate(rate=60.0) for r in (first, second)]
+    rng = np.random.default_rng(5)
+    base = time.time() - 10.0
+    fixes = [(base + t, p) for t, p in zip(flights[0].times[:-1], flights[0].positions[:-1])]
+    fixes += [
+        (base + 0.3 + t, p) for t, p in zip(flights[1].times[:-1], flights[1].positions[:-1])
+    ]
+    for k, (t, p) in enumerate(sorted(fixes, key=lambda f: f[0])):
+        pub.publish(point(t, p + rng.normal(0.0, 0.02, 3)))
+        if k % 4 == 0:
+            time.sleep(0.01)
+    deadline = time.monotonic() + 15.0
+    while tracker.log().count('ended: landed') < 2 and time.monotonic() < deadline:
+        time.sleep(0.1)
+    time.sleep(0.3)
+    log = tracker.log()
+    assert log.count('new throw') == 2 and log.count('ended: landed') == 2, log
+    for k, (flight, offset) in enumerate(zip(flights, (0.0, 0.3)), start=1):
+        landings = collector.get(qos.track_topic(k, qos.LANDING))
+        assert len(landings) > 20, (k, log)
+        final = landings[-1]
+        p = final.pose.pose.position
+        x_land, y_land = flight.positions[-1, :2]
+        assert math.hypot(p.x - x_land, p.y - y_land) < 0.15, (k, p)
+        assert abs(stamp_s(final) - (base + offset + flight.times[-1])) < 0.02
+    # The topics without an id carry the oldest live track: the first ball, then the second.
+    legacy = collector.get(qos.LANDING)
+    assert len(legacy) > 20 and 'Traceback' not in log
