@@ -347,6 +347,7 @@ def test_two_balls_get_a_stream_each(start_node, collector):
             PoseWithCovarianceStamped, qos.track_topic(k, qos.LANDING), qos.STATE
         )
     collector.subscribe(PoseWithCovarianceStamped, qos.LANDING, qos.STATE)
+    collector.subscribe(PoseWithCovarianceStamped, qos.track_topic(2, qos.CATCH), qos.STATE)
     pub = collector.publisher(PointStamped, qos.OBSERVATION, qos.STATE)
     collector.wait_for_subscribers(pub)
     first = Release(model='full', position=(0.0, 0.0, 1.8))
@@ -382,3 +383,14 @@ def test_two_balls_get_a_stream_each(start_node, collector):
     # The topics without an id carry the oldest live track: the first ball, then the second.
     legacy = collector.get(qos.LANDING)
     assert len(legacy) > 20 and 'Traceback' not in log
+    # The second ball comes down through the default catch height 1.2 m where the flight does.
+    catches = collector.get(qos.track_topic(2, qos.CATCH))
+    assert len(catches) > 20
+    z = flights[1].positions[:, 2]
+    k = int(np.flatnonzero((z[:-1] >= 1.2) & (z[1:] < 1.2))[-1])
+    final = catches[-1].pose.pose.position
+    assert final.z == 1.2
+    x_c, y_c = flights[1].positions[k, :2]  # within a 60 Hz sample of the crossing
+    assert math.hypot(final.x - x_c, final.y - y_c) < 0.5
+    t_c = base + 0.3 + flights[1].times[k]
+    assert t_c - 0.02 < stamp_s(catches[-1]) < t_c + 1.0 / 60.0 + 0.02

@@ -255,3 +255,31 @@ def test_multi_tracker_limits_and_hostile_values():
         multi.update(t + 0.2, z)
     assert list(multi.tracks) == [2]
     assert ('ended', 1) in [(e.kind, e.track_id) for e in multi.events]
+
+
+def test_the_crossing_of_a_catch_height_matches_the_flight():
+    obs, t_land, _ = fixes(RELEASE, seed=16)
+    truth = Flight.from_release(RELEASE).simulate(rate=2000.0)
+    # The truth's own crossing down through 1.2 m (linear between 0.5 ms samples).
+    z = truth.positions[:, 2]
+    k = int(np.flatnonzero((z[:-1] >= 1.2) & (z[1:] < 1.2) & (truth.times[1:] > 0.5))[0])
+    f = (z[k] - 1.2) / (z[k] - z[k + 1])
+    t_cross = truth.times[k] + f * (truth.times[k + 1] - truth.times[k])
+    xy_cross = truth.positions[k, :2] + f * (truth.positions[k + 1, :2] - truth.positions[k, :2])
+    tracker = FlightTracker()
+    for t, p in obs:
+        if t <= t_cross - 0.5:
+            tracker.update(t, p)
+    pred = tracker.predict_crossing(1.2)
+    land = tracker.predict_landing()
+    assert pred.position[2] == 1.2
+    assert np.linalg.norm(pred.position[:2] - xy_cross) < 0.06
+    assert pred.time == pytest.approx(t_cross, abs=0.01)
+    # Before the landing by the fall from 1.2 m at the descent's speed: ~ 1.2 / 20 m/s.
+    assert 0.03 < land.time - pred.time < 0.1
+    assert np.all(np.linalg.eigvalsh(pred.covariance) > 0.0)
+    err = pred.position[:2] - xy_cross
+    assert err @ np.linalg.solve(pred.covariance, err) < 13.8  # inside the 99.9 % ellipse
+    # Heights the ball will not come down through, and hostile ones: None, never a raise.
+    for bad in (40.0, -1.0, math.nan, math.inf, 'x', None):
+        assert tracker.predict_crossing(bad) is None

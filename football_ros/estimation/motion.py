@@ -165,6 +165,49 @@ def land_points(
 
 
 @njit(cache=True)
+def cross_points(
+    points: np.ndarray,
+    params: np.ndarray,
+    step: float,
+    height: float,
+    ground: float,
+    horizon: float,
+) -> np.ndarray:
+    """
+    Where each row of ``points`` (m, N_X) next comes down through z = ``height`` [m].
+
+    (m, 4) rows of time from now [s], x, y [m] and 1.0 if it does within ``horizon`` [s]
+    before reaching z = ``ground`` (a ball now below ``height`` must first rise above it);
+    else NaN, NaN, NaN, 0.0.
+    """
+    out = np.full((points.shape[0], 4), np.nan)
+    out[:, 3] = 0.0
+    y = np.empty(dyn.N_STATE)
+    nxt = np.empty(dyn.N_STATE)
+    work = np.empty((5, dyn.N_STATE))
+    n_max = int(math.ceil(horizon / step))
+    for i in range(points.shape[0]):
+        p = scaled(params, points[i, X_KD], points[i, X_KL])
+        if not _load(points[i], y, p):
+            continue
+        try:
+            for k in range(n_max):
+                dyn.rk4_step_with(y, step, p, nxt, work)
+                if dyn.crossed_ground(y, nxt, height):
+                    tau = dyn.landing_time_in_step(y, step, p, height)
+                    dyn.rk4_step_with(y, tau, p, nxt, work)
+                    out[i, 0], out[i, 1], out[i, 2] = k * step + tau, nxt[0], nxt[1]
+                    out[i, 3] = 1.0
+                    break
+                if nxt[dyn.R + 2] < ground:
+                    break
+                y[:] = nxt
+        except Exception:  # noqa: BLE001 - a zero division in a stage: no crossing
+            out[i, 0], out[i, 1], out[i, 2], out[i, 3] = np.nan, np.nan, np.nan, 0.0
+    return out
+
+
+@njit(cache=True)
 def _fly_path(
     y: np.ndarray,
     p: np.ndarray,

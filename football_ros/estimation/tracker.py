@@ -65,7 +65,17 @@ import math
 
 import numpy as np
 
-from .motion import land_points, N_X, path_of, propagate_points, X_H, X_KD, X_KL, X_S
+from .motion import (
+    cross_points,
+    land_points,
+    N_X,
+    path_of,
+    propagate_points,
+    X_H,
+    X_KD,
+    X_KL,
+    X_S,
+)
 from .sensor import check_numbers
 from ..physics import dynamics as dyn
 from ..physics.aero import AeroModel, resolve
@@ -175,10 +185,11 @@ class TrackerSettings:
 @dataclass(frozen=True)
 class LandingPrediction:
     """
-    Predicted landing on z = ground.
+    Predicted landing on z = ground (or crossing of a catch height, z = that height).
 
     ``time`` [s] on the observations' clock and its variance [s^2], ``position`` (3,) [m] (z =
-    ground) and ``covariance`` (2, 2) [m^2] of x, y, made from the estimate at ``made_at`` [s].
+    the plane's) and ``covariance`` (2, 2) [m^2] of x, y, made from the estimate at
+    ``made_at`` [s].
     """
 
     time: float
@@ -306,6 +317,34 @@ class FlightTracker:
         are alive the prediction is their mixture, weighted by likelihood. Model error adds
         accel_noise^2 T^3 / 3 to the x and y variances.
         """
+        s = self.settings
+        return self._predict_plane(
+            lambda pts: land_points(pts, self.params, s.landing_step, s.ground, s.horizon),
+            s.ground,
+        )
+
+    def predict_crossing(self, height: float) -> LandingPrediction | None:
+        """
+        Predict where and when the current throw next comes down through z = ``height`` [m].
+
+        Like :meth:`predict_landing` (position z = ``height``, covariance of x and y); None
+        without a throw, for a non-finite height, or if some sigma point does not come down
+        through that height before the ground (a ball that will not rise to it).
+        """
+        s = self.settings
+        try:
+            h = float(height)
+        except (TypeError, ValueError):
+            return None
+        if not (math.isfinite(h) and s.ground <= h <= s.ground + 1000.0):
+            return None
+        return self._predict_plane(
+            lambda pts: cross_points(pts, self.params, s.landing_step, h, s.ground, s.horizon),
+            h,
+        )
+
+    def _predict_plane(self, fly, height: float) -> LandingPrediction | None:
+        """Fly every hypothesis's sigma points to a plane with ``fly`` and take the moments."""
         tr = self.track
         if tr is None:
             return None
@@ -318,7 +357,7 @@ class FlightTracker:
             if w < 1e-6 and len(tr.hyps) > 1:
                 continue
             pts, wm, wc = _sigma_points(hyp.x, hyp.P, s.spread)
-            land = land_points(pts, self.params, s.landing_step, s.ground, s.horizon)
+            land = fly(pts)
             if not np.all(land[:, 3] == 1.0):
                 return None
             mean, cov = _moments(land[:, :3], wm, wc)
@@ -331,7 +370,7 @@ class FlightTracker:
         extra = s.accel_noise**2 * max(t_land, 0.0) ** 3 / 3.0
         cov_xy = cov[1:, 1:] + extra * np.eye(2)
         var_t = float(cov[0, 0])
-        position = np.array([mean[1], mean[2], s.ground])
+        position = np.array([mean[1], mean[2], height])
         if not (
             np.all(np.isfinite(position)) and np.all(np.isfinite(cov_xy)) and math.isfinite(var_t)
         ):

@@ -36,6 +36,7 @@ RESET_SERVICE = 'football/reset'
 PAUSE_SERVICE = 'football/pause'
 OBSERVATION, ESTIMATE = 'football/observation', 'football/estimate'  # camera fixes, tracker
 LANDING, PREDICTED_PATH = 'football/prediction/landing', 'football/prediction/path'  # tracker
+CATCH = 'football/prediction/catch'  # tracker: down through catch_height
 
 
 def track_topic(track_id: int, topic: str) -> str:

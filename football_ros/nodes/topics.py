@@ -61,6 +61,7 @@ TOPICS: dict[str, tuple[type, QoSProfile]] = {
     qos.OBSERVATION: (PointStamped, qos.STATE),
     qos.ESTIMATE: (Odometry, qos.STATE),
     qos.LANDING: (PoseWithCovarianceStamped, qos.STATE),
+    qos.CATCH: (PoseWithCovarianceStamped, qos.STATE),
     qos.PREDICTED_PATH: (Path, qos.STATE),
     **({qos.TF: (TFMessage, qos.TF_QOS)} if TFMessage is not None else {}),
 }

@@ -20,9 +20,10 @@ time) and runs :class:`football_ros.estimation.FlightTracker` (an unscented Kalm
 the package's full flight model; the filter, its choices and its limits are documented
 there). Publishes ``football/estimate`` (nav_msgs/msg/Odometry with covariances),
 ``football/prediction/landing`` (geometry_msgs/msg/PoseWithCovarianceStamped on z = 0, whose
-header.stamp is the predicted landing time) and ``football/prediction/path`` (nav_msgs/msg/Path
-of the predicted rest of the flight). Every fix is untrusted: a refused one is counted and
-logged (throttled), never published from. Topics, frames, units and QoS: msg_docs/.
+header.stamp is the predicted landing time), ``football/prediction/catch`` (the same through
+z = ``catch_height``, where a catcher's hands are) and ``football/prediction/path``
+(nav_msgs/msg/Path of the predicted rest of the flight). Every fix is untrusted: a refused one
+is counted and logged (throttled), never published from. Topics, frames, units and QoS: msg_docs/.
 
 Several balls (:class:`football_ros.estimation.multi.MultiTracker`, up to ``max_tracks``):
 each track has an id (1, 2, ... in order of start, logged as 'new throw #id' and 'throw #id
@@ -96,6 +97,12 @@ PARAMETERS = (
         ('path_step', 0.05, 'Time between poses of the predicted path [s]', (0.005, 1.0)),
         ('prediction_rate', 30.0, 'Landing and path predictions per second [Hz]', (0.1, 1000.0)),
         ('max_tracks', 4, 'Balls tracked at once (each on football/track_<id>/...)', (1, 64)),
+        (
+            'catch_height',
+            1.2,
+            'Height whose downward crossing is predicted (football/prediction/catch) [m], 0 = off',
+            (0.0, 100.0),
+        ),
     )
 )
 
@@ -200,13 +207,17 @@ class TrackerNode(Node):
             self.create_publisher(PoseWithCovarianceStamped, name(qos.LANDING), qos.STATE),
             self.create_publisher(Path, name(qos.PREDICTED_PATH), qos.STATE),
             PredictionThrottle(self.prediction_rate),
+            self.create_publisher(PoseWithCovarianceStamped, name(qos.CATCH), qos.STATE)
+            if self.catch_height > 0.0
+            else None,
         )
 
     def _drop_stream(self, track_id) -> None:
         stream = self._streams.pop(track_id, None) if track_id is not None else None
         if stream is not None:
-            for pub in (stream.estimate, stream.landing, stream.path):
-                self.destroy_publisher(pub)
+            for pub in (stream.estimate, stream.landing, stream.path, stream.catch):
+                if pub is not None:
+                    self.destroy_publisher(pub)
 
     def _log_events(self) -> None:
         """Log the tracks started and ended; open and close their streams."""
@@ -243,6 +254,11 @@ class TrackerNode(Node):
                         f'landed: predicted landing at x = {pred.position[0]:.3f} m, '
                         f'y = {pred.position[1]:.3f} m, t = {pred.time:.3f} s'
                     )
+        if stream.catch is not None:
+            catch = tracker.predict_crossing(self.catch_height)
+            msg = landing_message(catch, self.frame_id) if catch is not None else None
+            if msg is not None:
+                stream.catch.publish(msg)
         path = tracker.predict_path(self.path_step)
         est = tracker.estimate
         if path is not None and est is not None:
@@ -257,6 +273,7 @@ class _Stream:
     landing: object
     path: object
     throttle: 'PredictionThrottle'
+    catch: object | None
 
 
 class PredictionThrottle:
@@ -331,8 +348,8 @@ def landing_message(pred, frame_id: str) -> PoseWithCovarianceStamped | None:
     """
     Build the predicted landing.
 
-    header.stamp = predicted landing time, position on the ground plane, covariance x/y block
-    from the prediction (z and rotations 0: not estimated).
+    header.stamp = predicted landing (or crossing) time, position on the plane, covariance x/y
+    block from the prediction (z and rotations 0: not estimated).
     """
     cov = np.zeros((6, 6))
     cov[:2, :2] = pred.covariance
