@@ -283,3 +283,35 @@ def test_the_crossing_of_a_catch_height_matches_the_flight():
     # Heights the ball will not come down through, and hostile ones: None, never a raise.
     for bad in (40.0, -1.0, math.nan, math.inf, 'x', None):
         assert tracker.predict_crossing(bad) is None
+
+
+def _predict_at(tracker, obs, t_until):
+    for t, z in obs:
+        if t <= t_until:
+            tracker.update(t, z)
+    return tracker.predict_landing()
+
+
+def test_an_unknown_crosswind_is_estimated_and_a_known_one_taken():
+    from football_ros.estimation.motion import X_W
+
+    release = RELEASE.replace(aero={'wind': (0.0, 5.0, 0.0)})  # 5 m/s from the right
+    obs, t_land, xy = fixes(release, seed=22)
+    blind = _predict_at(FlightTracker(), obs, t_land - 1.0)
+    estimating = FlightTracker(TrackerSettings(wind_sigma=4.0))
+    est = _predict_at(estimating, obs, t_land - 1.0)
+    told = _predict_at(FlightTracker(TrackerSettings(wind=(0.0, 5.0))), obs, t_land - 1.0)
+    err = {k: float(np.linalg.norm(p.position[:2] - xy)) for k, p in
+           (('blind', blind), ('estimating', est), ('told', told))}
+    assert err['estimating'] < 0.07 and err['estimating'] < 0.6 * err['blind'], err
+    assert err['told'] < 0.03, err
+    _, x, P = estimating.estimate
+    assert x.size == 16 and abs(x[X_W + 1] - 5.0) < 1.5 and abs(x[X_W]) < 1.0
+    assert math.sqrt(P[X_W + 1, X_W + 1]) < 2.0  # the wind was learnt, not only allowed
+    e = est.position[:2] - xy
+    assert e @ np.linalg.solve(est.covariance, e) < 9.2  # inside the 99 % ellipse
+    for bad in ((1.0,), (math.nan, 0.0), (60.0, 0.0), 'ab', None):
+        with pytest.raises(ValueError, match='wind'):
+            TrackerSettings(wind=bad)
+    with pytest.raises(ValueError, match='wind_sigma'):
+        TrackerSettings(wind_sigma=-1.0)

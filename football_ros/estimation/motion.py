@@ -40,6 +40,20 @@ from ..physics import dynamics as dyn
 
 X_R, X_V, X_S, X_H, X_KD, X_KL = 0, 3, 6, 9, 12, 13
 N_X = 14
+X_W = 14
+"""Optional horizontal wind states (x, y) [m/s], added to the parameters' wind: a point of
+N_X_WIND = 16 floats carries them (the filter with ``wind_sigma`` > 0)."""
+N_X_WIND = 16
+
+
+@njit(cache=True)
+def point_params(params: np.ndarray, point: np.ndarray) -> np.ndarray:
+    """Kernel parameters of one point: its drag and lift scales, and its wind if it has one."""
+    p = scaled(params, point[X_KD], point[X_KL])
+    if point.size >= N_X_WIND:
+        p[dyn.P_WIND] += point[X_W]
+        p[dyn.P_WIND + 1] += point[X_W + 1]
+    return p
 
 
 @njit(cache=True)
@@ -64,7 +78,7 @@ def _load(point: np.ndarray, y: np.ndarray, params: np.ndarray) -> bool:
 
     False if the point is not finite (``y`` is then unusable).
     """
-    for j in range(N_X):
+    for j in range(point.size):
         if not math.isfinite(point[j]):
             return False
     for j in range(6):
@@ -112,7 +126,7 @@ def propagate_points(points: np.ndarray, dt: float, params: np.ndarray, step: fl
     y = np.empty(dyn.N_STATE)
     work = np.empty((5, dyn.N_STATE))
     for i in range(points.shape[0]):
-        p = scaled(params, points[i, X_KD], points[i, X_KL])
+        p = point_params(params, points[i])
         ok = _load(points[i], y, p)
         if ok:
             try:
@@ -143,7 +157,7 @@ def land_points(
     work = np.empty((5, dyn.N_STATE))
     n_max = int(math.ceil(horizon / step))
     for i in range(points.shape[0]):
-        p = scaled(params, points[i, X_KD], points[i, X_KL])
+        p = point_params(params, points[i])
         if not _load(points[i], y, p):
             continue
         if y[dyn.R + 2] <= ground:
@@ -187,7 +201,7 @@ def cross_points(
     work = np.empty((5, dyn.N_STATE))
     n_max = int(math.ceil(horizon / step))
     for i in range(points.shape[0]):
-        p = scaled(params, points[i, X_KD], points[i, X_KL])
+        p = point_params(params, points[i])
         if not _load(points[i], y, p):
             continue
         try:
@@ -258,7 +272,7 @@ def path_of(
     n_max = int(math.ceil(horizon / sample_dt)) + 1
     times = np.empty(n_max)
     pos = np.empty((n_max, 3))
-    p = scaled(params, x[X_KD], x[X_KL])
+    p = point_params(params, x)
     y = np.empty(dyn.N_STATE)
     times[0] = 0.0
     if not _load(x, y, p):

@@ -69,12 +69,14 @@ from .motion import (
     cross_points,
     land_points,
     N_X,
+    N_X_WIND,
     path_of,
     propagate_points,
     X_H,
     X_KD,
     X_KL,
     X_S,
+    X_W,
 )
 from .sensor import check_numbers
 from ..physics import dynamics as dyn
@@ -110,7 +112,9 @@ class TrackerSettings:
     a row that may start a new throw; ``step`` [s] filter integration step, ``landing_step`` [s]
     for predictions; ``horizon`` [s] of the landing search; ``ground`` [m] height of the landing
     plane; ``ball`` preset; ``aero`` the full model's settings the filter assumes (None = the
-    defaults).
+    defaults); ``wind`` (x, y) [m/s] a known steady wind in ``field`` (an anemometer's);
+    ``wind_sigma`` [m/s] > 0 adds two states, the unknown horizontal wind beyond ``wind``
+    (prior sigma per axis), with random walk ``wind_rate`` [m/s/sqrt(s)].
     """
 
     noise: float = 0.02
@@ -139,6 +143,9 @@ class TrackerSettings:
     ground: float = 0.0
     ball: str = 'american'
     aero: AeroModel | None = None
+    wind: tuple = (0.0, 0.0)
+    wind_sigma: float = 0.0
+    wind_rate: float = 0.05
 
     LIMITS = {
         'noise': (1e-4, 10.0),
@@ -164,6 +171,8 @@ class TrackerSettings:
         'landing_step': (1e-4, 0.05),
         'horizon': (0.1, 120.0),
         'ground': (-100.0, 100.0),
+        'wind_sigma': (0.0, 30.0),
+        'wind_rate': (0.0, 10.0),
     }
 
     def __post_init__(self) -> None:
@@ -180,6 +189,15 @@ class TrackerSettings:
                 f"tracker 'spin_rpm' must be None or |.| in [10, 3000], got {self.spin_rpm!r}"
             )
         get_preset(self.ball)  # raises ValueError for an unknown ball
+        try:
+            wind = tuple(float(w) for w in self.wind)
+        except (TypeError, ValueError):
+            wind = ()
+        if len(wind) != 2 or not all(math.isfinite(w) and abs(w) <= 50.0 for w in wind):
+            raise ValueError(
+                f"tracker 'wind' must be 2 numbers (x, y) in [-50, 50] m/s, got {self.wind!r}"
+            )
+        object.__setattr__(self, 'wind', wind)
 
 
 @dataclass(frozen=True)
@@ -265,6 +283,8 @@ class FlightTracker:
         ball, aero = resolve(preset, 'full', s.aero)
         self.ball = ball
         self.params = dyn.make_params(ball, 'linear', aero)
+        self.params[dyn.P_WIND] += s.wind[0]  # a known wind (an anemometer), field frame
+        self.params[dyn.P_WIND + 1] += s.wind[1]
         spin = abs(preset.spin_rpm if s.spin_rpm is None else s.spin_rpm) * RPM
         self.nominal_h1 = ball.inertia_ratio * spin  # [rad/s]
         self.track: _Track | None = None
@@ -448,9 +468,9 @@ class FlightTracker:
                 except np.linalg.LinAlgError:
                     d2, logdet = math.inf, 0.0
                 if d2 <= s.gate:
-                    K = np.linalg.solve(S, P[:3, :]).T  # (N_X, 3)
+                    K = np.linalg.solve(S, P[:3, :]).T  # (n, 3)
                     x = x + K @ nu
-                    ikh = np.eye(N_X)
+                    ikh = np.eye(x.size)
                     ikh[:, :3] -= K
                     P = ikh @ P @ ikh.T + s.noise**2 * K @ K.T
                     P = 0.5 * (P + P.T)
@@ -538,6 +558,9 @@ class FlightTracker:
             Pm[X_H + i, X_H + i] += s.rate_noise**2 * dt
         Pm[X_KD, X_KD] += s.scale_rate**2 * dt
         Pm[X_KL, X_KL] += s.scale_rate**2 * dt
+        if xm.size == N_X_WIND:
+            Pm[X_W, X_W] += s.wind_rate**2 * dt
+            Pm[X_W + 1, X_W + 1] += s.wind_rate**2 * dt
         xm[X_S:X_S + 3] /= np.linalg.norm(xm[X_S:X_S + 3])
         ok = bool(np.all(np.isfinite(xm)) and np.all(np.isfinite(Pm)))
         return xm, 0.5 * (Pm + Pm.T), ok
@@ -658,7 +681,8 @@ class FlightTracker:
         v_first = v + np.array([0.0, 0.0, self.params[dyn.P_GRAVITY] * t_span])
         axis = v_first / np.linalg.norm(v_first)
         perp = np.eye(3) - np.outer(axis, axis)
-        P = np.zeros((N_X, N_X))
+        n_x = N_X_WIND if s.wind_sigma > 0.0 else N_X
+        P = np.zeros((n_x, n_x))
         P[:6, :6] = 4.0 * cov6  # the arc ignores drag and lift over the window
         speed = float(np.linalg.norm(v))
         for i in range(3):
@@ -670,9 +694,11 @@ class FlightTracker:
             h1_sigma**2 * np.outer(axis, axis) + s.rate_sigma**2 * perp
         )
         P[X_KD, X_KD] = P[X_KL, X_KL] = s.scale_sigma**2
+        if n_x == N_X_WIND:  # unknown steady wind beyond the known ``wind``, mean 0
+            P[X_W, X_W] = P[X_W + 1, X_W + 1] = s.wind_sigma**2
         hyps = []
         for hand in (1.0, -1.0):
-            x = np.zeros(N_X)
+            x = np.zeros(n_x)
             x[:6] = x0
             x[X_S:X_S + 3] = axis
             x[X_H:X_H + 3] = hand * self.nominal_h1 * axis

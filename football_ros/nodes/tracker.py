@@ -103,6 +103,14 @@ PARAMETERS = (
             'Height whose downward crossing is predicted (football/prediction/catch) [m], 0 = off',
             (0.0, 100.0),
         ),
+        ('wind_x', 0.0, 'Known steady wind, x component in frame_id [m/s]', (-50.0, 50.0)),
+        ('wind_y', 0.0, 'Known steady wind, y component in frame_id [m/s]', (-50.0, 50.0)),
+        (
+            'wind_sigma',
+            0.0,
+            'Unknown horizontal wind beyond wind_x/y, estimated: prior sigma [m/s], 0 = off',
+            (0.0, 30.0),
+        ),
     )
 )
 
@@ -124,6 +132,8 @@ class TrackerNode(Node):
                 max_lag=self.max_lag,
                 max_gap=self.max_gap,
                 max_future=max(self.max_future, 1e-9),
+                wind=(self.wind_x, self.wind_y),
+                wind_sigma=self.wind_sigma,
             ),
             max_tracks=int(self.max_tracks),
         )
