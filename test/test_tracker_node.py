@@ -372,6 +372,10 @@ def test_two_balls_get_a_stream_each(start_node, collector):
     time.sleep(0.3)
     log = tracker.log()
     assert log.count('new throw') == 2 and log.count('ended: landed') == 2, log
+    for k in (1, 2):  # one line at lock-on, one at the landing with the lock-on's error
+        assert log.count(f'throw #{k} locked on') == 1 and log.count(f'throw #{k} landed:') == 1
+        line = next(x for x in log.splitlines() if f'throw #{k} landed:' in x)
+        assert float(re.search(r'was ([0-9.]+) m', line).group(1)) < 10.0, line
     for k, (flight, offset) in enumerate(zip(flights, (0.0, 0.3)), start=1):
         landings = collector.get(qos.track_topic(k, qos.LANDING))
         assert len(landings) > 20, (k, log)

@@ -203,8 +203,33 @@ class TrackerNode(Node):
             est = tracker.estimate
             if result.landed or (est is not None and stream.throttle.due(est[0])):
                 self._publish_predictions(tracker, stream, result.landed and key is None)
+        self._say(track_id, tracker, result.landed, (msg.point.x, msg.point.y), stamp)
         if result.landed:
             self._drop_stream(track_id)
+
+    def _say(self, track_id, tracker, landed: bool, seen, stamp: float) -> None:
+        """One log line per throw at lock-on (the hand decided) and one at the landing."""
+        stream = self._streams.get(track_id)
+        if stream is None or tracker.track is None:
+            return
+        if stream.locked is None and (len(tracker.track.hyps) == 1 or landed):
+            pred = tracker.predict_landing()
+            if pred is not None:
+                stream.locked = pred
+                sigma = math.sqrt(max(float(np.trace(pred.covariance)), 0.0))
+                self.get_logger().info(
+                    f'throw #{track_id} locked on at t = {stamp:.3f} s: landing predicted at '
+                    f'x = {pred.position[0]:.2f} m, y = {pred.position[1]:.2f} m '
+                    f'(+/- {sigma:.2f} m) at t = {pred.time:.3f} s'
+                )
+        if landed and stream.locked is not None:
+            pred = stream.locked
+            err = math.hypot(pred.position[0] - seen[0], pred.position[1] - seen[1])
+            self.get_logger().info(
+                f'throw #{track_id} landed: seen at x = {seen[0]:.2f} m, y = {seen[1]:.2f} m at '
+                f't = {stamp:.3f} s; the lock-on prediction was {err:.2f} m and '
+                f'{pred.time - stamp:+.3f} s off'
+            )
 
     def _stream(self, track_id):
         """Create the publishers (and throttle) of one track; None: the legacy topics."""
@@ -284,6 +309,7 @@ class _Stream:
     path: object
     throttle: 'PredictionThrottle'
     catch: object | None
+    locked: object | None = None  # the landing predicted at lock-on
 
 
 class PredictionThrottle:
