@@ -64,6 +64,7 @@ G = 9.81
 DEFAULT = AeroModel()
 CASES = {
     'defaults': {},
+    'crosswind 5 m/s': {'wind': (0.0, 5.0, 0.0)},
     'drag +30%, lift -30%': {
         'c_d0': DEFAULT.c_d0 * 1.3,
         'c_d2': DEFAULT.c_d2 * 1.3,
@@ -281,19 +282,33 @@ def main() -> None:
     ap.add_argument('--flights', type=int, default=60, help='flights per case')
     ap.add_argument('--seed', type=int, default=1)
     ap.add_argument('--cases', nargs='*', default=list(CASES))
+    ap.add_argument(
+        '--wind-sigma',
+        type=float,
+        default=0.0,
+        help='the tracker estimates the horizontal wind with this prior sigma [m/s] (0 = not)',
+    )
+    ap.add_argument('--draws', type=int, default=1, help='independent draws (seeds seed..)')
     args = ap.parse_args()
+    settings = TrackerSettings(wind_sigma=args.wind_sigma) if args.wind_sigma > 0 else None
     # Warm the compiled kernels so that the timings are of the steady state.
     warm = Release(model='full')
     run_flight(warm, 0)
     methods = ('tracker', 'oracle', 'drag', 'parabola')
     print(
         f'camera {RATE:g} Hz, noise {NOISE * 100:g} cm, latency {LATENCY * 1000:g} ms; '
-        f'{args.flights} flights per case, seed {args.seed}'
+        f'{args.flights} flights per case x {args.draws} draws, seeds {args.seed}..'
+        f'{args.seed + args.draws - 1}, tracker wind_sigma {args.wind_sigma:g} m/s'
     )
     for ci, case in enumerate(args.cases):
-        rng = np.random.default_rng(args.seed * 1000 + ci)
-        releases = random_releases(rng, args.flights, CASES[case])
-        per = [run_flight(r, args.seed * 100000 + ci * 1000 + k) for k, r in enumerate(releases)]
+        per = []
+        for seed in range(args.seed, args.seed + args.draws):
+            rng = np.random.default_rng(seed * 1000 + ci)
+            releases = random_releases(rng, args.flights, CASES[case])
+            per += [
+                run_flight(r, seed * 100000 + ci * 1000 + k, settings)
+                for k, r in enumerate(releases)
+            ]
         print(f'\ncase: true coefficients {case}')
         print(
             f'{"lead [s]":>8} {"method":>9} {"n":>4} {"median [m]":>11} {"p95 [m]":>9} '
