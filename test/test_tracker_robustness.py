@@ -315,3 +315,41 @@ def test_an_unknown_crosswind_is_estimated_and_a_known_one_taken():
             TrackerSettings(wind=bad)
     with pytest.raises(ValueError, match='wind_sigma'):
         TrackerSettings(wind_sigma=-1.0)
+
+
+def test_scales_and_wind_learnt_on_a_throw_are_carried_to_the_next():
+    from football_ros.estimation.motion import X_KD, X_W
+    from football_ros.estimation.multi import MultiTracker
+
+    aero = {'wind': (0.0, 5.0, 0.0), 'c_d0': 0.055 * 1.3, 'c_d2': 0.30 * 1.3}
+    first, t1, _ = fixes(RELEASE.replace(aero=aero), seed=31)
+    second, t2, xy2 = fixes(OTHER.replace(aero=aero), seed=32)
+    settings = TrackerSettings(wind_sigma=4.0)
+    multi = MultiTracker(settings, carry_over=True)
+    for t, z in first:
+        multi.update(t, z)
+    assert [e.reason for e in multi.events if e.kind == 'ended'] == ['landed']
+    offset = t1 + 2.0
+    fresh = FlightTracker(settings)
+    for t, z in second:
+        if t <= 0.2:
+            fresh.update(t, z)
+            track_id, _ = multi.update(offset + t, z)
+    _, x, P = multi.tracks[track_id].estimate
+    # Lock-on of the second throw already knows the wind and the drag of the first.
+    assert abs(x[X_W + 1] - 5.0) < 1.5 and x[X_KD] > 1.1
+    assert P[X_W + 1, X_W + 1] < 0.5 * 4.0**2
+    errs = []
+    for tracker, shift in ((multi.tracks[track_id], offset), (fresh, 0.0)):
+        for t, z in second:
+            if 0.2 < t <= t2 - 1.0:
+                tracker.update(shift + t, z)
+        errs.append(float(np.linalg.norm(tracker.predict_landing().position[:2] - xy2)))
+    assert errs[0] < 0.85 * errs[1] and errs[0] < 0.15, errs
+    # Off by default: a new throw starts from the preset's prior.
+    plain = MultiTracker(settings)
+    for t, z in first:
+        plain.update(t, z)
+    for t, z in second[:10]:
+        track_id, _ = plain.update(offset + t, z)
+    assert plain._initiator.learned is None

@@ -22,9 +22,10 @@ aerodynamic acceleration's reach as extra variance) within the gate; a fix near 
 to the initiator, a FlightTracker without a throw whose start-up buffer (a consensus arc,
 robust to clutter, to the other balls and to wild stamps) starts the next track. A track ends
 when it lands or when no fix reached it for ``max_gap`` [s] of the fixes' clock (lost); at
-most ``max_tracks`` live at once (the oldest is ended for a new one). Times [s] are on the
-observations' clock; a clock that jumps back ends every track (the initiator resets its time
-base and starts the next throw on the new clock).
+most ``max_tracks`` live at once (the oldest is ended for a new one). With ``carry_over`` the
+drag and lift scales (and the wind) learnt by a throw that landed are the next throw's prior.
+Times [s] are on the observations' clock; a clock that jumps back ends every track (the
+initiator resets its time base and starts the next throw on the new clock).
 """
 
 from __future__ import annotations
@@ -54,13 +55,19 @@ class TrackEvent:
 class MultiTracker:
     """Track several balls; :meth:`update` returns the track id a fix went to (or None)."""
 
-    def __init__(self, settings: TrackerSettings | None = None, max_tracks: int = 4) -> None:
+    def __init__(
+        self,
+        settings: TrackerSettings | None = None,
+        max_tracks: int = 4,
+        carry_over: bool = False,
+    ) -> None:
         if isinstance(max_tracks, bool) or not isinstance(max_tracks, int) or not (
             1 <= max_tracks <= 64
         ):
             raise ValueError(f"'max_tracks' must be an integer in [1, 64], got {max_tracks!r}")
         self.settings = settings or TrackerSettings()
         self.max_tracks = max_tracks
+        self.carry_over = bool(carry_over)
         self.tracks: dict[int, FlightTracker] = {}
         self.events: list[TrackEvent] = []
         self._initiator = FlightTracker(self.settings)
@@ -117,6 +124,8 @@ class MultiTracker:
                 track_id = self._adopt(tracker, t)
             elif result.landed:
                 self._end(track_id, 'landed', t)
+                if self.carry_over:  # the same ball again in the same air
+                    self._initiator.learn_from(tracker)
             return track_id, result
         self.taken_by = self._initiator
         result = self._initiator.update(t, z, now)
@@ -135,6 +144,7 @@ class MultiTracker:
         """Make ``tracker`` (holding a fresh throw) a live track; a new initiator if it was."""
         if tracker is self._initiator:
             fresh = FlightTracker(self.settings)
+            fresh.learned = tracker.learned
             fresh._candidates.extend(tracker._candidates)  # the other balls' fixes
             tracker._candidates.clear()
             self._initiator = fresh

@@ -85,6 +85,9 @@ from ..physics.presets import get_preset
 from ..physics.release import RPM
 
 CHI2_3_9999 = 21.11  # chi-square 3 dof, 99.99 %
+CARRY_VARIANCE = {X_KD: 0.05**2, X_KL: 0.05**2, X_W: 1.0, X_W + 1: 1.0}
+"""Variance added to a learned scale (and to a learned wind [m^2/s^2]) from one throw to the
+next: gusts and a ball that gets wet or scuffed."""
 
 
 # --- settings and results -----------------------------------------------------------------------
@@ -295,6 +298,23 @@ class FlightTracker:
         self._newest = -math.inf
         self.time_resets = 0
         self.counts: collections.Counter = collections.Counter()
+        self.learned: dict | None = None
+        """Prior of the next throw's drag and lift scales (and wind): {state index: (mean,
+        variance)} from a throw of the same ball in the same air (:meth:`learn_from`)."""
+
+    def learn_from(self, other: 'FlightTracker') -> bool:
+        """
+        Carry ``other``'s current scales (and wind) to this tracker's next throw as its prior.
+
+        Their variances grow by :data:`CARRY_VARIANCE` (the air and the ball change a little
+        between throws). False if ``other`` has no estimate.
+        """
+        est = other.estimate
+        if est is None:
+            return False
+        _, x, P = est
+        self.learned = {i: (float(x[i]), float(P[i, i])) for i in CARRY_VARIANCE if i < x.size}
+        return True
 
     # --- public API -----------------------------------------------------------------------
     def update(self, stamp: float, position, now: float | None = None) -> UpdateResult:
@@ -696,13 +716,20 @@ class FlightTracker:
         P[X_KD, X_KD] = P[X_KL, X_KL] = s.scale_sigma**2
         if n_x == N_X_WIND:  # unknown steady wind beyond the known ``wind``, mean 0
             P[X_W, X_W] = P[X_W + 1, X_W + 1] = s.wind_sigma**2
+        mean = {X_KD: 1.0, X_KL: 1.0, X_W: 0.0, X_W + 1: 0.0}
+        for i, (m, var) in (self.learned or {}).items():  # the last throw's, if carried
+            if i < n_x and math.isfinite(m) and math.isfinite(var) and var > 0.0:
+                mean[i] = m
+                P[i, i] = min(P[i, i], var + CARRY_VARIANCE[i])
         hyps = []
         for hand in (1.0, -1.0):
             x = np.zeros(n_x)
             x[:6] = x0
             x[X_S:X_S + 3] = axis
             x[X_H:X_H + 3] = hand * self.nominal_h1 * axis
-            x[X_KD] = x[X_KL] = 1.0
+            for i, m in mean.items():
+                if i < n_x:
+                    x[i] = m
             # h = h1 s + h_perp: the spin momentum turns with the axis (dh = h1 ds), so an
             # axis off the guess carries h along. Without this coupling the prior describes
             # balls whose h stays put while the axis is off, i.e. with transverse rates

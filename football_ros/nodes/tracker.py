@@ -111,6 +111,11 @@ PARAMETERS = (
             'Unknown horizontal wind beyond wind_x/y, estimated: prior sigma [m/s], 0 = off',
             (0.0, 30.0),
         ),
+        (
+            'carry_over',
+            False,
+            'Start each throw from the drag/lift scales (and wind) the last landed throw learnt',
+        ),
     )
 )
 
@@ -136,6 +141,7 @@ class TrackerNode(Node):
                 wind_sigma=self.wind_sigma,
             ),
             max_tracks=int(self.max_tracks),
+            carry_over=bool(self.carry_over),
         )
         self._streams = {None: self._stream(None)}  # None: the primary stream (legacy topics)
         self.create_subscription(PointStamped, qos.OBSERVATION, self._on_fix, qos.STATE)
