@@ -19,6 +19,8 @@ import math
 from football_ros.estimation import Camera, CameraSettings, FlightTracker, TrackerSettings
 from football_ros.estimation.motion import land_points, N_X, path_of, propagate_points
 from football_ros.physics import Flight, Release
+from hypothesis import given, settings
+from hypothesis import strategies as st
 import numpy as np
 import pytest
 
@@ -353,3 +355,38 @@ def test_scales_and_wind_learnt_on_a_throw_are_carried_to_the_next():
     for t, z in second[:10]:
         track_id, _ = plain.update(offset + t, z)
     assert plain._initiator.learned is None
+
+
+_FUZZ_A = fixes(RELEASE, seed=41)[0][:20]
+_FUZZ_B = fixes(OTHER, seed=42)[0][:20]
+_finite = st.floats(allow_nan=True, allow_infinity=True)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.lists(
+        st.tuples(
+            st.one_of(_finite, st.floats(0.0, 1.0)),
+            st.lists(st.one_of(_finite, st.floats(-50.0, 50.0)), min_size=0, max_size=4),
+        ),
+        max_size=30,
+    ),
+    st.one_of(st.none(), _finite),
+    st.one_of(_finite, st.floats(0.0, 5.0)),
+)
+def test_fuzz_the_multi_tracker_and_the_catch_height(stream, now, height):
+    from football_ros.estimation.multi import MultiTracker
+
+    multi = MultiTracker(TrackerSettings(wind_sigma=2.0), max_tracks=2, carry_over=True)
+    merged = sorted(_FUZZ_A + [(t + 0.1, z) for t, z in _FUZZ_B], key=lambda f: f[0])
+    for t, z in merged:
+        multi.update(t, z)
+    for stamp, pos in stream:
+        track_id, result = multi.update(stamp, pos, now)
+        assert track_id is None or track_id in multi.tracks or result.landed or result.used
+    assert len(multi.tracks) <= 2
+    for tracker in multi.tracks.values():
+        for pred in (tracker.predict_landing(), tracker.predict_crossing(height)):
+            if pred is not None:
+                assert np.all(np.isfinite(pred.position)) and math.isfinite(pred.time)
+                assert np.all(np.isfinite(pred.covariance))

@@ -112,6 +112,8 @@ class MultiTracker:
             return None, UpdateResult('invalid', 'stamp and position must be 3 numbers')
         if not (math.isfinite(t) and np.all(np.isfinite(z))):
             return None, UpdateResult('invalid', 'non-finite stamp or position')
+        if np.any(np.abs(z) > 1e5) or abs(t) > 1e12:
+            return None, UpdateResult('invalid', 'position beyond 100 km or absurd stamp')
         track_id = self._nearest(t, z)
         if track_id is not None:
             tracker = self.taken_by = self.tracks[track_id]
@@ -187,7 +189,8 @@ class MultiTracker:
             S = J @ P[:6, :6] @ J.T + (r_var + (0.5 * AERO_REACH * dt * dt) ** 2) * np.eye(3)
             nu = z - pred
             try:
-                d2 = float(nu @ np.linalg.solve(S, nu))
+                with np.errstate(all='ignore'):
+                    d2 = float(nu @ np.linalg.solve(S, nu))
             except np.linalg.LinAlgError:
                 continue
             if d2 <= best_d2:
