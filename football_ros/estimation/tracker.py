@@ -48,12 +48,20 @@ innovations are the more likely is reported; the other is dropped once the odds 
 ``hand_odds`` (the lateral drift tells the hands apart within a few tenths of a second).
 
 Track management: a throw starts when ``min_points`` unassociated fixes within
-``init_window`` fit a ballistic arc (known gravity) to within the noise and move faster than
-``min_speed``; fixes whose innovation is beyond the Mahalanobis gate are rejected (and, after
-``reinit_after`` in a row that form a new arc, start a new throw); a late fix (older than the
-newest) rolls the filter back to the checkpoint before it and re-applies the later fixes; a
-fix older than ``max_lag``, from the future or non-finite is refused. The throw ends (landed)
-when the estimate reaches the ground. Times [s] are on the observations' clock.
+``init_window`` of the newest fit a ballistic arc (known gravity) to within the noise and move
+faster than ``min_speed``; the arc is found by consensus (the arcs through the new fix and each
+buffered one, at most one fix per stamp), so clutter, a second ball or wild stamps among the
+buffered fixes neither hide it nor empty the buffer. Fixes whose innovation is beyond the
+Mahalanobis gate are rejected (and, after ``reinit_after`` in a row that form a new arc, start
+a new throw); a late fix (older than the newest) rolls the filter back to the checkpoint before
+it and re-applies the later fixes; a fix from the future or non-finite is refused, and one
+older than ``max_lag`` too, unless such old fixes form an arc of their own: the clock of the
+fixes jumped back (a restart), the time base is reset and the throw starts
+(:meth:`FlightTracker.reset_time_base`). The throw ends (landed) when the estimate reaches the
+ground. Several balls: :mod:`.multi`. Times [s] are on the observations' clock.
+
+Wind: a known steady wind (``wind``) enters the model; with ``wind_sigma`` > 0 the state has two
+more entries (``N_X_WIND``), the unknown horizontal wind, flown point by point.
 """
 
 from __future__ import annotations
