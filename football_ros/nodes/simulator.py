@@ -93,6 +93,9 @@ MAX_STEPS_PER_SECOND = 2.0e5
 """Largest real_time_factor / integration_step [RK4 steps per wall second] (about 0.2 s of CPU
 per wall second at 0.85 us a step); larger combinations are refused (parameter callback)."""
 RIVAL_CHECK_PERIOD_S = 1.0
+LOG_THROTTLE_S = 0.1
+"""Lines a client can trigger at will (pause, reset, orders) are logged at most this often
+each; every event still reaches /diagnostics (bounded by MAX_EVENTS)."""
 
 PARAMETERS = (
     ParamSpec(
@@ -345,17 +348,22 @@ class SimulatorNode(Node):
             flight = order.flight(self.integration_step, self._model_override())
         except OrderError as exc:
             name = exc.name
-            self.get_logger().error(f"refused flight order '{name}': {exc}")
+            self.get_logger().error(
+                f"refused flight order '{name}': {exc}", throttle_duration_sec=LOG_THROTTLE_S
+            )
             self._acknowledge(name, 'ERROR', str(exc), {})
             return
         except (ValueError, ArithmeticError, RecursionError) as exc:
             reason = capped(str(exc) or type(exc).__name__)
-            self.get_logger().error(f"refused flight order '{name}': {reason}")
+            self.get_logger().error(
+                f"refused flight order '{name}': {reason}", throttle_duration_sec=LOG_THROTTLE_S
+            )
             self._acknowledge(name, 'ERROR', reason, {})
             return
         except Exception as exc:  # never let one order take the simulator down
             self.get_logger().error(
-                f"flight order '{name}': internal error\n{traceback.format_exc()}"
+                f"flight order '{name}': internal error\n{traceback.format_exc()[-4000:]}",
+                throttle_duration_sec=LOG_THROTTLE_S,
             )
             self._acknowledge(name, 'ERROR', f'internal error ({type(exc).__name__})', {})
             return
@@ -391,12 +399,16 @@ class SimulatorNode(Node):
             self._world.throw(self._world.default, run)
             self._last_order = order
             self._events.append(('OK' if modes.stable else 'WARN', 'released', text))
+        log = self.get_logger()  # each line at most 1 / LOG_THROTTLE_S a second (hammering)
         if replaced:
-            self.get_logger().info('the flight in the air is replaced by a new release')
+            log.info(
+                'the flight in the air is replaced by a new release',
+                throttle_duration_sec=LOG_THROTTLE_S,
+            )
         if modes.stable:
-            self.get_logger().info(text)
+            log.info(text, throttle_duration_sec=LOG_THROTTLE_S)
         else:
-            self.get_logger().warning(text)
+            log.warning(text, throttle_duration_sec=LOG_THROTTLE_S)
 
     def _on_reset(self, _request, response):
         with self._lock:
@@ -428,7 +440,9 @@ class SimulatorNode(Node):
             self._paused, self._stopped = bool(request.data), False
         response.success = True
         response.message = 'paused' if request.data else 'running'
-        self.get_logger().info(f'simulation {response.message}')
+        self.get_logger().info(
+            f'simulation {response.message}', throttle_duration_sec=LOG_THROTTLE_S
+        )
         return response
 
     def _check_rivals(self) -> None:
@@ -693,7 +707,9 @@ class SimulatorNode(Node):
             for entity in doomed:
                 self.remove_entity_publishers(entity)
         scopes = (('time', clock), ('state', state), ('spawned', spawned))
-        self.get_logger().info('reset: ' + ', '.join(k for k, v in scopes if v))
+        self.get_logger().info(
+            'reset: ' + ', '.join(k for k, v in scopes if v), throttle_duration_sec=LOG_THROTTLE_S
+        )
 
     def simulation_state(self) -> int:
         """simulation_interfaces SimulationState: STOPPED 0, PLAYING 1, PAUSED 2."""
@@ -708,7 +724,10 @@ class SimulatorNode(Node):
             self.reset_world(clock=True, state=True, spawned=True)
         with self._lock:
             self._paused, self._stopped = target != 1, target == 0
-        self.get_logger().info(f'simulation {("stopped", "playing", "paused")[target]}')
+        self.get_logger().info(
+            f'simulation {("stopped", "playing", "paused")[target]}',
+            throttle_duration_sec=LOG_THROTTLE_S,
+        )
 
     def step_world(self, n_steps: int, publish: bool = True) -> None:
         """
