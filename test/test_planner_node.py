@@ -225,14 +225,3 @@ def test_launch_argument_planner_runs_the_node(monkeypatch):
     assert declared['planner']['default_value'] == 'false'
     assert set(nodes) == {'football_simulator', 'football_release', 'football_planner'}
     assert nodes['football_planner'][0].kwargs['executable'] == 'planner'
-
-
-def test_yaml_section_lists_every_parameter_with_its_default():
-    from pathlib import Path
-
-    from football_ros.nodes.planner import PARAMETERS
-    import yaml
-
-    config = Path(__file__).resolve().parents[1] / 'config' / 'football.yaml'
-    section = yaml.safe_load(config.read_text())['/**/football_planner']['ros__parameters']
-    assert section == {spec.name: spec.default for spec in PARAMETERS}

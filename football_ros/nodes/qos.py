@@ -95,10 +95,12 @@ TF_QOS = QoSProfile(
     reliability=ReliabilityPolicy.RELIABLE,
     durability=DurabilityPolicy.VOLATILE,
 )
-# Requests and responses: reliable and deep, so a burst of requests is answered one by one.
+# Requests and responses: reliable and deep, so a burst of requests is answered one by one:
+# 10 s of a 1000/s flood fit while the release node reads them (it answers the ones its worker
+# cannot take 'busy'); a shallower history drops the oldest silently when its reader lags.
 REQUEST = QoSProfile(
     history=HistoryPolicy.KEEP_LAST,
-    depth=1000,
+    depth=10000,
     reliability=ReliabilityPolicy.RELIABLE,
     durability=DurabilityPolicy.VOLATILE,
 )
