@@ -362,4 +362,6 @@ def main(argv=None) -> int:
 
 
 if __name__ == '__main__':
-    raise SystemExit(main())
+    import results  # bench/results.py: the figures go to bench/RESULTS.md
+
+    raise SystemExit(results.recorded('entities (simulation_interfaces)', main))
