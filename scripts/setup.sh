@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 PYTHON=${PYTHON:-python3}
 FIRST_TIME=""
 if [ ! -x .venv/bin/python ]; then
-  FIRST_TIME=" (first time: about a minute)"
+  FIRST_TIME=" (first time: a few minutes, with the interface builds after it)"
   echo "[setup] creating .venv with $($PYTHON --version)"
   "$PYTHON" -m venv .venv
   .venv/bin/python -m pip install --quiet --disable-pip-version-check --upgrade pip setuptools wheel \

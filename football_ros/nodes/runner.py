@@ -191,10 +191,10 @@ def _start_and_spin(factory, argv, program: str, made: list, signals: _Signals) 
         signals.clean_up_begins()
         print(f'{program}: error: cannot start: {_rcl_reason(exc)}', file=sys.stderr)
         return EXIT_USAGE
+    signals.spinning = True  # from here a signal stops the loop (not an executor half-built)
     executor = SingleThreadedExecutor()
     executor.add_node(made[0])
     node = made[0]
-    signals.spinning = True
     while rclpy.ok() and not signals.stop:  # short waits: a signal is seen within SPIN_WAIT_S
         try:
             executor.spin_once(timeout_sec=SPIN_WAIT_S)
