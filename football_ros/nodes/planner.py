@@ -89,7 +89,7 @@ class PlannerNode(Node):
         self._paths = self.create_publisher(Path, qos.PLAN_PATH, qos.PLAN_PATH_QOS)
         self._releases = self.create_publisher(String, qos.RELEASE_REQUEST, qos.REQUEST)
         compile_ahead()
-        self.create_subscription(String, qos.PLAN_REQUEST, self._on_request, qos.REQUEST)
+        self.create_subscription(String, qos.PLAN_REQUEST, self._on_request, qos.REQUEST_INBOX)
         if self.receiver_topic:
             self.create_subscription(Odometry, self.receiver_topic, self._on_receiver, 10)
         sys.setswitchinterval(5e-4)

@@ -88,10 +88,18 @@ TF_QOS = QoSProfile(
     reliability=ReliabilityPolicy.RELIABLE,
     durability=DurabilityPolicy.VOLATILE,
 )
-# Requests and responses: reliable and deep, so a burst of requests is answered one by one:
-# 10 s of a 1000/s flood fit while the release node reads them (it answers the ones its worker
-# cannot take 'busy'); a shallower history drops the oldest silently when its reader lags.
+# Requests and responses: reliable and deep, so a burst of requests is answered one by one.
 REQUEST = QoSProfile(
+    history=HistoryPolicy.KEEP_LAST,
+    depth=1000,
+    reliability=ReliabilityPolicy.RELIABLE,
+    durability=DurabilityPolicy.VOLATILE,
+)
+# The nodes' own request readers (release and planner): 10 s of a 1000/s flood fit in DDS while
+# the node reads them (what its worker cannot take is answered 'busy'); a 1000-deep history
+# dropped the oldest without a word when the reader lagged. Only the readers: deep writers
+# slowed the matching of new endpoints.
+REQUEST_INBOX = QoSProfile(
     history=HistoryPolicy.KEEP_LAST,
     depth=10000,
     reliability=ReliabilityPolicy.RELIABLE,

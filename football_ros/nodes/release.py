@@ -226,8 +226,8 @@ class ReleaseNode(Node):
         self._orders = self.create_publisher(String, qos.FLIGHT_ORDER, qos.ORDER)
         compile_ahead()  # every kernel loaded (compiled on a cold cache) before 'ready'
         self.create_subscription(DiagnosticStatus, qos.FLIGHT_ACK, self._on_ack, qos.REQUEST)
-        self.create_subscription(String, qos.RELEASE_REQUEST, self._on_request, qos.REQUEST)
-        self.create_subscription(Odometry, qos.RELEASE_STATE, self._on_state, qos.REQUEST)
+        self.create_subscription(String, qos.RELEASE_REQUEST, self._on_request, qos.REQUEST_INBOX)
+        self.create_subscription(Odometry, qos.RELEASE_STATE, self._on_state, qos.REQUEST_INBOX)
         # The executor takes the GIL back from the worker within 0.5 ms (default 5 ms).
         sys.setswitchinterval(5e-4)
         self._stop = threading.Event()
