@@ -161,7 +161,7 @@ def add_release_options(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def _key_values(items: list[str], option: str, convert) -> dict:
+def key_values(items: list[str], option: str, convert) -> dict:
     """KEY=VALUE command-line items as a dict, each VALUE through ``convert``."""
     import yaml
 
@@ -181,7 +181,7 @@ def release_from_args(args: argparse.Namespace) -> Release:
     """Build a validated :class:`Release` from parsed options (raises ReleaseError/UsageError)."""
     import yaml
 
-    aero = _key_values(args.aero, '--aero', yaml.safe_load)
+    aero = key_values(args.aero, '--aero', yaml.safe_load)
     if args.wind is not None:
         aero['wind'] = list(args.wind)
     return Release(
@@ -197,6 +197,6 @@ def release_from_args(args: argparse.Namespace) -> Release:
         position=tuple(args.position),
         model=args.model,
         moment=args.moment,
-        ball_params=_key_values(args.ball_param, '--ball-param', float),
+        ball_params=key_values(args.ball_param, '--ball-param', float),
         aero=aero,
     )

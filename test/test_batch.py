@@ -24,7 +24,7 @@ from football_ros.physics import Flight, frames, get_preset, Release
 from football_ros.physics.aero import AeroModel, resolve
 from football_ros.physics.batch import fastest_rates, lean_states, simulate_batch
 from football_ros.physics.dynamics import make_params
-from football_ros.physics.release import LIMITS, release_states, ReleaseError
+from football_ros.physics.release import LIMITS, release_states, ReleaseError, STATE_KEYS
 from football_ros.tools.montecarlo import COLUMNS
 from hypothesis import assume, given, HealthCheck, settings
 from hypothesis import strategies as hs
@@ -42,17 +42,7 @@ RELEASES = [
 
 
 def states_of(releases):
-    keys = (
-        'speed',
-        'elevation_deg',
-        'azimuth_deg',
-        'spin_rpm',
-        'alpha0_deg',
-        'beta0_deg',
-        'alpha_rate_deg_s',
-        'beta_rate_deg_s',
-    )
-    cols = [np.array([getattr(r, k) for r in releases]) for k in keys]
+    cols = [np.array([getattr(r, k) for r in releases]) for k in STATE_KEYS]
     return release_states(*cols, np.array([r.position for r in releases]))
 
 

@@ -32,7 +32,7 @@ import math
 import sys
 from typing import Any
 
-from ..command_line import add_release_options, release_from_args, UsageError
+from ..command_line import add_release_options, key_values, release_from_args, UsageError
 
 EXIT_INFEASIBLE = 1
 
@@ -100,19 +100,6 @@ def throw_argv(release_mapping: dict[str, Any], request_id: str | None,
     return argv + ['--timeout', repr(float(timeout))]
 
 
-def _sigmas(items: list[str]) -> dict[str, float]:
-    out = {}
-    for item in items:
-        key, sep, value = item.partition('=')
-        if not sep:
-            raise UsageError(f"--sigma expects KEY=SIGMA, got '{item}'")
-        try:
-            out[key.strip()] = float(value)
-        except ValueError:
-            raise UsageError(f"--sigma {key}: cannot read '{value}'") from None
-    return out
-
-
 def _clean(value: Any) -> Any:
     """Return JSON-safe data: NaN and infinities as null."""
     if isinstance(value, float):
@@ -129,7 +116,7 @@ def run(args: argparse.Namespace) -> int:
     if (args.target is None) == (args.receiver is None):
         raise UsageError('give exactly one of --target and --receiver')
     base = release_from_args(args)
-    sigmas = _sigmas(args.sigma)
+    sigmas = key_values(args.sigma, '--sigma', float)
     from ..planning import hit_probability, plan, PlanError, Receiver
 
     receiver = None
