@@ -50,7 +50,13 @@ import argparse
 import math
 import time
 
-from football_ros.estimation import Camera, CameraSettings, FlightTracker, TrackerSettings
+from football_ros.estimation import (
+    Camera,
+    CameraSettings,
+    FlightTracker,
+    Observation,
+    TrackerSettings,
+)
 from football_ros.physics import Flight, Release
 from football_ros.physics.aero import AeroModel
 from numba import njit
@@ -64,6 +70,7 @@ G = 9.81
 DEFAULT = AeroModel()
 CASES = {
     'defaults': {},
+    'crosswind 5 m/s': {'wind': (0.0, 5.0, 0.0)},
     'drag +30%, lift -30%': {
         'c_d0': DEFAULT.c_d0 * 1.3,
         'c_d2': DEFAULT.c_d2 * 1.3,
@@ -190,11 +197,31 @@ def camera_fixes(release: Release, seed: int, t_land: float) -> list:
     return [o for o in obs if o.stamp < t_land]
 
 
-def run_flight(release: Release, seed: int, settings=None, oracle: bool = True):
+def with_clutter(obs: list, rate: float, seed: int) -> list:
+    """
+    Return ``obs`` with false detections added at ``rate`` [Hz], in delivery order.
+
+    Uniform anywhere over the field (a 55 x 40 x 12 m box), delivered with the camera's latency.
+    """
+    if rate <= 0.0 or not obs:
+        return obs
+    rng = np.random.default_rng(seed + 7919)
+    t0, t1 = obs[0].stamp, obs[-1].stamp
+    stamps = np.arange(t0, t1, 1.0 / rate) + 0.5 / rate
+    fake = [
+        Observation(float(t), rng.uniform((-5.0, -20.0, 0.0), (50.0, 20.0, 12.0)), t + LATENCY)
+        for t in stamps
+    ]
+    return sorted(obs + fake, key=lambda o: o.delivery)
+
+
+def run_flight(
+    release: Release, seed: int, settings=None, oracle: bool = True, clutter: float = 0.0
+):
     truth = Flight.from_release(release).simulate(rate=100.0, duration=20.0)
     t_land = float(truth.times[-1])
     xy_land = truth.positions[-1, :2]
-    obs = camera_fixes(release, seed, t_land)
+    obs = with_clutter(camera_fixes(release, seed, t_land), clutter, seed)
     tracker = FlightTracker(settings)
     known = FlightTracker(
         TrackerSettings(
@@ -281,19 +308,37 @@ def main() -> None:
     ap.add_argument('--flights', type=int, default=60, help='flights per case')
     ap.add_argument('--seed', type=int, default=1)
     ap.add_argument('--cases', nargs='*', default=list(CASES))
+    ap.add_argument(
+        '--wind-sigma',
+        type=float,
+        default=0.0,
+        help='the tracker estimates the horizontal wind with this prior sigma [m/s] (0 = not)',
+    )
+    ap.add_argument('--draws', type=int, default=1, help='independent draws (seeds seed..)')
+    ap.add_argument(
+        '--clutter', type=float, default=0.0, help='false detections per second [Hz] added'
+    )
     args = ap.parse_args()
+    settings = TrackerSettings(wind_sigma=args.wind_sigma) if args.wind_sigma > 0 else None
     # Warm the compiled kernels so that the timings are of the steady state.
     warm = Release(model='full')
     run_flight(warm, 0)
     methods = ('tracker', 'oracle', 'drag', 'parabola')
     print(
         f'camera {RATE:g} Hz, noise {NOISE * 100:g} cm, latency {LATENCY * 1000:g} ms; '
-        f'{args.flights} flights per case, seed {args.seed}'
+        f'{args.flights} flights per case x {args.draws} draws, seeds {args.seed}..'
+        f'{args.seed + args.draws - 1}, tracker wind_sigma {args.wind_sigma:g} m/s, '
+        f'clutter {args.clutter:g} Hz'
     )
     for ci, case in enumerate(args.cases):
-        rng = np.random.default_rng(args.seed * 1000 + ci)
-        releases = random_releases(rng, args.flights, CASES[case])
-        per = [run_flight(r, args.seed * 100000 + ci * 1000 + k) for k, r in enumerate(releases)]
+        per = []
+        for seed in range(args.seed, args.seed + args.draws):
+            rng = np.random.default_rng(seed * 1000 + ci)
+            releases = random_releases(rng, args.flights, CASES[case])
+            per += [
+                run_flight(r, seed * 100000 + ci * 1000 + k, settings, clutter=args.clutter)
+                for k, r in enumerate(releases)
+            ]
         print(f'\ncase: true coefficients {case}')
         print(
             f'{"lead [s]":>8} {"method":>9} {"n":>4} {"median [m]":>11} {"p95 [m]":>9} '

@@ -80,11 +80,13 @@ def test_camera_noise_dropout_latency_and_outliers_have_the_asked_statistics():
     again = Camera(s).step(2.0, lambda t: np.array([t, 0.0, 1.0]))
     assert all(np.array_equal(a.position, b.position) for a, b in zip(got, again))
     assert all(o.delivery <= 2.0 + 1e-12 for o in again)
-    # The queue is bounded: a long stall keeps the newest QUEUE_DEPTH fixes.
-    from football_ros.estimation.sensor import QUEUE_DEPTH
-
-    stalled = Camera(s).step(100.0, lambda t: np.zeros(3))
-    assert len(stalled) <= QUEUE_DEPTH and stalled[0].stamp > 95.0 and stalled[-1].stamp > 99.9
+    # The queue is bounded: a long stall keeps the newest fixes, and counts the others.
+    cam = Camera(s)
+    stalled = cam.step(100.0, lambda t: np.zeros(3))
+    assert len(stalled) <= cam.depth and stalled[0].stamp > 95.0 and stalled[-1].stamp > 99.9
+    c = cam.counts
+    assert c['captured'] == 10001 and c['delivered'] == len(stalled)
+    assert c['captured'] == c['dropout'] + c['queue_full'] + c['delivered'] + cam.waiting
     # record() (offline replays) delivers every fix of a long span, the same as fine steps.
     recorded = Camera(s).record(200.0, lambda t: np.array([t, 0.0, 1.0]))
     assert len(recorded) == len(got) and all(

@@ -19,6 +19,7 @@ simulator camera -> tracker -> landing prediction, and hostile fixes.
 """
 
 import math
+import re
 import time
 
 from football_ros.nodes import qos
@@ -26,6 +27,7 @@ from football_ros.physics import Flight, Release
 from geometry_msgs.msg import PointStamped, PoseStamped, PoseWithCovarianceStamped
 from nav_msgs.msg import Odometry, Path
 import numpy as np
+import pytest
 from rosutil import order_flight
 
 
@@ -227,3 +229,172 @@ def test_hostile_fixes_never_crash_or_poison_the_tracker(start_node, collector):
     x_land, y_land = truth.positions[-1, :2]
     assert math.hypot(final.x - x_land, final.y - y_land) < 0.15
     assert tracker.log().count('new throw') == 1  # the outliers never started a throw
+
+
+def test_prediction_throttle_runs_on_the_fixes_clock():
+    from football_ros.nodes.tracker import PredictionThrottle
+
+    throttle = PredictionThrottle(30.0)
+    stamps = 1e6 + np.arange(120) / 60.0  # 2 s of 60 Hz fixes, whatever the node clock says
+    assert sum(throttle.due(t) for t in stamps) == 60
+    # Fixes stamped on a clock that started again: predictions at once, then every 1 / 30 s.
+    again = np.arange(30) / 60.0
+    assert [throttle.due(t) for t in again[:3]] == [True, False, True]
+
+
+def _clock(seconds):
+    from rosgraph_msgs.msg import Clock
+
+    msg = Clock()
+    msg.clock.sec = int(seconds)
+    msg.clock.nanosec = int(round((seconds - int(seconds)) * 1e9))
+    return msg
+
+
+def test_a_strangers_clock_and_a_clock_restart_under_sim_time(start_node, collector):
+    from rosgraph_msgs.msg import Clock
+
+    tracker = start_node('tracker', '--ros-args', '-p', 'use_sim_time:=true')
+    subscribe_outputs(collector)
+    clock = collector.publisher(Clock, '/clock', 10)
+    pub = collector.publisher(PointStamped, qos.OBSERVATION, qos.STATE)
+    collector.wait_for_subscribers(pub)
+    release = Release(model='full', position=(0.0, 0.0, 1.8))
+    truth = Flight.from_release(release).simulate(rate=60.0)
+    rng = np.random.default_rng(4)
+
+    def throw(base, clock_at, n_landed):
+        for k, (t, p) in enumerate(zip(truth.times[:-1], truth.positions[:-1])):
+            if k % 6 == 0:
+                clock.publish(_clock(clock_at))  # a stalled /clock: it never moves
+            pub.publish(point(base + t, p + rng.normal(0.0, 0.02, 3)))
+            time.sleep(0.004)
+        deadline = time.monotonic() + 20.0
+        while tracker.log().count('landed:') < n_landed and time.monotonic() < deadline:
+            time.sleep(0.1)
+        time.sleep(0.3)
+
+    for _ in range(10):
+        clock.publish(_clock(1e6))
+        time.sleep(0.05)
+    throw(1000.0, 1e6, 1)  # a stranger's /clock at 1e6 s: predictions still at ~30 Hz of fixes
+    n_first = len(collector.get(qos.LANDING))
+    t_flight = float(truth.times[-1])
+    # (the node clock's throttle gave a handful; frames may be lost on a busy machine)
+    assert n_first > 0.4 * 30.0 * (t_flight - 0.1), (n_first, tracker.log())
+    # The simulator restarted: /clock back at 50 s, the next throw stamped on it.
+    collector.clear()
+    for _ in range(10):
+        clock.publish(_clock(50.0))
+        time.sleep(0.05)
+    throw(20.0, 50.0, 2)
+    log = tracker.log()
+    assert 'clock jumped back' in log and log.count('new throw') == 2, log
+    landings = collector.get(qos.LANDING)
+    assert len(landings) > 0.4 * 30.0 * (t_flight - 0.1), (len(landings), log)
+    final = landings[-1]
+    x_land, y_land = truth.positions[-1, :2]
+    p = final.pose.pose.position
+    assert math.hypot(p.x - x_land, p.y - y_land) < 0.15
+    assert abs(stamp_s(final) - (20.0 + t_flight)) < 0.02
+    assert 'Traceback' not in log
+
+
+def test_the_camera_delivers_past_rate_times_latency_and_says_what_it_dropped(
+    start_node, collector
+):
+    # 500 Hz x 0.6 s: 300 fixes in flight at once (the old queue of 256 published none).
+    sim = start_node(
+        'simulator',
+        '--ros-args',
+        '-p',
+        'model:=full',
+        '-p',
+        'observation_rate:=500.0',
+        '-p',
+        'observation_latency:=0.6',
+        '-p',
+        'observation_dropout:=0.1',
+        '-p',
+        'hold_rate:=0.0',
+    )
+    collector.subscribe(PointStamped, qos.OBSERVATION, qos.STATE)
+    collector.wait_for(
+        lambda: collector.node.count_publishers('/' + qos.OBSERVATION) >= 1, 20.0, 'the camera'
+    )
+    time.sleep(0.5)
+    release = Release(position=(0.0, 0.0, 1.8))
+    order_flight(collector, release, 'camera-queue')
+    collector.wait_for(lambda: len(landed_values(collector)) >= 1, 15.0, 'the landing')
+    sim.wait_for_log('camera, flight 1 (landed)', 5.0)
+    time.sleep(0.5)
+    t_flight = float(landed_values(collector)[0]['time_of_flight'])
+    obs = collector.get(qos.OBSERVATION)
+    # 90 % of the frames up to the landing, the last 0.6 s of them published at the landing.
+    assert 0.85 * 500 * t_flight < len(obs) < 500 * t_flight + 10, (len(obs), sim.log())
+    line = next(x for x in sim.log().splitlines() if 'camera, flight 1' in x)
+    assert '0 dropped from a full queue' in line and '0 still waiting dropped' in line, line
+    found = re.search(r'(\d+) of (\d+) fixes published \((\d+) at the landing\), (\d+) lost', line)
+    published, captured, at_landing, dropout = (int(g) for g in found.groups())
+    assert published + dropout == captured and published >= len(obs)
+    assert at_landing == pytest.approx(0.9 * 0.6 * 500, abs=40)
+
+
+def test_two_balls_get_a_stream_each(start_node, collector):
+    tracker = start_node('tracker')
+    for k in (1, 2):
+        collector.subscribe(
+            PoseWithCovarianceStamped, qos.track_topic(k, qos.LANDING), qos.STATE
+        )
+    collector.subscribe(PoseWithCovarianceStamped, qos.LANDING, qos.STATE)
+    collector.subscribe(PoseWithCovarianceStamped, qos.track_topic(2, qos.CATCH), qos.STATE)
+    pub = collector.publisher(PointStamped, qos.OBSERVATION, qos.STATE)
+    collector.wait_for_subscribers(pub)
+    first = Release(model='full', position=(0.0, 0.0, 1.8))
+    second = Release(
+        model='full', speed=20.0, elevation_deg=40.0, spin_rpm=-500.0, azimuth_deg=30.0,
+        position=(10.0, 5.0, 1.5),
+    )
+    flights = [Flight.from_release(r).simulate(rate=60.0) for r in (first, second)]
+    rng = np.random.default_rng(5)
+    base = time.time() - 10.0
+    fixes = [(base + t, p) for t, p in zip(flights[0].times[:-1], flights[0].positions[:-1])]
+    fixes += [
+        (base + 0.3 + t, p) for t, p in zip(flights[1].times[:-1], flights[1].positions[:-1])
+    ]
+    for k, (t, p) in enumerate(sorted(fixes, key=lambda f: f[0])):
+        pub.publish(point(t, p + rng.normal(0.0, 0.02, 3)))
+        if k % 4 == 0:
+            time.sleep(0.01)
+    deadline = time.monotonic() + 15.0
+    while tracker.log().count('ended: landed') < 2 and time.monotonic() < deadline:
+        time.sleep(0.1)
+    time.sleep(0.3)
+    log = tracker.log()
+    assert log.count('new throw') == 2 and log.count('ended: landed') == 2, log
+    for k in (1, 2):  # one line at lock-on, one at the landing with the lock-on's error
+        assert log.count(f'throw #{k} locked on') == 1 and log.count(f'throw #{k} landed:') == 1
+        line = next(x for x in log.splitlines() if f'throw #{k} landed:' in x)
+        assert float(re.search(r'was ([0-9.]+) m', line).group(1)) < 10.0, line
+    for k, (flight, offset) in enumerate(zip(flights, (0.0, 0.3)), start=1):
+        landings = collector.get(qos.track_topic(k, qos.LANDING))
+        assert len(landings) > 20, (k, log)
+        final = landings[-1]
+        p = final.pose.pose.position
+        x_land, y_land = flight.positions[-1, :2]
+        assert math.hypot(p.x - x_land, p.y - y_land) < 0.15, (k, p)
+        assert abs(stamp_s(final) - (base + offset + flight.times[-1])) < 0.02
+    # The topics without an id carry the oldest live track: the first ball, then the second.
+    legacy = collector.get(qos.LANDING)
+    assert len(legacy) > 20 and 'Traceback' not in log
+    # The second ball comes down through the default catch height 1.2 m where the flight does.
+    catches = collector.get(qos.track_topic(2, qos.CATCH))
+    assert len(catches) > 20
+    z = flights[1].positions[:, 2]
+    k = int(np.flatnonzero((z[:-1] >= 1.2) & (z[1:] < 1.2))[-1])
+    final = catches[-1].pose.pose.position
+    assert final.z == 1.2
+    x_c, y_c = flights[1].positions[k, :2]  # within a 60 Hz sample of the crossing
+    assert math.hypot(final.x - x_c, final.y - y_c) < 0.5
+    t_c = base + 0.3 + flights[1].times[k]
+    assert t_c - 0.02 < stamp_s(catches[-1]) < t_c + 1.0 / 60.0 + 0.02

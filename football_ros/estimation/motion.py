@@ -22,6 +22,11 @@ scales kd, kl, all in ``field``. Each point is flown as a state of
 angle 0: the ball is axisymmetric, so the spin angle does not enter the motion) with that
 module's step :func:`~football_ros.physics.dynamics.rk4_step_with` and its landing search, the
 drag and lift coefficients scaled by kd and kl.
+
+The dynamics divide by the air speed and by |s|: a point at rest in the air or with a zero axis
+(hostile fixes, a sigma point far out) is nudged to 1 um/s downwards through the air and to the
+axis x, and a point whose flight still fails (a zero division in a stage, non-finite numbers)
+comes out as NaN, never as an exception: the filter treats it as a failed prediction.
 """
 
 from __future__ import annotations
@@ -35,6 +40,20 @@ from ..physics import dynamics as dyn
 
 X_R, X_V, X_S, X_H, X_KD, X_KL = 0, 3, 6, 9, 12, 13
 N_X = 14
+X_W = 14
+"""Optional horizontal wind states (x, y) [m/s], added to the parameters' wind: a point of
+N_X_WIND = 16 floats carries them (the filter with ``wind_sigma`` > 0)."""
+N_X_WIND = 16
+
+
+@njit(cache=True)
+def point_params(params: np.ndarray, point: np.ndarray) -> np.ndarray:
+    """Kernel parameters of one point: its drag and lift scales, and its wind if it has one."""
+    p = scaled(params, point[X_KD], point[X_KL])
+    if point.size >= N_X_WIND:
+        p[dyn.P_WIND] += point[X_W]
+        p[dyn.P_WIND + 1] += point[X_W + 1]
+    return p
 
 
 @njit(cache=True)
@@ -48,13 +67,32 @@ def scaled(params: np.ndarray, kd: float, kl: float) -> np.ndarray:
     return p
 
 
+MIN_AIRSPEED = 1e-6
+"""Air speed [m/s] below which a point is nudged downwards (the dynamics divide by it)."""
+
+
 @njit(cache=True)
-def _load(point: np.ndarray, y: np.ndarray) -> None:
-    """Point (N_X,) -> dynamics state (N_STATE,): s normalised, q_nr the shortest turn to s."""
+def _load(point: np.ndarray, y: np.ndarray, params: np.ndarray) -> bool:
+    """
+    Point (N_X,) -> dynamics state (N_STATE,): s normalised, q_nr the shortest turn to s.
+
+    False if the point is not finite (``y`` is then unusable).
+    """
+    for j in range(point.size):
+        if not math.isfinite(point[j]):
+            return False
     for j in range(6):
         y[dyn.R + j] = point[X_R + j]
+    ux = y[dyn.V] - params[dyn.P_WIND]
+    uy = y[dyn.V + 1] - params[dyn.P_WIND + 1]
+    uz = y[dyn.V + 2] - params[dyn.P_WIND + 2]
+    if ux * ux + uy * uy + uz * uz < MIN_AIRSPEED * MIN_AIRSPEED:
+        y[dyn.V + 2] = params[dyn.P_WIND + 2] - MIN_AIRSPEED
     ns = math.sqrt(point[X_S] ** 2 + point[X_S + 1] ** 2 + point[X_S + 2] ** 2)
-    sx, sy, sz = point[X_S] / ns, point[X_S + 1] / ns, point[X_S + 2] / ns
+    if ns < 1e-12:
+        sx, sy, sz = 1.0, 0.0, 0.0
+    else:
+        sx, sy, sz = point[X_S] / ns, point[X_S + 1] / ns, point[X_S + 2] / ns
     # Rotation taking body x to s: axis x_hat x s = (0, -sz, sy), w = 1 + sx (then normalised).
     qx, qy, qz, qw = 0.0, -sz, sy, 1.0 + sx
     nq = math.sqrt(qy * qy + qz * qz + qw * qw)
@@ -65,6 +103,7 @@ def _load(point: np.ndarray, y: np.ndarray) -> None:
     y[dyn.H], y[dyn.H + 1], y[dyn.H + 2] = hx, hy, hz
     y[dyn.H1] = hx * sx + hy * sy + hz * sz
     y[dyn.PHI] = 0.0
+    return True
 
 
 @njit(cache=True)
@@ -87,11 +126,18 @@ def propagate_points(points: np.ndarray, dt: float, params: np.ndarray, step: fl
     y = np.empty(dyn.N_STATE)
     work = np.empty((5, dyn.N_STATE))
     for i in range(points.shape[0]):
-        p = scaled(params, points[i, X_KD], points[i, X_KL])
-        _load(points[i], y)
-        for _ in range(n):
-            dyn.rk4_step_with(y, h, p, y, work)
-        _store(y, points[i])
+        p = point_params(params, points[i])
+        ok = _load(points[i], y, p)
+        if ok:
+            try:
+                for _ in range(n):
+                    dyn.rk4_step_with(y, h, p, y, work)
+            except Exception:  # noqa: BLE001 - a zero division in a stage
+                ok = False
+        if ok:
+            _store(y, points[i])
+        else:
+            points[i, :] = np.nan
 
 
 @njit(cache=True)
@@ -111,20 +157,101 @@ def land_points(
     work = np.empty((5, dyn.N_STATE))
     n_max = int(math.ceil(horizon / step))
     for i in range(points.shape[0]):
-        p = scaled(params, points[i, X_KD], points[i, X_KL])
-        _load(points[i], y)
+        p = point_params(params, points[i])
+        if not _load(points[i], y, p):
+            continue
         if y[dyn.R + 2] <= ground:
             out[i, 0], out[i, 1], out[i, 2], out[i, 3] = 0.0, y[0], y[1], 1.0
             continue
-        for k in range(n_max):
-            dyn.rk4_step_with(y, step, p, nxt, work)
-            if dyn.crossed_ground(y, nxt, ground):
-                tau = dyn.landing_time_in_step(y, step, p, ground)
-                dyn.rk4_step_with(y, tau, p, nxt, work)
-                out[i, 0], out[i, 1], out[i, 2], out[i, 3] = k * step + tau, nxt[0], nxt[1], 1.0
-                break
-            y[:] = nxt
+        try:
+            for k in range(n_max):
+                dyn.rk4_step_with(y, step, p, nxt, work)
+                if dyn.crossed_ground(y, nxt, ground):
+                    tau = dyn.landing_time_in_step(y, step, p, ground)
+                    dyn.rk4_step_with(y, tau, p, nxt, work)
+                    out[i, 0], out[i, 1], out[i, 2] = k * step + tau, nxt[0], nxt[1]
+                    out[i, 3] = 1.0
+                    break
+                y[:] = nxt
+        except Exception:  # noqa: BLE001 - a zero division in a stage: no landing
+            out[i, 0], out[i, 1], out[i, 2], out[i, 3] = np.nan, np.nan, np.nan, 0.0
     return out
+
+
+@njit(cache=True)
+def cross_points(
+    points: np.ndarray,
+    params: np.ndarray,
+    step: float,
+    height: float,
+    ground: float,
+    horizon: float,
+) -> np.ndarray:
+    """
+    Where each row of ``points`` (m, N_X) next comes down through z = ``height`` [m].
+
+    (m, 4) rows of time from now [s], x, y [m] and 1.0 if it does within ``horizon`` [s]
+    before reaching z = ``ground`` (a ball now below ``height`` must first rise above it);
+    else NaN, NaN, NaN, 0.0.
+    """
+    out = np.full((points.shape[0], 4), np.nan)
+    out[:, 3] = 0.0
+    y = np.empty(dyn.N_STATE)
+    nxt = np.empty(dyn.N_STATE)
+    work = np.empty((5, dyn.N_STATE))
+    n_max = int(math.ceil(horizon / step))
+    for i in range(points.shape[0]):
+        p = point_params(params, points[i])
+        if not _load(points[i], y, p):
+            continue
+        try:
+            for k in range(n_max):
+                dyn.rk4_step_with(y, step, p, nxt, work)
+                if dyn.crossed_ground(y, nxt, height):
+                    tau = dyn.landing_time_in_step(y, step, p, height)
+                    dyn.rk4_step_with(y, tau, p, nxt, work)
+                    out[i, 0], out[i, 1], out[i, 2] = k * step + tau, nxt[0], nxt[1]
+                    out[i, 3] = 1.0
+                    break
+                if nxt[dyn.R + 2] < ground:
+                    break
+                y[:] = nxt
+        except Exception:  # noqa: BLE001 - a zero division in a stage: no crossing
+            out[i, 0], out[i, 1], out[i, 2], out[i, 3] = np.nan, np.nan, np.nan, 0.0
+    return out
+
+
+@njit(cache=True)
+def _fly_path(
+    y: np.ndarray,
+    p: np.ndarray,
+    times: np.ndarray,
+    pos: np.ndarray,
+    sample_dt: float,
+    step: float,
+    ground: float,
+) -> int:
+    """Fill ``times`` and ``pos`` from row 1 on from ``y``; return the number of rows used."""
+    nxt = np.empty(dyn.N_STATE)
+    work = np.empty((5, dyn.N_STATE))
+    sub = max(1, int(math.ceil(sample_dt / step - 1e-9)))
+    h = sample_dt / sub
+    t = 0.0
+    for k in range(1, times.size):
+        for _ in range(sub):
+            dyn.rk4_step_with(y, h, p, nxt, work)
+            if dyn.crossed_ground(y, nxt, ground):
+                tau = dyn.landing_time_in_step(y, h, p, ground)
+                dyn.rk4_step_with(y, tau, p, nxt, work)
+                times[k] = t + tau
+                pos[k] = nxt[:3]
+                pos[k, 2] = ground
+                return k + 1
+            y[:] = nxt
+            t += h
+        times[k] = t
+        pos[k] = y[:3]
+    return times.size
 
 
 @njit(cache=True)
@@ -140,33 +267,24 @@ def path_of(
     Return times (m,) [s] from now and positions (m, 3) [m] of the state ``x``'s path.
 
     Positions every ``sample_dt`` [s] from now until the ground (the last row is on it) or
-    ``horizon`` [s].
+    ``horizon`` [s]; one NaN row if the state cannot be flown.
     """
     n_max = int(math.ceil(horizon / sample_dt)) + 1
     times = np.empty(n_max)
     pos = np.empty((n_max, 3))
-    p = scaled(params, x[X_KD], x[X_KL])
+    p = point_params(params, x)
     y = np.empty(dyn.N_STATE)
-    _load(x, y)
-    nxt = np.empty(dyn.N_STATE)
-    work = np.empty((5, dyn.N_STATE))
     times[0] = 0.0
+    if not _load(x, y, p):
+        pos[0] = np.nan
+        return times[:1], pos[:1]
     pos[0] = y[:3]
-    sub = max(1, int(math.ceil(sample_dt / step - 1e-9)))
-    h = sample_dt / sub
-    t = 0.0
-    for k in range(1, n_max):
-        for _ in range(sub):
-            dyn.rk4_step_with(y, h, p, nxt, work)
-            if dyn.crossed_ground(y, nxt, ground):
-                tau = dyn.landing_time_in_step(y, h, p, ground)
-                dyn.rk4_step_with(y, tau, p, nxt, work)
-                times[k] = t + tau
-                pos[k] = nxt[:3]
-                pos[k, 2] = ground
-                return times[: k + 1], pos[: k + 1]
-            y[:] = nxt
-            t += h
-        times[k] = t
-        pos[k] = y[:3]
-    return times, pos
+    used = -1
+    try:
+        used = _fly_path(y, p, times, pos, sample_dt, step, ground)
+    except Exception:  # noqa: BLE001 - a zero division in a stage
+        used = -1
+    if used < 0:
+        pos[0] = np.nan
+        return times[:1], pos[:1]
+    return times[:used], pos[:used]

@@ -19,8 +19,10 @@ Captures the ball's position at ``rate`` [Hz] (capture times k / rate after the 
 adds Gaussian noise (``noise`` [m], 1 sigma per axis), drops a capture with probability
 ``dropout``, replaces one by an outlier (uniform direction, ``outlier_size`` [m] away) with
 probability ``outlier_rate`` and delivers it ``latency`` [s] after its capture. Deliveries wait
-in a bounded queue (oldest dropped first). Times are seconds on one clock (the caller's);
-positions are (3,) [m] in ``field``.
+in a bounded queue sized from rate x latency (:func:`queue_depth`), so that a camera stepped
+at least every :data:`QUEUE_DEPTH` frames drops none; beyond it the oldest is dropped first and
+every loss is counted by reason (:attr:`Camera.counts`). Times are seconds on one clock (the
+caller's); positions are (3,) [m] in ``field``.
 """
 
 from __future__ import annotations
@@ -33,7 +35,14 @@ from typing import Callable
 import numpy as np
 
 QUEUE_DEPTH = 256
-"""Observations waiting for their delivery time at most (oldest dropped beyond)."""
+"""Frames of slack in the queue beyond those in flight (rate x latency): how many frames a
+caller may go without stepping the camera before the oldest are dropped."""
+
+
+def queue_depth(settings: 'CameraSettings') -> int:
+    """Return the bound of the camera's queue: rate x latency frames plus QUEUE_DEPTH."""
+    return int(math.ceil(settings.rate * settings.latency)) + QUEUE_DEPTH
+
 
 LIMITS = {
     'rate': (0.0, 1000.0),
@@ -103,13 +112,35 @@ class Observation:
 
 
 class Camera:
-    """Seeded camera model; :meth:`capture` one position, or :meth:`step` along a flight."""
+    """
+    Seeded camera model; :meth:`capture` one position, or :meth:`step` along a flight.
+
+    :attr:`counts` says what became of every frame: 'captured', 'delivered', 'dropout' (lost
+    by the model's ``dropout``), 'queue_full' (the oldest waiting dropped: the camera was not
+    stepped for more than :data:`QUEUE_DEPTH` frames) and 'flushed' (handed over by
+    :meth:`flush` before their delivery time).
+    """
 
     def __init__(self, settings: CameraSettings) -> None:
         self.settings = settings
         self._rng = np.random.default_rng(settings.seed)
-        self._queue: collections.deque[Observation] = collections.deque(maxlen=QUEUE_DEPTH)
+        self.depth = queue_depth(settings)
+        self._queue: collections.deque[Observation] = collections.deque()
+        self.counts: collections.Counter = collections.Counter()
         self.restart(0.0)
+
+    @property
+    def waiting(self) -> int:
+        """Observations captured and not yet delivered."""
+        return len(self._queue)
+
+    def flush(self) -> list[Observation]:
+        """Return every observation still waiting (oldest first), before its delivery time."""
+        out = list(self._queue)
+        self._queue.clear()
+        self.counts['flushed'] += len(out)
+        self.counts['delivered'] += len(out)
+        return out
 
     def restart(self, release_time: float) -> None:
         """
@@ -153,20 +184,28 @@ class Camera:
                     break
                 self._next_k += 1
                 obs = self.capture(t, position_at(t))
-                if obs is not None:
-                    self._queue.append(obs)
+                self.counts['captured'] += 1
+                if obs is None:
+                    self.counts['dropout'] += 1
+                    continue
+                if len(self._queue) >= self.depth:
+                    self._queue.popleft()
+                    self.counts['queue_full'] += 1
+                self._queue.append(obs)
         out = []
         while self._queue and self._queue[0].delivery <= now + 1e-12:
             out.append(self._queue.popleft())
+        self.counts['delivered'] += len(out)
         return out
 
     def record(self, end: float, position_at: Callable[[float], np.ndarray]) -> list[Observation]:
         """
         Return every observation delivered up to ``end`` [s], for an offline replay.
 
-        :meth:`step` in strides of half the queue's depth, so that the bounded queue drops
-        none (one :meth:`step` to a far ``now`` keeps only the newest QUEUE_DEPTH, as a
-        stalled camera would); the same observations as stepping frame by frame.
+        :meth:`step` in strides of half :data:`QUEUE_DEPTH` frames, so that the bounded
+        queue drops none (one :meth:`step` to a far ``now`` keeps only the newest
+        :attr:`depth`, as a stalled camera would); the same observations as stepping frame by
+        frame.
         """
         out = []
         rate = self.settings.rate

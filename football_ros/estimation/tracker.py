@@ -48,12 +48,20 @@ innovations are the more likely is reported; the other is dropped once the odds 
 ``hand_odds`` (the lateral drift tells the hands apart within a few tenths of a second).
 
 Track management: a throw starts when ``min_points`` unassociated fixes within
-``init_window`` fit a ballistic arc (known gravity) to within the noise and move faster than
-``min_speed``; fixes whose innovation is beyond the Mahalanobis gate are rejected (and, after
-``reinit_after`` in a row that form a new arc, start a new throw); a late fix (older than the
-newest) rolls the filter back to the checkpoint before it and re-applies the later fixes; a
-fix older than ``max_lag``, from the future or non-finite is refused. The throw ends (landed)
-when the estimate reaches the ground. Times [s] are on the observations' clock.
+``init_window`` of the newest fit a ballistic arc (known gravity) to within the noise and move
+faster than ``min_speed``; the arc is found by consensus (the arcs through the new fix and each
+buffered one, at most one fix per stamp), so clutter, a second ball or wild stamps among the
+buffered fixes neither hide it nor empty the buffer. Fixes whose innovation is beyond the
+Mahalanobis gate are rejected (and, after ``reinit_after`` in a row that form a new arc, start
+a new throw); a late fix (older than the newest) rolls the filter back to the checkpoint before
+it and re-applies the later fixes; a fix from the future or non-finite is refused, and one
+older than ``max_lag`` too, unless such old fixes form an arc of their own: the clock of the
+fixes jumped back (a restart), the time base is reset and the throw starts
+(:meth:`FlightTracker.reset_time_base`). The throw ends (landed) when the estimate reaches the
+ground. Several balls: :mod:`.multi`. Times [s] are on the observations' clock.
+
+Wind: a known steady wind (``wind``) enters the model; with ``wind_sigma`` > 0 the state has two
+more entries (``N_X_WIND``), the unknown horizontal wind, flown point by point.
 """
 
 from __future__ import annotations
@@ -65,7 +73,19 @@ import math
 
 import numpy as np
 
-from .motion import land_points, N_X, path_of, propagate_points, X_H, X_KD, X_KL, X_S
+from .motion import (
+    cross_points,
+    land_points,
+    N_X,
+    N_X_WIND,
+    path_of,
+    propagate_points,
+    X_H,
+    X_KD,
+    X_KL,
+    X_S,
+    X_W,
+)
 from .sensor import check_numbers
 from ..physics import dynamics as dyn
 from ..physics.aero import AeroModel, resolve
@@ -73,6 +93,9 @@ from ..physics.presets import get_preset
 from ..physics.release import RPM
 
 CHI2_3_9999 = 21.11  # chi-square 3 dof, 99.99 %
+CARRY_VARIANCE = {X_KD: 0.05**2, X_KL: 0.05**2, X_W: 1.0, X_W + 1: 1.0}
+"""Variance added to a learned scale (and to a learned wind [m^2/s^2]) from one throw to the
+next: gusts and a ball that gets wet or scuffed."""
 
 
 # --- settings and results -----------------------------------------------------------------------
@@ -100,7 +123,9 @@ class TrackerSettings:
     a row that may start a new throw; ``step`` [s] filter integration step, ``landing_step`` [s]
     for predictions; ``horizon`` [s] of the landing search; ``ground`` [m] height of the landing
     plane; ``ball`` preset; ``aero`` the full model's settings the filter assumes (None = the
-    defaults).
+    defaults); ``wind`` (x, y) [m/s] a known steady wind in ``field`` (an anemometer's);
+    ``wind_sigma`` [m/s] > 0 adds two states, the unknown horizontal wind beyond ``wind``
+    (prior sigma per axis), with random walk ``wind_rate`` [m/s/sqrt(s)].
     """
 
     noise: float = 0.02
@@ -129,6 +154,9 @@ class TrackerSettings:
     ground: float = 0.0
     ball: str = 'american'
     aero: AeroModel | None = None
+    wind: tuple = (0.0, 0.0)
+    wind_sigma: float = 0.0
+    wind_rate: float = 0.05
 
     LIMITS = {
         'noise': (1e-4, 10.0),
@@ -154,6 +182,8 @@ class TrackerSettings:
         'landing_step': (1e-4, 0.05),
         'horizon': (0.1, 120.0),
         'ground': (-100.0, 100.0),
+        'wind_sigma': (0.0, 30.0),
+        'wind_rate': (0.0, 10.0),
     }
 
     def __post_init__(self) -> None:
@@ -170,15 +200,25 @@ class TrackerSettings:
                 f"tracker 'spin_rpm' must be None or |.| in [10, 3000], got {self.spin_rpm!r}"
             )
         get_preset(self.ball)  # raises ValueError for an unknown ball
+        try:
+            wind = tuple(float(w) for w in self.wind)
+        except (TypeError, ValueError):
+            wind = ()
+        if len(wind) != 2 or not all(math.isfinite(w) and abs(w) <= 50.0 for w in wind):
+            raise ValueError(
+                f"tracker 'wind' must be 2 numbers (x, y) in [-50, 50] m/s, got {self.wind!r}"
+            )
+        object.__setattr__(self, 'wind', wind)
 
 
 @dataclass(frozen=True)
 class LandingPrediction:
     """
-    Predicted landing on z = ground.
+    Predicted landing on z = ground (or crossing of a catch height, z = that height).
 
     ``time`` [s] on the observations' clock and its variance [s^2], ``position`` (3,) [m] (z =
-    ground) and ``covariance`` (2, 2) [m^2] of x, y, made from the estimate at ``made_at`` [s].
+    the plane's) and ``covariance`` (2, 2) [m^2] of x, y, made from the estimate at
+    ``made_at`` [s].
     """
 
     time: float
@@ -254,13 +294,35 @@ class FlightTracker:
         ball, aero = resolve(preset, 'full', s.aero)
         self.ball = ball
         self.params = dyn.make_params(ball, 'linear', aero)
+        self.params[dyn.P_WIND] += s.wind[0]  # a known wind (an anemometer), field frame
+        self.params[dyn.P_WIND + 1] += s.wind[1]
         spin = abs(preset.spin_rpm if s.spin_rpm is None else s.spin_rpm) * RPM
         self.nominal_h1 = ball.inertia_ratio * spin  # [rad/s]
         self.track: _Track | None = None
         self.throws = 0
-        self._candidates: collections.deque = collections.deque(maxlen=4 * s.min_points + 8)
+        depth = max(64, 8 * s.min_points)  # candidate fixes kept (clutter, wild stamps too)
+        self._candidates: collections.deque = collections.deque(maxlen=depth)
+        self._old: collections.deque = collections.deque(maxlen=depth)
         self._newest = -math.inf
+        self.time_resets = 0
         self.counts: collections.Counter = collections.Counter()
+        self.learned: dict | None = None
+        """Prior of the next throw's drag and lift scales (and wind): {state index: (mean,
+        variance)} from a throw of the same ball in the same air (:meth:`learn_from`)."""
+
+    def learn_from(self, other: 'FlightTracker') -> bool:
+        """
+        Carry ``other``'s current scales (and wind) to this tracker's next throw as its prior.
+
+        Their variances grow by :data:`CARRY_VARIANCE` (the air and the ball change a little
+        between throws). False if ``other`` has no estimate.
+        """
+        est = other.estimate
+        if est is None:
+            return False
+        _, x, P = est
+        self.learned = {i: (float(x[i]), float(P[i, i])) for i in CARRY_VARIANCE if i < x.size}
+        return True
 
     # --- public API -----------------------------------------------------------------------
     def update(self, stamp: float, position, now: float | None = None) -> UpdateResult:
@@ -287,6 +349,11 @@ class FlightTracker:
         return self.track.t, best.x.copy(), best.P.copy()
 
     @property
+    def newest(self) -> float:
+        """Stamp [s] of the newest fix the filter used (-inf before any, after a reset)."""
+        return self._newest
+
+    @property
     def landed(self) -> bool:
         return self.track is not None and self.track.landed
 
@@ -298,6 +365,34 @@ class FlightTracker:
         are alive the prediction is their mixture, weighted by likelihood. Model error adds
         accel_noise^2 T^3 / 3 to the x and y variances.
         """
+        s = self.settings
+        return self._predict_plane(
+            lambda pts: land_points(pts, self.params, s.landing_step, s.ground, s.horizon),
+            s.ground,
+        )
+
+    def predict_crossing(self, height: float) -> LandingPrediction | None:
+        """
+        Predict where and when the current throw next comes down through z = ``height`` [m].
+
+        Like :meth:`predict_landing` (position z = ``height``, covariance of x and y); None
+        without a throw, for a non-finite height, or if some sigma point does not come down
+        through that height before the ground (a ball that will not rise to it).
+        """
+        s = self.settings
+        try:
+            h = float(height)
+        except (TypeError, ValueError):
+            return None
+        if not (math.isfinite(h) and s.ground <= h <= s.ground + 1000.0):
+            return None
+        return self._predict_plane(
+            lambda pts: cross_points(pts, self.params, s.landing_step, h, s.ground, s.horizon),
+            h,
+        )
+
+    def _predict_plane(self, fly, height: float) -> LandingPrediction | None:
+        """Fly every hypothesis's sigma points to a plane with ``fly`` and take the moments."""
         tr = self.track
         if tr is None:
             return None
@@ -310,7 +405,7 @@ class FlightTracker:
             if w < 1e-6 and len(tr.hyps) > 1:
                 continue
             pts, wm, wc = _sigma_points(hyp.x, hyp.P, s.spread)
-            land = land_points(pts, self.params, s.landing_step, s.ground, s.horizon)
+            land = fly(pts)
             if not np.all(land[:, 3] == 1.0):
                 return None
             mean, cov = _moments(land[:, :3], wm, wc)
@@ -323,7 +418,7 @@ class FlightTracker:
         extra = s.accel_noise**2 * max(t_land, 0.0) ** 3 / 3.0
         cov_xy = cov[1:, 1:] + extra * np.eye(2)
         var_t = float(cov[0, 0])
-        position = np.array([mean[1], mean[2], s.ground])
+        position = np.array([mean[1], mean[2], height])
         if not (
             np.all(np.isfinite(position)) and np.all(np.isfinite(cov_xy)) and math.isfinite(var_t)
         ):
@@ -365,7 +460,10 @@ class FlightTracker:
         if now is not None and math.isfinite(now) and t > now + s.max_future:
             return UpdateResult('future', f'stamp {t - now:.3f} s ahead of now')
         if t < self._newest - s.max_lag:
-            return UpdateResult('late', f'stamp {self._newest - t:.3f} s behind the newest fix')
+            result = self._behind(t, z)
+            if result.used:
+                self._newest = t
+            return result
         tr = self.track
         if tr is None or tr.landed or abs(t - tr.t) > s.max_gap:
             # No live throw, or a fix far from it in time (the ball lost for a while, or a
@@ -373,8 +471,8 @@ class FlightTracker:
             result = self._candidate(t, z)
         elif t < tr.t or (tr.history and t < tr.history[-1].stamp):
             result = self._late(tr, t, z)
-        elif tr.history and abs(tr.history[-1].stamp - t) < 1e-9:
-            result = UpdateResult('duplicate', 'a fix with this stamp was already processed')
+        elif tr.history and _same(tr.history[-1], t, z):
+            result = UpdateResult('duplicate', 'this fix was already processed')
         else:
             result = self._filter(tr, t, z, record=True)
         if result.used:  # only fixes the filter took move the "newest" (no wild stamp can)
@@ -398,9 +496,9 @@ class FlightTracker:
                 except np.linalg.LinAlgError:
                     d2, logdet = math.inf, 0.0
                 if d2 <= s.gate:
-                    K = np.linalg.solve(S, P[:3, :]).T  # (N_X, 3)
+                    K = np.linalg.solve(S, P[:3, :]).T  # (n, 3)
                     x = x + K @ nu
-                    ikh = np.eye(N_X)
+                    ikh = np.eye(x.size)
                     ikh[:, :3] -= K
                     P = ikh @ P @ ikh.T + s.noise**2 * K @ K.T
                     P = 0.5 * (P + P.T)
@@ -456,8 +554,8 @@ class FlightTracker:
         j = bisect.bisect_right(stamps, t)
         if j == 0:
             return UpdateResult('late', 'older than the kept history of the throw')
-        if abs(stamps[j - 1] - t) < 1e-9:
-            return UpdateResult('duplicate', 'a fix with this stamp was already processed')
+        if any(_same(e, t, z) for e in list(tr.history)[max(0, j - 8):j]):
+            return UpdateResult('duplicate', 'this fix was already processed')
         later = list(tr.history)[j:]
         base = tr.history[j - 1]
         for _ in range(len(later)):
@@ -488,36 +586,98 @@ class FlightTracker:
             Pm[X_H + i, X_H + i] += s.rate_noise**2 * dt
         Pm[X_KD, X_KD] += s.scale_rate**2 * dt
         Pm[X_KL, X_KL] += s.scale_rate**2 * dt
+        if xm.size == N_X_WIND:
+            Pm[X_W, X_W] += s.wind_rate**2 * dt
+            Pm[X_W + 1, X_W + 1] += s.wind_rate**2 * dt
         xm[X_S:X_S + 3] /= np.linalg.norm(xm[X_S:X_S + 3])
         ok = bool(np.all(np.isfinite(xm)) and np.all(np.isfinite(Pm)))
         return xm, 0.5 * (Pm + Pm.T), ok
 
     def _candidate(self, t: float, z: np.ndarray) -> UpdateResult:
-        """Keep the fix; start a throw when the recent ones fit a ballistic arc."""
-        s = self.settings
+        """Keep the fix; start a throw when it and recent ones fit a ballistic arc."""
         self._candidates.append((t, z))
-        recent = sorted(
-            (c for c in self._candidates if abs(c[0] - t) <= s.init_window), key=lambda c: c[0]
+        arc = self._find_arc(self._candidates, t, z)
+        if isinstance(arc, str):
+            return UpdateResult('candidate', arc)
+        times, zs, x0, cov, used = arc
+        self._candidates = collections.deque(
+            (c for k, c in enumerate(self._candidates) if k not in used),
+            maxlen=self._candidates.maxlen,
         )
-        self._candidates = collections.deque(recent, maxlen=self._candidates.maxlen)
-        if len(recent) < s.min_points:
-            return UpdateResult('candidate', 'waiting for enough fixes to start a throw')
-        times = np.array([c[0] for c in recent])
-        zs = np.array([c[1] for c in recent])
-        for _ in range(3):  # drop the worst fix at most a few times (outliers among them)
-            fit = self._ballistic_fit(times, zs)
+        return self._start(times[-1], zs[-1], x0, cov, times[-1] - times[0])
+
+    def _behind(self, t: float, z: np.ndarray) -> UpdateResult:
+        """
+        Handle a fix older than the newest by more than ``max_lag``: late or a clock restart.
+
+        Kept apart; when such fixes (the newest among them this one) fit a ballistic arc of
+        their own, the clock of the fixes jumped back (a simulator restarted under
+        use_sim_time, a detector rebooted): the time base is reset and a throw starts.
+        """
+        self._old.append((t, z))
+        arc = self._find_arc(self._old, t, z)
+        if isinstance(arc, str):
+            return UpdateResult('late', f'stamp {self._newest - t:.3f} s behind the newest fix')
+        jump = self._newest - t
+        self.reset_time_base()
+        times, zs, x0, cov, _ = arc
+        self._start(times[-1], zs[-1], x0, cov, times[-1] - times[0])
+        return UpdateResult('started', f'the clock jumped back {jump:.3f} s: time base reset')
+
+    def reset_time_base(self) -> None:
+        """Forget the throw, the newest stamp and every buffered fix (a clock that restarted)."""
+        self.track = None
+        self._newest = -math.inf
+        self._candidates.clear()
+        self._old.clear()
+        self.time_resets += 1
+
+    def _find_arc(self, buffer, t: float, z: np.ndarray):
+        """
+        Find a ballistic arc through the fix (``t``, ``z``) among the ``buffer``'s fixes.
+
+        Fixes within ``init_window`` of ``t``; consensus (RANSAC over the pairs with the new
+        fix, at most one fix per stamp) so that clutter, a second ball or wild stamps among
+        them do not hide it; then a least-squares fit of the inliers to within the noise.
+        Returns (times, fixes, x0, cov, buffer indices used) or the reason (str) there is none.
+        """
+        s = self.settings
+        idx = [k for k, c in enumerate(buffer) if abs(c[0] - t) <= s.init_window]
+        if len(idx) < s.min_points:
+            return 'waiting for enough fixes to start a throw'
+        times = np.array([buffer[k][0] for k in idx])
+        zs = np.array([buffer[k][1] for k in idx])
+        g = np.array([0.0, 0.0, self.params[dyn.P_GRAVITY]])
+        loose = 8.0 * s.noise + 0.05
+        best = None
+        for j in range(len(idx)):
+            dt = times[j] - t
+            if abs(dt) < 1e-3:
+                continue
+            v = (zs[j] - z) / dt + 0.5 * g * dt  # velocity at t of the arc through both
+            tau = (times - t)[:, None]
+            err = np.linalg.norm(z + v * tau - 0.5 * g * tau**2 - zs, axis=1)
+            inl = _one_per_stamp(times, err, loose)
+            if best is None or inl.size > best.size:
+                best = inl
+        if best is None or best.size < s.min_points:
+            return 'the recent fixes do not fit a ballistic arc yet'
+        order = best[np.argsort(times[best], kind='stable')]
+        keep = list(order)
+        for _ in range(3):  # drop the worst fix at most a few times
+            fit = self._ballistic_fit(times[keep], zs[keep])
             if fit is None:
                 break
             x0, cov, resid = fit
             worst = int(np.argmax(resid))
             if resid[worst] <= 4.0 * s.noise + 0.01:
                 if np.linalg.norm(x0[3:6]) < s.min_speed:
-                    return UpdateResult('candidate', 'the fixes do not move like a throw')
-                return self._start(times[-1], zs[-1], x0, cov, times[-1] - times[0])
-            if len(times) - 1 < s.min_points:
+                    return 'the fixes do not move like a throw'
+                return times[keep], zs[keep], x0, cov, {idx[k] for k in keep}
+            if len(keep) - 1 < s.min_points:
                 break
-            times, zs = np.delete(times, worst), np.delete(zs, worst, axis=0)
-        return UpdateResult('candidate', 'the recent fixes do not fit a ballistic arc yet')
+            del keep[worst]
+        return 'the recent fixes do not fit a ballistic arc yet'
 
     def _ballistic_fit(self, times, zs):
         """r(t) = r1 + v1 (t - t1) - g/2 (t - t1)^2 z_hat, least squares per axis (t1 = last)."""
@@ -549,7 +709,8 @@ class FlightTracker:
         v_first = v + np.array([0.0, 0.0, self.params[dyn.P_GRAVITY] * t_span])
         axis = v_first / np.linalg.norm(v_first)
         perp = np.eye(3) - np.outer(axis, axis)
-        P = np.zeros((N_X, N_X))
+        n_x = N_X_WIND if s.wind_sigma > 0.0 else N_X
+        P = np.zeros((n_x, n_x))
         P[:6, :6] = 4.0 * cov6  # the arc ignores drag and lift over the window
         speed = float(np.linalg.norm(v))
         for i in range(3):
@@ -561,13 +722,22 @@ class FlightTracker:
             h1_sigma**2 * np.outer(axis, axis) + s.rate_sigma**2 * perp
         )
         P[X_KD, X_KD] = P[X_KL, X_KL] = s.scale_sigma**2
+        if n_x == N_X_WIND:  # unknown steady wind beyond the known ``wind``, mean 0
+            P[X_W, X_W] = P[X_W + 1, X_W + 1] = s.wind_sigma**2
+        mean = {X_KD: 1.0, X_KL: 1.0, X_W: 0.0, X_W + 1: 0.0}
+        for i, (m, var) in (self.learned or {}).items():  # the last throw's, if carried
+            if i < n_x and math.isfinite(m) and math.isfinite(var) and var > 0.0:
+                mean[i] = m
+                P[i, i] = min(P[i, i], var + CARRY_VARIANCE[i])
         hyps = []
         for hand in (1.0, -1.0):
-            x = np.zeros(N_X)
+            x = np.zeros(n_x)
             x[:6] = x0
             x[X_S:X_S + 3] = axis
             x[X_H:X_H + 3] = hand * self.nominal_h1 * axis
-            x[X_KD] = x[X_KL] = 1.0
+            for i, m in mean.items():
+                if i < n_x:
+                    x[i] = m
             # h = h1 s + h_perp: the spin momentum turns with the axis (dh = h1 ds), so an
             # axis off the guess carries h along. Without this coupling the prior describes
             # balls whose h stays put while the axis is off, i.e. with transverse rates
@@ -588,7 +758,6 @@ class FlightTracker:
                 0,
             )
         )
-        self._candidates.clear()
         self.throws += 1
         return UpdateResult('started')
 
@@ -615,6 +784,26 @@ def _sigma_points(x: np.ndarray, P: np.ndarray, spread: float):
     wc = wm.copy()
     wc[0] += 3.0 - spread**2
     return pts, wm, wc
+
+
+def _same(entry: _Entry, t: float, z: np.ndarray) -> bool:
+    """
+    Tell whether the fix (``t``, ``z``) is the one ``entry`` holds.
+
+    Another detection in the same frame (clutter, a second ball) is not a duplicate.
+    """
+    return abs(entry.stamp - t) < 1e-9 and bool(np.all(np.abs(entry.z - z) < 1e-9))
+
+
+def _one_per_stamp(times: np.ndarray, err: np.ndarray, limit: float) -> np.ndarray:
+    """Return the indices with ``err`` <= ``limit``, the smallest error for each stamp."""
+    ok = np.flatnonzero(err <= limit)
+    chosen: dict = {}
+    for k in ok:
+        key = round(float(times[k]), 9)
+        if key not in chosen or err[k] < err[chosen[key]]:
+            chosen[key] = k
+    return np.array(sorted(chosen.values()), dtype=int)
 
 
 def _moments(vals: np.ndarray, wm: np.ndarray, wc: np.ndarray):

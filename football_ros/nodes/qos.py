@@ -55,6 +55,13 @@ SIMULATE_STEPS = '~/simulate_steps'
 LANDING, PREDICTED_PATH = 'football/prediction/landing', 'football/prediction/path'  # tracker
 PLAN_REQUEST, PLAN_RESPONSE = 'football/plan/request', 'football/plan/response'  # planner
 PLAN_PATH = 'football/plan/path'
+CATCH = 'football/prediction/catch'  # tracker: down through catch_height
+
+
+def track_topic(track_id: int, topic: str) -> str:
+    """Per-track name of a tracker topic: 'football/estimate' -> 'football/track_3/estimate'."""
+    return topic.replace('football/', f'football/track_{int(track_id)}/', 1)
+
 
 # Ball state at up to 1-2 kHz: reliable so a recorder loses nothing; 1000 deep (1 s at 1 kHz)
 # so a subscriber that stalls for a moment (GC, disk) catches up instead of losing samples.

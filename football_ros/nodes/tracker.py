@@ -20,18 +20,32 @@ time) and runs :class:`football_ros.estimation.FlightTracker` (an unscented Kalm
 the package's full flight model; the filter, its choices and its limits are documented
 there). Publishes ``football/estimate`` (nav_msgs/msg/Odometry with covariances),
 ``football/prediction/landing`` (geometry_msgs/msg/PoseWithCovarianceStamped on z = 0, whose
-header.stamp is the predicted landing time) and ``football/prediction/path`` (nav_msgs/msg/Path
-of the predicted rest of the flight). Every fix is untrusted: a refused one is counted and
-logged (throttled), never published from. Topics, frames, units and QoS: msg_docs/.
+header.stamp is the predicted landing time), ``football/prediction/catch`` (the same through
+z = ``catch_height``, where a catcher's hands are) and ``football/prediction/path``
+(nav_msgs/msg/Path of the predicted rest of the flight). Every fix is untrusted: a refused one
+is counted and logged (throttled), never published from. Topics, frames, units and QoS: msg_docs/.
+
+Several balls (:class:`football_ros.estimation.multi.MultiTracker`, up to ``max_tracks``):
+each track has an id (1, 2, ... in order of start, logged as 'new throw #id' and 'throw #id
+ended: why') and its own three topics ``football/track_<id>/estimate``,
+``football/track_<id>/prediction/landing`` and ``football/track_<id>/prediction/path``
+(:func:`qos.track_topic`), created at its start and removed after its end; the topics without
+an id carry the oldest live track (the only one when one ball flies). Predictions are throttled
+to ``prediction_rate`` per second of the fixes' own clock (not the node's); a clock that jumps
+back (a /clock source restarted under use_sim_time) ends every track and resets the time base,
+with a log line.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 import math
 
 from geometry_msgs.msg import Point, PointStamped, PoseStamped, PoseWithCovarianceStamped
 from nav_msgs.msg import Odometry, Path
 import numpy as np
+from rclpy.clock import JumpThreshold
+from rclpy.duration import Duration
 from rclpy.node import Node
 
 from . import messages as mb
@@ -40,6 +54,7 @@ from .params import declare_all, ParamSpec
 from .runner import run_node
 from ..estimation import FlightTracker, TrackerSettings
 from ..estimation.motion import X_H, X_S, X_V
+from ..estimation.multi import MultiTracker
 from ..physics.frames import attitude_with_axis, FIELD_FRAME
 from ..physics.presets import PRESETS
 
@@ -81,6 +96,26 @@ PARAMETERS = (
         ),
         ('path_step', 0.05, 'Time between poses of the predicted path [s]', (0.005, 1.0)),
         ('prediction_rate', 30.0, 'Landing and path predictions per second [Hz]', (0.1, 1000.0)),
+        ('max_tracks', 4, 'Balls tracked at once (each on football/track_<id>/...)', (1, 64)),
+        (
+            'catch_height',
+            1.2,
+            'Height whose downward crossing is predicted (football/prediction/catch) [m], 0 = off',
+            (0.0, 100.0),
+        ),
+        ('wind_x', 0.0, 'Known steady wind, x component in frame_id [m/s]', (-50.0, 50.0)),
+        ('wind_y', 0.0, 'Known steady wind, y component in frame_id [m/s]', (-50.0, 50.0)),
+        (
+            'wind_sigma',
+            0.0,
+            'Unknown horizontal wind beyond wind_x/y, estimated: prior sigma [m/s], 0 = off',
+            (0.0, 30.0),
+        ),
+        (
+            'carry_over',
+            False,
+            'Start each throw from the drag/lift scales (and wind) the last landed throw learnt',
+        ),
     )
 )
 
@@ -93,7 +128,7 @@ class TrackerNode(Node):
     def __init__(self) -> None:
         super().__init__(NODE_NAME)
         declare_all(self, PARAMETERS)
-        self.tracker = FlightTracker(
+        self.tracker = MultiTracker(
             TrackerSettings(
                 noise=self.observation_noise,
                 ball=self.ball,
@@ -102,20 +137,37 @@ class TrackerNode(Node):
                 max_lag=self.max_lag,
                 max_gap=self.max_gap,
                 max_future=max(self.max_future, 1e-9),
-            )
+                wind=(self.wind_x, self.wind_y),
+                wind_sigma=self.wind_sigma,
+            ),
+            max_tracks=int(self.max_tracks),
+            carry_over=bool(self.carry_over),
         )
-        self._estimate_pub = self.create_publisher(Odometry, qos.ESTIMATE, qos.STATE)
-        self._landing_pub = self.create_publisher(
-            PoseWithCovarianceStamped, qos.LANDING, qos.STATE
-        )
-        self._path_pub = self.create_publisher(Path, qos.PREDICTED_PATH, qos.STATE)
+        self._streams = {None: self._stream(None)}  # None: the primary stream (legacy topics)
         self.create_subscription(PointStamped, qos.OBSERVATION, self._on_fix, qos.STATE)
-        self._last_prediction = -math.inf
-        _warm_up(self.tracker)
+        self._jump = self.get_clock().create_jump_callback(
+            JumpThreshold(min_forward=None, min_backward=Duration(seconds=-1.0)),
+            post_callback=self._on_clock_jump,
+        )
+        _warm_up(self.tracker.settings)
         self.get_logger().info(
             f"ready: tracking '{self.resolve_topic_name(qos.OBSERVATION)}' in "
             f"'{self.frame_id}' ({self.ball}, noise {self.observation_noise:g} m)"
         )
+
+    def _on_clock_jump(self, jump) -> None:
+        """Reset the time base: the node's clock went back (a /clock source restarted)."""
+        try:
+            back = -jump.delta.nanoseconds * 1e-9
+            if self.tracker.reset_time_base():  # else nothing to reset (start-up)
+                self._log_events()
+                for stream in self._streams.values():
+                    stream.throttle.reset()
+                self.get_logger().warning(
+                    f'the clock jumped back {back:.3f} s: time base reset'
+                )
+        except Exception as exc:  # noqa: BLE001 - never from a clock callback
+            self.get_logger().error(f'clock jump not handled: {exc!r}'[:300])
 
     def _on_fix(self, msg: PointStamped) -> None:
         try:
@@ -133,47 +185,163 @@ class TrackerNode(Node):
             return
         stamp = _ns(msg.header.stamp) * 1e-9
         now = self.get_clock().now().nanoseconds * 1e-9 if self.max_future > 0 else None
-        result = self.tracker.update(stamp, (msg.point.x, msg.point.y, msg.point.z), now)
-        if result.status == 'started':
-            self.get_logger().info(f'new throw #{self.tracker.throws} at t = {stamp:.3f} s')
-        elif not result.used:
+        track_id, result = self.tracker.update(
+            stamp, (msg.point.x, msg.point.y, msg.point.z), now
+        )
+        if result.status == 'started' and result.reason:  # the clock of the fixes jumped back
+            self.get_logger().warning(result.reason)
+            for stream in self._streams.values():
+                stream.throttle.reset()
+        self._log_events()
+        if not result.used:
             if result.status != 'candidate':
                 self.get_logger().warning(
                     f'fix refused ({result.status}): {result.reason}', throttle_duration_sec=2.0
                 )
             return
-        self._publish_estimate()
-        wall = self.get_clock().now().nanoseconds * 1e-9
-        if result.landed or wall - self._last_prediction >= 1.0 / self.prediction_rate:
-            self._last_prediction = wall
-            self._publish_predictions(result.landed)
+        tracker = self.tracker.taken_by
+        primary = track_id == min(set(self.tracker.tracks) | {track_id})
+        for key in (track_id, None) if primary else (track_id,):
+            stream = self._streams.get(key)
+            if stream is None:
+                continue
+            self._publish_estimate(tracker, stream)
+            est = tracker.estimate
+            if result.landed or (est is not None and stream.throttle.due(est[0])):
+                self._publish_predictions(tracker, stream, result.landed and key is None)
+        self._say(track_id, tracker, result.landed, (msg.point.x, msg.point.y), stamp)
+        if result.landed:
+            self._drop_stream(track_id)
 
-    def _publish_estimate(self) -> None:
-        est = self.tracker.estimate
+    def _say(self, track_id, tracker, landed: bool, seen, stamp: float) -> None:
+        """One log line per throw at lock-on (the hand decided) and one at the landing."""
+        stream = self._streams.get(track_id)
+        if stream is None or tracker.track is None:
+            return
+        if stream.locked is None and (len(tracker.track.hyps) == 1 or landed):
+            pred = tracker.predict_landing()
+            if pred is not None:
+                stream.locked = pred
+                sigma = math.sqrt(max(float(np.trace(pred.covariance)), 0.0))
+                self.get_logger().info(
+                    f'throw #{track_id} locked on at t = {stamp:.3f} s: landing predicted at '
+                    f'x = {pred.position[0]:.2f} m, y = {pred.position[1]:.2f} m '
+                    f'(+/- {sigma:.2f} m) at t = {pred.time:.3f} s'
+                )
+        if landed and stream.locked is not None:
+            pred = stream.locked
+            err = math.hypot(pred.position[0] - seen[0], pred.position[1] - seen[1])
+            self.get_logger().info(
+                f'throw #{track_id} landed: seen at x = {seen[0]:.2f} m, y = {seen[1]:.2f} m at '
+                f't = {stamp:.3f} s; the lock-on prediction was {err:.2f} m and '
+                f'{pred.time - stamp:+.3f} s off'
+            )
+
+    def _stream(self, track_id):
+        """Create the publishers (and throttle) of one track; None: the legacy topics."""
+
+        def name(topic):
+            return topic if track_id is None else qos.track_topic(track_id, topic)
+
+        return _Stream(
+            self.create_publisher(Odometry, name(qos.ESTIMATE), qos.STATE),
+            self.create_publisher(PoseWithCovarianceStamped, name(qos.LANDING), qos.STATE),
+            self.create_publisher(Path, name(qos.PREDICTED_PATH), qos.STATE),
+            PredictionThrottle(self.prediction_rate),
+            self.create_publisher(PoseWithCovarianceStamped, name(qos.CATCH), qos.STATE)
+            if self.catch_height > 0.0
+            else None,
+        )
+
+    def _drop_stream(self, track_id) -> None:
+        stream = self._streams.pop(track_id, None) if track_id is not None else None
+        if stream is not None:
+            for pub in (stream.estimate, stream.landing, stream.path, stream.catch):
+                if pub is not None:
+                    self.destroy_publisher(pub)
+
+    def _log_events(self) -> None:
+        """Log the tracks started and ended; open and close their streams."""
+        events, self.tracker.events = self.tracker.events, []
+        for ev in events:
+            if ev.kind == 'started':
+                self._streams[ev.track_id] = self._stream(ev.track_id)
+                self.get_logger().info(
+                    f'new throw #{ev.track_id} at t = {ev.time:.3f} s '
+                    f"(on '{qos.track_topic(ev.track_id, 'football/estimate')}' ...)"
+                )
+            else:
+                if ev.reason != 'landed':
+                    self._drop_stream(ev.track_id)
+                self.get_logger().info(f'throw #{ev.track_id} ended: {ev.reason}')
+
+    def _publish_estimate(self, tracker, stream) -> None:
+        est = tracker.estimate
         if est is None:
             return
         t, x, P = est
-        msg = estimate_message(t, x, P, self.frame_id, self.tracker.ball.inertia_ratio)
+        msg = estimate_message(t, x, P, self.frame_id, tracker.ball.inertia_ratio)
         if msg is not None:
-            self._estimate_pub.publish(msg)
+            stream.estimate.publish(msg)
 
-    def _publish_predictions(self, landed: bool) -> None:
-        pred = self.tracker.predict_landing()
+    def _publish_predictions(self, tracker, stream, log_landing: bool) -> None:
+        pred = tracker.predict_landing()
         if pred is not None:
             msg = landing_message(pred, self.frame_id)
             if msg is not None:
-                self._landing_pub.publish(msg)
-                if landed:
+                stream.landing.publish(msg)
+                if log_landing:
                     self.get_logger().info(
                         f'landed: predicted landing at x = {pred.position[0]:.3f} m, '
                         f'y = {pred.position[1]:.3f} m, t = {pred.time:.3f} s'
                     )
-        path = self.tracker.predict_path(self.path_step)
-        est = self.tracker.estimate
+        if stream.catch is not None:
+            catch = tracker.predict_crossing(self.catch_height)
+            msg = landing_message(catch, self.frame_id) if catch is not None else None
+            if msg is not None:
+                stream.catch.publish(msg)
+        path = tracker.predict_path(self.path_step)
+        est = tracker.estimate
         if path is not None and est is not None:
             msg = path_message(est[0], *path, self.frame_id)
             if msg is not None:
-                self._path_pub.publish(msg)
+                stream.path.publish(msg)
+
+
+@dataclass
+class _Stream:
+    estimate: object
+    landing: object
+    path: object
+    throttle: 'PredictionThrottle'
+    catch: object | None
+    locked: object | None = None  # the landing predicted at lock-on
+
+
+class PredictionThrottle:
+    """
+    At most ``rate`` [Hz] predictions per second of the fixes' own clock.
+
+    On the observations' clock, not the node's: a stranger's or a stalled /clock must not
+    starve (or flood) the predictions; a time that goes back re-arms it.
+    """
+
+    def __init__(self, rate: float) -> None:
+        self.period = 1.0 / rate
+        self._last = -math.inf
+
+    def due(self, t: float) -> bool:
+        """Tell whether a prediction is due at ``t`` [s] (the estimate's time); if so, take it."""
+        if t < self._last:  # the fixes' clock went back
+            self._last = -math.inf
+        if t - self._last >= self.period - 1e-9:
+            self._last = t
+            return True
+        return False
+
+    def reset(self) -> None:
+        """Forget the last prediction's time."""
+        self._last = -math.inf
 
 
 def _finite(*arrays) -> bool:
@@ -222,8 +390,8 @@ def landing_message(pred, frame_id: str) -> PoseWithCovarianceStamped | None:
     """
     Build the predicted landing.
 
-    header.stamp = predicted landing time, position on the ground plane, covariance x/y block
-    from the prediction (z and rotations 0: not estimated).
+    header.stamp = predicted landing (or crossing) time, position on the plane, covariance x/y
+    block from the prediction (z and rotations 0: not estimated).
     """
     cov = np.zeros((6, 6))
     cov[:2, :2] = pred.covariance
@@ -250,13 +418,13 @@ def path_message(t: float, times: np.ndarray, positions: np.ndarray, frame_id: s
     return msg
 
 
-def _warm_up(tracker: FlightTracker) -> None:
+def _warm_up(settings: TrackerSettings) -> None:
     """
     Compile the filter's kernels now, not on the first real fix.
 
     A throw seen on a scratch tracker.
     """
-    scratch = FlightTracker(tracker.settings)
+    scratch = FlightTracker(settings)
     for k in range(12):
         t = k / 60.0
         scratch.update(t, (20.0 * t, 0.0, 1.8 + 12.0 * t - 4.905 * t * t))

@@ -1,0 +1,392 @@
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""The tracker and the camera under hostile and busy inputs (issue 23)."""
+
+import math
+
+from football_ros.estimation import Camera, CameraSettings, FlightTracker, TrackerSettings
+from football_ros.estimation.motion import land_points, N_X, path_of, propagate_points
+from football_ros.physics import Flight, Release
+from hypothesis import given, settings
+from hypothesis import strategies as st
+import numpy as np
+import pytest
+
+G = 9.80665
+RELEASE = Release(model='full', position=(0.0, 0.0, 1.8))
+OTHER = Release(
+    model='full',
+    speed=20.0,
+    elevation_deg=40.0,
+    spin_rpm=-500.0,
+    azimuth_deg=30.0,
+    position=(10.0, 5.0, 1.5),
+)
+
+
+def fixes(release, seed=1):
+    """Return the camera's detections (60 Hz, 2 cm) before the landing, its time and x y."""
+    flight = Flight.from_release(release)
+    truth = flight.simulate(rate=1000.0)
+    t_land = float(truth.times[-1])
+    cam = Camera(CameraSettings(rate=60.0, noise=0.02, latency=0.0, seed=seed))
+    obs = cam.record(t_land + 1.0, lambda t: flight.state_at(t)[:3])
+    kept = [(o.stamp, o.position) for o in obs if o.stamp < t_land]
+    return kept, t_land, truth.positions[-1, :2]
+
+
+def landing_error(tracker, xy):
+    pred = tracker.predict_landing()
+    assert pred is not None
+    return float(np.linalg.norm(pred.position[:2] - xy)), pred
+
+
+def _at_rest(z: float, axis=(1.0, 0.0, 0.0)) -> np.ndarray:
+    x = np.zeros(N_X)
+    x[2] = z
+    x[6:9] = axis
+    x[12] = x[13] = 1.0
+    return x
+
+
+@pytest.mark.parametrize('axis', [(1.0, 0.0, 0.0), (0.0, 0.0, 0.0)])
+def test_kernels_fly_a_ball_at_rest_or_without_axis_instead_of_dividing_by_zero(axis):
+    tracker = FlightTracker()
+    x = _at_rest(1.0, axis)
+    # Dropped from 1 m: it falls in sqrt(2 h / g) (drag adds well under a millisecond).
+    land = land_points(x[None, :].copy(), tracker.params, 0.01, 0.0, 15.0)
+    assert land[0, 3] == 1.0
+    assert land[0, 0] == pytest.approx(math.sqrt(2.0 / G), abs=2e-3)
+    assert np.allclose(land[0, 1:3], 0.0, atol=1e-3)  # a little lift, no more
+    times, pos = path_of(x, tracker.params, 0.05, 0.01, 0.0, 15.0)
+    assert times[-1] == pytest.approx(math.sqrt(2.0 / G), abs=2e-3)
+    assert pos[-1, 2] == 0.0 and np.all(np.isfinite(pos))
+    pts = x[None, :].copy()
+    propagate_points(pts, 0.2, tracker.params, 0.005)
+    assert pts[0, 2] == pytest.approx(1.0 - 0.5 * G * 0.04, abs=1e-3)
+    assert pts[0, 5] == pytest.approx(-G * 0.2, abs=1e-2)
+
+
+def test_non_finite_points_come_out_as_nan_not_as_an_exception():
+    tracker = FlightTracker()
+    pts = np.stack([_at_rest(1.0), _at_rest(1.0)])
+    pts[1, 4] = math.nan
+    propagate_points(pts, 0.1, tracker.params, 0.005)
+    assert np.all(np.isfinite(pts[0])) and np.all(np.isnan(pts[1]))
+    pts = np.stack([_at_rest(1.0), _at_rest(1.0)])
+    pts[1, 9] = math.inf
+    land = land_points(pts, tracker.params, 0.01, 0.0, 15.0)
+    assert land[0, 3] == 1.0 and land[1, 3] == 0.0
+
+
+def test_a_ball_held_still_is_tracked_without_an_internal_error():
+    tracker = FlightTracker(TrackerSettings(min_speed=0.0))
+    for k in range(40):  # the same point, exactly: zero velocity, a zero-division magnet
+        result = tracker.update(k / 60.0, (1.0, 2.0, 1.5))
+        assert result.status in ('candidate', 'started', 'accepted', 'outlier')
+    pred = tracker.predict_landing()
+    path = tracker.predict_path(0.05)
+    assert tracker.track is not None
+    if pred is not None:
+        assert np.all(np.isfinite(pred.position)) and np.all(np.isfinite(pred.covariance))
+    if path is not None:
+        assert np.all(np.isfinite(path[1]))
+
+
+def test_a_clock_that_jumps_back_resets_the_time_base_and_tracks_the_next_throw():
+    first, t1, _ = fixes(RELEASE, seed=3)
+    second, t2, xy2 = fixes(OTHER, seed=4)
+    tracker = FlightTracker()
+    for t, z in first:
+        tracker.update(500.0 + t, z)  # the old clock, 500 s in
+    assert tracker.throws == 1 and tracker.landed
+    statuses = []
+    for t, z in second:  # the simulator restarted: its clock starts again at 0
+        if t <= t2 - 0.5:
+            result = tracker.update(t, z)
+            statuses.append(result.status)
+            if result.status == 'started':
+                assert 'clock jumped back' in result.reason
+    assert tracker.time_resets == 1 and tracker.throws == 2
+    # The new throw is found within its first few frames, and tracked as a fresh tracker would.
+    assert statuses.index('started') <= 6
+    err, pred = landing_error(tracker, xy2)
+    assert err < 0.15 and pred.time == pytest.approx(t2, abs=0.02)
+    # A single wild old stamp during a throw is only refused, not taken for a restart.
+    assert tracker.update(1.0, (0.0, 0.0, 2.0)).status == 'late'
+    assert tracker.time_resets == 1
+
+
+def test_one_wild_stamped_fix_per_genuine_fix_does_not_stop_a_track_starting():
+    obs, t_land, xy = fixes(RELEASE, seed=5)
+    rng = np.random.default_rng(7)
+    tracker = FlightTracker()
+    started_at = None
+    for t, z in obs:
+        wild = float(rng.uniform(-1e4, 1e4))
+        tracker.update(wild, z + rng.normal(0.0, 3.0, 3))  # the stamp of a broken clock
+        if tracker.update(t, z).status == 'started' and started_at is None:
+            started_at = t
+        if t > t_land - 0.5:
+            break
+    assert started_at is not None and started_at < 0.15
+    assert tracker.throws == 1
+    err, pred = landing_error(tracker, xy)
+    assert err < 0.1 and pred.time == pytest.approx(t_land, abs=0.02)
+
+
+def test_clutter_at_the_frame_rate_does_not_stop_a_track_starting():
+    obs, t_land, xy = fixes(RELEASE, seed=6)
+    rng = np.random.default_rng(8)
+    tracker = FlightTracker()
+    for t, z in obs:  # each frame one false detection anywhere over the field, same stamp
+        tracker.update(t, rng.uniform((-5.0, -20.0, 0.0), (50.0, 20.0, 12.0)))
+        tracker.update(t, z)
+        if t > t_land - 0.5:
+            break
+    assert tracker.throws == 1
+    err, pred = landing_error(tracker, xy)
+    assert err < 0.1 and pred.time == pytest.approx(t_land, abs=0.02)
+    assert tracker.counts['outlier'] > 0.9 * tracker.counts['accepted']
+
+
+def test_a_second_ball_in_the_air_does_not_stop_a_track_starting():
+    a, ta, xya = fixes(RELEASE, seed=9)
+    b, tb, xyb = fixes(OTHER, seed=10)
+    tracker = FlightTracker()
+    merged = sorted(a + [(t + 0.004, z) for t, z in b], key=lambda f: f[0])
+    for t, z in merged:
+        if t > min(ta, tb) - 0.5:
+            break
+        tracker.update(t, z)
+    assert tracker.throws >= 1
+    pred = tracker.predict_landing()
+    err = min(np.linalg.norm(pred.position[:2] - xya), np.linalg.norm(pred.position[:2] - xyb))
+    assert err < 0.15
+
+
+def test_the_camera_queue_holds_rate_times_latency_and_counts_every_loss():
+    # 1000 Hz x 0.26 s: 260 frames in flight at once (the old fixed queue of 256 gave 0 fixes).
+    settings = CameraSettings(rate=1000.0, noise=0.01, latency=0.26, dropout=0.1, seed=2)
+    cam = Camera(settings)
+    assert cam.depth >= 260 + 256
+    got = []
+    for k in range(1, 301):  # stepped at 100 Hz for 3 s
+        got += cam.step(k * 0.01, lambda t: np.array([t, 0.0, 1.0]))
+    c = cam.counts
+    assert c['queue_full'] == 0 and c['captured'] == 3001
+    assert c['delivered'] == len(got) == c['captured'] - c['dropout'] - cam.waiting
+    assert c['dropout'] == pytest.approx(300, abs=60)
+    assert 0.26 * 1000 * 0.8 <= cam.waiting <= 0.26 * 1000 + 1  # those still in flight
+    assert all(o.delivery <= 3.0 + 1e-9 for o in got)
+    assert got[0].stamp == 0.0 or got[0].stamp == pytest.approx(0.001, abs=0.01)
+    # The flight ends (the simulator stops ticking): what waits is handed over, and counted.
+    waiting = cam.waiting
+    rest = cam.flush()
+    assert len(rest) == waiting and cam.waiting == 0 and c['flushed'] == waiting
+    assert rest[-1].stamp == pytest.approx(3.0) and rest[0].stamp > got[-1].stamp
+    # A camera not stepped for more than its slack drops the oldest, and says so.
+    cam = Camera(settings)
+    cam.step(10.0, lambda t: np.zeros(3))
+    c = cam.counts
+    assert c['queue_full'] > 0
+    assert c['captured'] == c['dropout'] + c['queue_full'] + c['delivered'] + cam.waiting
+
+
+def test_two_balls_and_clutter_give_two_tracks_each_on_its_own_ball():
+    from football_ros.estimation.multi import MultiTracker
+
+    a, ta, xya = fixes(RELEASE, seed=11)
+    b, tb, xyb = fixes(OTHER, seed=12)
+    rng = np.random.default_rng(13)
+    multi = MultiTracker()
+    stream = sorted(a + [(t + 0.3 + 0.004, z) for t, z in b], key=lambda f: f[0])
+    ids_a, ids_b, preds = set(), set(), {}
+    for t, z in stream:
+        if rng.random() < 0.5:  # clutter at half the frame rate, and a wild stamp now and then
+            multi.update(t, rng.uniform((-5.0, -20.0, 0.0), (50.0, 20.0, 12.0)))
+        if rng.random() < 0.1:
+            multi.update(float(rng.uniform(0.0, 1e5)), z)
+        track_id, result = multi.update(t, z)
+        if track_id is not None:
+            (ids_a if any(t == s for s, _ in a) else ids_b).add(track_id)
+        if t > ta - 0.5 and t < ta - 0.45 and track_id in ids_a:
+            preds['a'] = multi.taken_by.predict_landing()
+        if t - 0.304 > tb - 0.5 and t - 0.304 < tb - 0.45 and track_id in ids_b:
+            preds['b'] = multi.taken_by.predict_landing()
+    # One track per ball, from the start to the landing; clutter and wild stamps start none.
+    assert ids_a == {1} and ids_b == {2}, (ids_a, ids_b, multi.events)
+    started = [e.track_id for e in multi.events if e.kind == 'started']
+    ended = [(e.track_id, e.reason) for e in multi.events if e.kind == 'ended']
+    assert started == [1, 2] and sorted(ended) == [(1, 'landed'), (2, 'landed')]
+    assert np.linalg.norm(preds['a'].position[:2] - xya) < 0.1
+    assert np.linalg.norm(preds['b'].position[:2] - xyb) < 0.1
+    assert preds['b'].time == pytest.approx(tb + 0.304, abs=0.02)
+    assert multi.tracks == {}
+
+
+def test_multi_tracker_limits_and_hostile_values():
+    from football_ros.estimation.multi import MultiTracker
+
+    for bad in (0, 65, 2.5, True, None):
+        with pytest.raises(ValueError, match='max_tracks'):
+            MultiTracker(max_tracks=bad)
+    multi = MultiTracker(max_tracks=1)
+    for value in ((math.nan, 0.0, 1.0), (1.0, 2.0), 'abc', None, (1e300, 0.0, 0.0)):
+        track_id, result = multi.update(0.0, value)
+        assert track_id is None and not result.used
+    assert multi.update(math.inf, (0.0, 0.0, 1.0))[1].status == 'invalid'
+    # A second ball while only one track is allowed: the oldest ends for the new one.
+    a, _, _ = fixes(RELEASE, seed=14)
+    b, _, xyb = fixes(OTHER, seed=15)
+    for t, z in a[:20]:
+        multi.update(t, z)
+    for t, z in b[:20]:
+        multi.update(t + 0.2, z)
+    assert list(multi.tracks) == [2]
+    assert ('ended', 1) in [(e.kind, e.track_id) for e in multi.events]
+
+
+def test_the_crossing_of_a_catch_height_matches_the_flight():
+    obs, t_land, _ = fixes(RELEASE, seed=16)
+    truth = Flight.from_release(RELEASE).simulate(rate=2000.0)
+    # The truth's own crossing down through 1.2 m (linear between 0.5 ms samples).
+    z = truth.positions[:, 2]
+    k = int(np.flatnonzero((z[:-1] >= 1.2) & (z[1:] < 1.2) & (truth.times[1:] > 0.5))[0])
+    f = (z[k] - 1.2) / (z[k] - z[k + 1])
+    t_cross = truth.times[k] + f * (truth.times[k + 1] - truth.times[k])
+    xy_cross = truth.positions[k, :2] + f * (truth.positions[k + 1, :2] - truth.positions[k, :2])
+    tracker = FlightTracker()
+    for t, p in obs:
+        if t <= t_cross - 0.5:
+            tracker.update(t, p)
+    pred = tracker.predict_crossing(1.2)
+    land = tracker.predict_landing()
+    assert pred.position[2] == 1.2
+    assert np.linalg.norm(pred.position[:2] - xy_cross) < 0.06
+    assert pred.time == pytest.approx(t_cross, abs=0.01)
+    # Before the landing by the fall from 1.2 m at the descent's speed: ~ 1.2 / 20 m/s.
+    assert 0.03 < land.time - pred.time < 0.1
+    assert np.all(np.linalg.eigvalsh(pred.covariance) > 0.0)
+    err = pred.position[:2] - xy_cross
+    assert err @ np.linalg.solve(pred.covariance, err) < 13.8  # inside the 99.9 % ellipse
+    # Heights the ball will not come down through, and hostile ones: None, never a raise.
+    for bad in (40.0, -1.0, math.nan, math.inf, 'x', None):
+        assert tracker.predict_crossing(bad) is None
+
+
+def _predict_at(tracker, obs, t_until):
+    for t, z in obs:
+        if t <= t_until:
+            tracker.update(t, z)
+    return tracker.predict_landing()
+
+
+def test_an_unknown_crosswind_is_estimated_and_a_known_one_taken():
+    from football_ros.estimation.motion import X_W
+
+    release = RELEASE.replace(aero={'wind': (0.0, 5.0, 0.0)})  # 5 m/s from the right
+    obs, t_land, xy = fixes(release, seed=22)
+    blind = _predict_at(FlightTracker(), obs, t_land - 1.0)
+    estimating = FlightTracker(TrackerSettings(wind_sigma=4.0))
+    est = _predict_at(estimating, obs, t_land - 1.0)
+    told = _predict_at(FlightTracker(TrackerSettings(wind=(0.0, 5.0))), obs, t_land - 1.0)
+    err = {k: float(np.linalg.norm(p.position[:2] - xy)) for k, p in
+           (('blind', blind), ('estimating', est), ('told', told))}
+    assert err['estimating'] < 0.07 and err['estimating'] < 0.6 * err['blind'], err
+    assert err['told'] < 0.03, err
+    _, x, P = estimating.estimate
+    assert x.size == 16 and abs(x[X_W + 1] - 5.0) < 1.5 and abs(x[X_W]) < 1.0
+    assert math.sqrt(P[X_W + 1, X_W + 1]) < 2.0  # the wind was learnt, not only allowed
+    e = est.position[:2] - xy
+    assert e @ np.linalg.solve(est.covariance, e) < 9.2  # inside the 99 % ellipse
+    for bad in ((1.0,), (math.nan, 0.0), (60.0, 0.0), 'ab', None):
+        with pytest.raises(ValueError, match='wind'):
+            TrackerSettings(wind=bad)
+    with pytest.raises(ValueError, match='wind_sigma'):
+        TrackerSettings(wind_sigma=-1.0)
+
+
+def test_scales_and_wind_learnt_on_a_throw_are_carried_to_the_next():
+    from football_ros.estimation.motion import X_KD, X_W
+    from football_ros.estimation.multi import MultiTracker
+
+    aero = {'wind': (0.0, 5.0, 0.0), 'c_d0': 0.055 * 1.3, 'c_d2': 0.30 * 1.3}
+    first, t1, _ = fixes(RELEASE.replace(aero=aero), seed=31)
+    second, t2, xy2 = fixes(OTHER.replace(aero=aero), seed=32)
+    settings = TrackerSettings(wind_sigma=4.0)
+    multi = MultiTracker(settings, carry_over=True)
+    for t, z in first:
+        multi.update(t, z)
+    assert [e.reason for e in multi.events if e.kind == 'ended'] == ['landed']
+    offset = t1 + 2.0
+    fresh = FlightTracker(settings)
+    for t, z in second:
+        if t <= 0.2:
+            fresh.update(t, z)
+            track_id, _ = multi.update(offset + t, z)
+    _, x, P = multi.tracks[track_id].estimate
+    # Lock-on of the second throw already knows the wind and the drag of the first.
+    assert abs(x[X_W + 1] - 5.0) < 1.5 and x[X_KD] > 1.1
+    assert P[X_W + 1, X_W + 1] < 0.5 * 4.0**2
+    errs = []
+    for tracker, shift in ((multi.tracks[track_id], offset), (fresh, 0.0)):
+        for t, z in second:
+            if 0.2 < t <= t2 - 1.0:
+                tracker.update(shift + t, z)
+        errs.append(float(np.linalg.norm(tracker.predict_landing().position[:2] - xy2)))
+    assert errs[0] < 0.85 * errs[1] and errs[0] < 0.15, errs
+    # Off by default: a new throw starts from the preset's prior.
+    plain = MultiTracker(settings)
+    for t, z in first:
+        plain.update(t, z)
+    for t, z in second[:10]:
+        track_id, _ = plain.update(offset + t, z)
+    assert plain._initiator.learned is None
+
+
+_FUZZ_A = fixes(RELEASE, seed=41)[0][:20]
+_FUZZ_B = fixes(OTHER, seed=42)[0][:20]
+_finite = st.floats(allow_nan=True, allow_infinity=True)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.lists(
+        st.tuples(
+            st.one_of(_finite, st.floats(0.0, 1.0)),
+            st.lists(st.one_of(_finite, st.floats(-50.0, 50.0)), min_size=0, max_size=4),
+        ),
+        max_size=30,
+    ),
+    st.one_of(st.none(), _finite),
+    st.one_of(_finite, st.floats(0.0, 5.0)),
+)
+def test_fuzz_the_multi_tracker_and_the_catch_height(stream, now, height):
+    from football_ros.estimation.multi import MultiTracker
+
+    multi = MultiTracker(TrackerSettings(wind_sigma=2.0), max_tracks=2, carry_over=True)
+    merged = sorted(_FUZZ_A + [(t + 0.1, z) for t, z in _FUZZ_B], key=lambda f: f[0])
+    for t, z in merged:
+        multi.update(t, z)
+    for stamp, pos in stream:
+        track_id, result = multi.update(stamp, pos, now)
+        assert track_id is None or track_id in multi.tracks or result.landed or result.used
+    assert len(multi.tracks) <= 2
+    for tracker in multi.tracks.values():
+        for pred in (tracker.predict_landing(), tracker.predict_crossing(height)):
+            if pred is not None:
+                assert np.all(np.isfinite(pred.position)) and math.isfinite(pred.time)
+                assert np.all(np.isfinite(pred.covariance))
