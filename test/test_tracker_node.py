@@ -50,6 +50,16 @@ def landed_values(collector):
     return out
 
 
+def wait_until_quiet(collector, topic, quiet=0.5, timeout=15.0):
+    """Wait until ``topic`` has had messages and none for ``quiet`` [s] (all delivered)."""
+    collector.wait_for(
+        lambda: collector.arrivals[topic][-1:]
+        and time.monotonic_ns() - collector.arrivals[topic][-1] > quiet * 1e9,
+        timeout,
+        f'the last message on {topic}',
+    )
+
+
 def subscribe_outputs(collector):
     collector.subscribe(Odometry, qos.ESTIMATE, qos.STATE)
     collector.subscribe(PoseWithCovarianceStamped, qos.LANDING, qos.STATE)
@@ -132,7 +142,9 @@ def test_prediction_converges_to_the_simulators_landing(start_node, collector):
         collector.clear()
         order_flight(collector, release, f'track-{k}')
         collector.wait_for(lambda: len(landed_values(collector)) >= 1, 15.0, 'the landing')
-        time.sleep(0.5)
+        # The tracker may run behind the simulator on a loaded machine (it predicts on every
+        # fix here): wait until its predictions of this throw have stopped.
+        wait_until_quiet(collector, qos.LANDING)
         landed = landed_values(collector)[0]
         x_land, y_land = float(landed['landing_x']), float(landed['landing_y'])
         t_flight = float(landed['time_of_flight'])
@@ -175,8 +187,11 @@ def test_prediction_converges_to_the_simulators_landing(start_node, collector):
         path = collector.get(qos.PREDICTED_PATH)[-1]
         assert path.poses and path.poses[-1].pose.position.z == 0.0
         assert_all_finite(collector)
-    assert tracker.log().count('new throw') == 2, tracker.log()
-    assert 'Traceback' not in tracker.log()
+    log = tracker.log()
+    # Each throw seen to its end although the camera lost its last frame before the ground.
+    assert log.count('new throw') == 2 and log.count('ended: landed') == 2, log
+    assert log.count('landed: predicted landing') == 2, log
+    assert 'Traceback' not in log
 
 
 def point(stamp_s_, xyz, frame='field'):
@@ -219,7 +234,7 @@ def test_hostile_fixes_never_crash_or_poison_the_tracker(start_node, collector):
             pub.publish(point(base + t - 0.025, truth.positions[k - 1] + rng.normal(0.0, 0.02, 3)))
         if k % 20 == 0:
             time.sleep(0.01)
-    time.sleep(2.0)
+    wait_until_quiet(collector, qos.LANDING, quiet=1.0, timeout=30.0)  # the node may lag
     assert len(collector.get(qos.LANDING)) > 5, tracker.log()
     assert tracker.proc.poll() is None, tracker.log()
     assert 'Traceback' not in tracker.log() and 'internal error' not in tracker.log()
@@ -272,7 +287,7 @@ def test_a_strangers_clock_and_a_clock_restart_under_sim_time(start_node, collec
         deadline = time.monotonic() + 20.0
         while tracker.log().count('landed:') < n_landed and time.monotonic() < deadline:
             time.sleep(0.1)
-        time.sleep(0.3)
+        wait_until_quiet(collector, qos.LANDING)  # the node or this collector may lag
 
     for _ in range(10):
         clock.publish(_clock(1e6))
@@ -327,7 +342,7 @@ def test_the_camera_delivers_past_rate_times_latency_and_says_what_it_dropped(
     order_flight(collector, release, 'camera-queue')
     collector.wait_for(lambda: len(landed_values(collector)) >= 1, 15.0, 'the landing')
     sim.wait_for_log('camera, flight 1 (landed)', 5.0)
-    time.sleep(0.5)
+    wait_until_quiet(collector, qos.OBSERVATION)
     t_flight = float(landed_values(collector)[0]['time_of_flight'])
     obs = collector.get(qos.OBSERVATION)
     # 90 % of the frames up to the landing, the last 0.6 s of them published at the landing.
@@ -369,7 +384,8 @@ def test_two_balls_get_a_stream_each(start_node, collector):
     deadline = time.monotonic() + 15.0
     while tracker.log().count('ended: landed') < 2 and time.monotonic() < deadline:
         time.sleep(0.1)
-    time.sleep(0.3)
+    for k in (1, 2):
+        wait_until_quiet(collector, qos.track_topic(k, qos.LANDING))
     log = tracker.log()
     assert log.count('new throw') == 2 and log.count('ended: landed') == 2, log
     for k in (1, 2):  # one line at lock-on, one at the landing with the lock-on's error

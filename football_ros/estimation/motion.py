@@ -141,19 +141,29 @@ def propagate_points(points: np.ndarray, dt: float, params: np.ndarray, step: fl
 
 
 @njit(cache=True)
-def land_points(
-    points: np.ndarray, params: np.ndarray, step: float, ground: float, horizon: float
+def fly_to_planes(
+    points: np.ndarray,
+    params: np.ndarray,
+    step: float,
+    height: float,
+    ground: float,
+    horizon: float,
 ) -> np.ndarray:
     """
-    Landing of each row of ``points`` (m, N_X) on z = ``ground``.
+    Fly each row of ``points`` (m, N_X) down to z = ``ground``, noting where it passes ``height``.
 
-    (m, 4) rows of time from now [s], x, y [m] and 1.0 if it lands within ``horizon`` [s] (else
-    NaN, NaN, NaN, 0.0).
+    One flight per point gives (m, 8) rows: the landing (time from now [s], x, y [m], 1.0 if it
+    lands within ``horizon`` [s], else NaN, NaN, NaN, 0.0), then the next downward crossing of
+    z = ``height`` [m] before the landing in the same form (a point now below ``height`` must
+    first rise above it; ``height`` <= ``ground`` or -inf: none). A point already on or below
+    the ground has landed now.
     """
-    out = np.full((points.shape[0], 4), np.nan)
+    out = np.full((points.shape[0], 8), np.nan)
     out[:, 3] = 0.0
+    out[:, 7] = 0.0
     y = np.empty(dyn.N_STATE)
     nxt = np.empty(dyn.N_STATE)
+    at = np.empty(dyn.N_STATE)
     work = np.empty((5, dyn.N_STATE))
     n_max = int(math.ceil(horizon / step))
     for i in range(points.shape[0]):
@@ -163,9 +173,16 @@ def land_points(
         if y[dyn.R + 2] <= ground:
             out[i, 0], out[i, 1], out[i, 2], out[i, 3] = 0.0, y[0], y[1], 1.0
             continue
+        crossing = height > ground
         try:
             for k in range(n_max):
                 dyn.rk4_step_with(y, step, p, nxt, work)
+                if crossing and dyn.crossed_ground(y, nxt, height):
+                    tau = dyn.landing_time_in_step(y, step, p, height)
+                    dyn.rk4_step_with(y, tau, p, at, work)
+                    out[i, 4], out[i, 5], out[i, 6] = k * step + tau, at[0], at[1]
+                    out[i, 7] = 1.0
+                    crossing = False
                 if dyn.crossed_ground(y, nxt, ground):
                     tau = dyn.landing_time_in_step(y, step, p, ground)
                     dyn.rk4_step_with(y, tau, p, nxt, work)
@@ -174,51 +191,18 @@ def land_points(
                     break
                 y[:] = nxt
         except Exception:  # noqa: BLE001 - a zero division in a stage: no landing
-            out[i, 0], out[i, 1], out[i, 2], out[i, 3] = np.nan, np.nan, np.nan, 0.0
+            out[i, :] = np.nan
+            out[i, 3] = 0.0
+            out[i, 7] = 0.0
     return out
 
 
 @njit(cache=True)
-def cross_points(
-    points: np.ndarray,
-    params: np.ndarray,
-    step: float,
-    height: float,
-    ground: float,
-    horizon: float,
+def land_points(
+    points: np.ndarray, params: np.ndarray, step: float, ground: float, horizon: float
 ) -> np.ndarray:
-    """
-    Where each row of ``points`` (m, N_X) next comes down through z = ``height`` [m].
-
-    (m, 4) rows of time from now [s], x, y [m] and 1.0 if it does within ``horizon`` [s]
-    before reaching z = ``ground`` (a ball now below ``height`` must first rise above it);
-    else NaN, NaN, NaN, 0.0.
-    """
-    out = np.full((points.shape[0], 4), np.nan)
-    out[:, 3] = 0.0
-    y = np.empty(dyn.N_STATE)
-    nxt = np.empty(dyn.N_STATE)
-    work = np.empty((5, dyn.N_STATE))
-    n_max = int(math.ceil(horizon / step))
-    for i in range(points.shape[0]):
-        p = point_params(params, points[i])
-        if not _load(points[i], y, p):
-            continue
-        try:
-            for k in range(n_max):
-                dyn.rk4_step_with(y, step, p, nxt, work)
-                if dyn.crossed_ground(y, nxt, height):
-                    tau = dyn.landing_time_in_step(y, step, p, height)
-                    dyn.rk4_step_with(y, tau, p, nxt, work)
-                    out[i, 0], out[i, 1], out[i, 2] = k * step + tau, nxt[0], nxt[1]
-                    out[i, 3] = 1.0
-                    break
-                if nxt[dyn.R + 2] < ground:
-                    break
-                y[:] = nxt
-        except Exception:  # noqa: BLE001 - a zero division in a stage: no crossing
-            out[i, 0], out[i, 1], out[i, 2], out[i, 3] = np.nan, np.nan, np.nan, 0.0
-    return out
+    """Landing of each row of ``points`` (m, N_X): the first 4 columns of :func:`fly_to_planes`."""
+    return fly_to_planes(points, params, step, -np.inf, ground, horizon)[:, :4].copy()
 
 
 @njit(cache=True)

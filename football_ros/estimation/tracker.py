@@ -58,7 +58,8 @@ it and re-applies the later fixes; a fix from the future or non-finite is refuse
 older than ``max_lag`` too, unless such old fixes form an arc of their own: the clock of the
 fixes jumped back (a restart), the time base is reset and the throw starts
 (:meth:`FlightTracker.reset_time_base`). The throw ends (landed) when the estimate reaches the
-ground. Several balls: :mod:`.multi`. Times [s] are on the observations' clock.
+ground, or will before the fix after next is due (the last frames before the ground may be
+lost). Several balls: :mod:`.multi`. Times [s] are on the observations' clock.
 
 Wind: a known steady wind (``wind``) enters the model; with ``wind_sigma`` > 0 the state has two
 more entries (``N_X_WIND``), the unknown horizontal wind, flown point by point.
@@ -74,8 +75,7 @@ import math
 import numpy as np
 
 from .motion import (
-    cross_points,
-    land_points,
+    fly_to_planes,
     N_X,
     N_X_WIND,
     path_of,
@@ -365,11 +365,7 @@ class FlightTracker:
         are alive the prediction is their mixture, weighted by likelihood. Model error adds
         accel_noise^2 T^3 / 3 to the x and y variances.
         """
-        s = self.settings
-        return self._predict_plane(
-            lambda pts: land_points(pts, self.params, s.landing_step, s.ground, s.horizon),
-            s.ground,
-        )
+        return self.predict_planes(-math.inf)[0]
 
     def predict_crossing(self, height: float) -> LandingPrediction | None:
         """
@@ -379,38 +375,55 @@ class FlightTracker:
         without a throw, for a non-finite height, or if some sigma point does not come down
         through that height before the ground (a ball that will not rise to it).
         """
+        return self.predict_planes(height)[1]
+
+    def predict_planes(
+        self, height: float
+    ) -> tuple[LandingPrediction | None, LandingPrediction | None]:
+        """
+        Return (:meth:`predict_landing`, :meth:`predict_crossing` of ``height``) from one flight.
+
+        Each sigma point is flown once to the ground, its crossing of ``height`` noted on the
+        way: the catch costs nothing beyond the landing. A ``height`` that is not a number in
+        [ground, ground + 1000 m] gives no crossing.
+        """
         s = self.settings
         try:
             h = float(height)
         except (TypeError, ValueError):
-            return None
+            h = math.nan
         if not (math.isfinite(h) and s.ground <= h <= s.ground + 1000.0):
-            return None
-        return self._predict_plane(
-            lambda pts: cross_points(pts, self.params, s.landing_step, h, s.ground, s.horizon),
-            h,
-        )
-
-    def _predict_plane(self, fly, height: float) -> LandingPrediction | None:
-        """Fly every hypothesis's sigma points to a plane with ``fly`` and take the moments."""
+            h = -math.inf
         tr = self.track
         if tr is None:
-            return None
-        s = self.settings
-        lls = np.array([h.loglik for h in tr.hyps])
+            return None, None
+        lls = np.array([hyp.loglik for hyp in tr.hyps])
         weights = np.exp(lls - lls.max())
         weights /= weights.sum()
-        means, covs = [], []
+        parts = ([], []), ([], [])  # (weighted means, covariances) of the landing, the crossing
         for hyp, w in zip(tr.hyps, weights):
             if w < 1e-6 and len(tr.hyps) > 1:
                 continue
             pts, wm, wc = _sigma_points(hyp.x, hyp.P, s.spread)
-            land = fly(pts)
-            if not np.all(land[:, 3] == 1.0):
-                return None
-            mean, cov = _moments(land[:, :3], wm, wc)
-            means.append((w, mean))
-            covs.append(cov)
+            flown = fly_to_planes(pts, self.params, s.landing_step, h, s.ground, s.horizon)
+            for (means, covs), cols in zip(parts, (slice(0, 4), slice(4, 8))):
+                plane = flown[:, cols]
+                if np.all(plane[:, 3] == 1.0):
+                    mean, cov = _moments(plane[:, :3], wm, wc)
+                    means.append((w, mean))
+                    covs.append(cov)
+                else:
+                    means.append((w, None))
+        return tuple(
+            self._prediction(means, covs, plane_z)
+            for (means, covs), plane_z in zip(parts, (s.ground, h))
+        )
+
+    def _prediction(self, means, covs, height: float) -> LandingPrediction | None:
+        """Mix the hypotheses' moments on one plane; None if a point missed it or non-finite."""
+        if not means or any(m is None for _, m in means) or not math.isfinite(height):
+            return None
+        s = self.settings
         wsum = sum(w for w, _ in means)
         mean = sum(w * m for w, m in means) / wsum
         cov = sum(w * (c + np.outer(m - mean, m - mean)) for (w, m), c in zip(means, covs)) / wsum
@@ -423,7 +436,7 @@ class FlightTracker:
             np.all(np.isfinite(position)) and np.all(np.isfinite(cov_xy)) and math.isfinite(var_t)
         ):
             return None
-        return LandingPrediction(tr.t + t_land, var_t, position, cov_xy, tr.t)
+        return LandingPrediction(self.track.t + t_land, var_t, position, cov_xy, self.track.t)
 
     def predict_path(self, sample_dt: float = 0.05) -> tuple[np.ndarray, np.ndarray] | None:
         """
@@ -540,12 +553,23 @@ class FlightTracker:
                 tr.hyps = [tr.best]
 
     def _below_ground_soon(self, tr: _Track) -> bool:
-        """Tell whether the mean reaches the ground within 10 ms (before the next frame)."""
+        """
+        Tell whether the mean reaches the ground before the fix after next is due.
+
+        Two fix intervals (the median of the recent ones; 10 ms to 0.1 s): the camera may lose
+        the last frame before the ground (a dropout, or a frame captured just before the
+        landing whose delivery never comes), and a throw whose end is never seen is never
+        reported as landed.
+        """
         x = tr.best.x
         if x[5] >= 0.0:
             return False
+        stamps = sorted(e.stamp for e in list(tr.history)[-12:])
+        gaps = np.diff(stamps)
+        gaps = gaps[gaps > 0.0]
+        ahead = min(max(2.0 * float(np.median(gaps)), 0.01), 0.1) if gaps.size else 0.01
         pt = x[None, :].copy()
-        propagate_points(pt, 0.01, self.params, self.settings.step)
+        propagate_points(pt, ahead, self.params, self.settings.step)
         return bool(pt[0, 2] <= self.settings.ground)
 
     def _late(self, tr: _Track, t: float, z: np.ndarray) -> UpdateResult:

@@ -285,7 +285,8 @@ class TrackerNode(Node):
             stream.estimate.publish(msg)
 
     def _publish_predictions(self, tracker, stream, log_landing: bool) -> None:
-        pred = tracker.predict_landing()
+        height = self.catch_height if stream.catch is not None else -math.inf
+        pred, catch = tracker.predict_planes(height)  # one flight of the sigma points for both
         if pred is not None:
             msg = landing_message(pred, self.frame_id)
             if msg is not None:
@@ -296,7 +297,6 @@ class TrackerNode(Node):
                         f'y = {pred.position[1]:.3f} m, t = {pred.time:.3f} s'
                     )
         if stream.catch is not None:
-            catch = tracker.predict_crossing(self.catch_height)
             msg = landing_message(catch, self.frame_id) if catch is not None else None
             if msg is not None:
                 stream.catch.publish(msg)
@@ -428,7 +428,7 @@ def _warm_up(settings: TrackerSettings) -> None:
     for k in range(12):
         t = k / 60.0
         scratch.update(t, (20.0 * t, 0.0, 1.8 + 12.0 * t - 4.905 * t * t))
-    scratch.predict_landing()
+    scratch.predict_planes(1.2)
     scratch.predict_path(0.05)
     scratch.update(0.5 / 60.0, (0.2, 0.0, 1.9))  # a late fix: the roll-back path
 
