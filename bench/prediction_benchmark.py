@@ -25,28 +25,26 @@ landing point and time:
   squares to the same fixes;
 - oracle: the tracker told the true |spin| and the true coefficients (an information limit:
   what the tracker could do if the throw's unknowns were known; only the hand is left).
-Cases: true coefficients = the defaults, and true drag +30 % / lift -30 % (and the reverse).
+Cases (:data:`CASES`): the defaults; true drag and lift 30 % off both ways; an unknown 5 m/s
+crosswind; rugby screw kicks at 60-600 rpm (gyroscopically unstable below about 230 rpm); long
+bombs carrying 50-60 m; the camera at 30 and 120 Hz; 5 mm and 5 cm noise. ``--clutter`` adds
+false detections, ``--wind-sigma`` lets the tracker estimate the wind, ``--draws`` repeats a case
+over independent seeds (the summary gives the median of the per-draw medians and their range).
 NEES: mean over the flights of e' C^-1 e (e the landing point error, C the published 2x2
 covariance): 2 for an honest covariance (above: overconfident), and the fraction inside the
 95 % ellipse. Also prints the tracker's time per fix (update, and update + landing
 prediction) against the 16.7 ms frame, wall and CPU.
 
-Information limit (bench/prediction_bound.py, same flights and fixes): the Bayesian Cramer-Rao
-bound of the landing point (Laplace posterior at the true throw; the benchmark's own priors:
-axis offsets 1.5 deg, |spin| uniform 400-800 rpm, hand known, drag and lift scales sigma 0.3)
-at 1 s lead, defaults, 60 flights: 7.6 cm median (an estimator at the bound reports 7.6 +/- 0.9
-cm on these flights, <= 5 cm in under 0.1 % of noise draws); spin known 5.5, coefficients
-known 5.1 to 5.5 (<= 5 cm in half the draws), both 2.2 cm. A batch MAP fit on the same fixes
-reaches it (6.4 / 5.0 / 4.6 / 2.2 cm); the tracker reaches 7.5 / 5.9 / 6.7 / 3.4 cm (its error
-over the bound per flight: median 1.2 to 1.6). The 5 cm target is below what these fixes
-tell unless the coefficients are known.
+Information limit of the same flights and fixes: bench/prediction_bound.py. The figures of both
+are in bench/RESULTS.md.
 
-    .venv/bin/python bench/prediction_benchmark.py [--flights 60] [--seed 1]
+    .venv/bin/python bench/prediction_benchmark.py [--flights 60] [--draws 5] [--cases ...]
 """
 
 from __future__ import annotations
 
 import argparse
+from dataclasses import dataclass, field
 import math
 import time
 
@@ -68,40 +66,83 @@ RATE, NOISE, LATENCY = 60.0, 0.02, 0.02
 CHI2_2_95 = 5.991  # chi-square 2 dof, 95 %: an honest covariance has NEES mean 2, 95 % inside
 G = 9.81
 DEFAULT = AeroModel()
+
+
+@dataclass(frozen=True)
+class Case:
+    """
+    One benchmark case: the true air and throws, and the camera.
+
+    ``aero``: the flights' true coefficients and wind (the tracker assumes the defaults);
+    ``spin`` |rpm|, ``speed`` [m/s] and ``elevation`` [deg] ranges drawn uniformly; ``carry``
+    [m]: keep only throws whose full-model carry lies in it; camera ``rate`` [Hz] and ``noise``
+    [m] (the tracker is told the noise and the ball).
+    """
+
+    aero: dict = field(default_factory=dict)
+    ball: str = 'american'
+    spin: tuple = (400.0, 800.0)
+    speed: tuple = (16.0, 29.0)
+    elevation: tuple = (18.0, 45.0)
+    carry: tuple | None = None
+    rate: float = RATE
+    noise: float = NOISE
+
+
 CASES = {
-    'defaults': {},
-    'crosswind 5 m/s': {'wind': (0.0, 5.0, 0.0)},
-    'drag +30%, lift -30%': {
-        'c_d0': DEFAULT.c_d0 * 1.3,
-        'c_d2': DEFAULT.c_d2 * 1.3,
-        'c_l_alpha': DEFAULT.c_l_alpha * 0.7,
-    },
-    'drag -30%, lift +30%': {
-        'c_d0': DEFAULT.c_d0 * 0.7,
-        'c_d2': DEFAULT.c_d2 * 0.7,
-        'c_l_alpha': DEFAULT.c_l_alpha * 1.3,
-    },
+    'defaults': Case(),
+    'crosswind 5 m/s': Case(aero={'wind': (0.0, 5.0, 0.0)}),
+    'drag +30%, lift -30%': Case(
+        aero={
+            'c_d0': DEFAULT.c_d0 * 1.3,
+            'c_d2': DEFAULT.c_d2 * 1.3,
+            'c_l_alpha': DEFAULT.c_l_alpha * 0.7,
+        }
+    ),
+    'drag -30%, lift +30%': Case(
+        aero={
+            'c_d0': DEFAULT.c_d0 * 0.7,
+            'c_d2': DEFAULT.c_d2 * 0.7,
+            'c_l_alpha': DEFAULT.c_l_alpha * 1.3,
+        }
+    ),
+    'rugby 60-600 rpm': Case(ball='rugby', spin=(60.0, 600.0)),
+    'long bombs 50-60 m': Case(speed=(20.0, 27.0), elevation=(30.0, 45.0), carry=(50.0, 60.0)),
+    '30 Hz': Case(rate=30.0),
+    '120 Hz': Case(rate=120.0),
+    '5 mm noise': Case(noise=0.005),
+    '5 cm noise': Case(noise=0.05),
 }
 
 
-def random_releases(rng: np.random.Generator, n: int, aero: dict) -> list[Release]:
+def random_releases(rng: np.random.Generator, n: int, case: Case) -> list[Release]:
+    """Return ``n`` full-model releases of ``case`` (both hands), drawn from ``rng``."""
     out = []
-    for _ in range(n):
+    while len(out) < n:
         hand = 1.0 if rng.random() < 0.5 else -1.0
-        out.append(
-            Release(
-                speed=float(rng.uniform(16.0, 29.0)),
-                elevation_deg=float(rng.uniform(18.0, 45.0)),
-                azimuth_deg=float(rng.uniform(-20.0, 20.0)),
-                spin_rpm=hand * float(rng.uniform(400.0, 800.0)),
-                alpha0_deg=float(rng.normal(0.0, 1.5)),
-                beta0_deg=float(rng.normal(0.0, 1.5)),
-                position=(0.0, 0.0, 1.8),
-                model='full',
-                aero=aero,
-            )
+        release = Release(
+            ball=case.ball,
+            speed=float(rng.uniform(*case.speed)),
+            elevation_deg=float(rng.uniform(*case.elevation)),
+            azimuth_deg=float(rng.uniform(-20.0, 20.0)),
+            spin_rpm=hand * float(rng.uniform(*case.spin)),
+            alpha0_deg=float(rng.normal(0.0, 1.5)),
+            beta0_deg=float(rng.normal(0.0, 1.5)),
+            position=(0.0, 0.0, 1.8),
+            model='full',
+            aero=case.aero,
         )
+        if case.carry is not None:
+            end = Flight.from_release(release).simulate(rate=100.0, duration=20.0).positions[-1]
+            if not case.carry[0] <= math.hypot(end[0], end[1]) <= case.carry[1]:
+                continue
+        out.append(release)
     return out
+
+
+def tracker_settings(case: Case, wind_sigma: float = 0.0) -> TrackerSettings:
+    """Return what the tracker is told in ``case``: the ball, the camera's noise, wind_sigma."""
+    return TrackerSettings(noise=case.noise, ball=case.ball, wind_sigma=wind_sigma)
 
 
 # --- baselines ----------------------------------------------------------------------------------
@@ -183,16 +224,17 @@ def drag_landing(t: np.ndarray, z: np.ndarray, guess_v: np.ndarray):
 
 
 # --- one flight ---------------------------------------------------------------------------------
-def camera_fixes(release: Release, seed: int, t_land: float) -> list:
+def camera_fixes(release: Release, seed: int, t_land: float, case: Case = CASES['defaults']):
     """
     Return the seeded camera's observations of a flight captured before its landing [s].
 
-    The camera runs to the landing + 1 s (:meth:`Camera.record`: nothing dropped).
+    The camera (``case``'s rate and noise) runs to the landing + 1 s (:meth:`Camera.record`:
+    nothing dropped).
     """
     flight = Flight.from_release(release)
     rng = np.random.default_rng(seed)
-    cam = Camera(CameraSettings(rate=RATE, noise=NOISE, latency=LATENCY, seed=seed))
-    cam.restart(float(rng.uniform(0.0, 1.0 / RATE)))
+    cam = Camera(CameraSettings(rate=case.rate, noise=case.noise, latency=LATENCY, seed=seed))
+    cam.restart(float(rng.uniform(0.0, 1.0 / case.rate)))
     obs = cam.record(t_land + 1.0, lambda t: flight.state_at(t)[:3])
     return [o for o in obs if o.stamp < t_land]
 
@@ -216,15 +258,27 @@ def with_clutter(obs: list, rate: float, seed: int) -> list:
 
 
 def run_flight(
-    release: Release, seed: int, settings=None, oracle: bool = True, clutter: float = 0.0
+    release: Release,
+    seed: int,
+    case: Case = CASES['defaults'],
+    wind_sigma: float = 0.0,
+    oracle: bool = True,
+    clutter: float = 0.0,
 ):
+    """
+    Replay one flight's fixes into the tracker (and the oracle) and the baselines.
+
+    Returns {lead: {method: (error [m], time error [s], NEES) or None}} and the flight time [s].
+    """
     truth = Flight.from_release(release).simulate(rate=100.0, duration=20.0)
     t_land = float(truth.times[-1])
     xy_land = truth.positions[-1, :2]
-    obs = with_clutter(camera_fixes(release, seed, t_land), clutter, seed)
-    tracker = FlightTracker(settings)
+    obs = with_clutter(camera_fixes(release, seed, t_land, case), clutter, seed)
+    tracker = FlightTracker(tracker_settings(case, wind_sigma))
     known = FlightTracker(
         TrackerSettings(
+            noise=case.noise,
+            ball=case.ball,
             spin_rpm=abs(release.spin_rpm),
             spin_sigma=0.01,
             scale_sigma=0.01,
@@ -260,7 +314,7 @@ def run_flight(
         results[lead] = {
             k: (None if v is None else _errors(v, xy_land, t_land)) for k, v in row.items()
         }
-    return results
+    return results, t_land
 
 
 def _errors(pred, xy_land, t_land) -> tuple[float, float, float]:
@@ -303,6 +357,30 @@ def time_tracker(releases: list[Release], seed: int) -> dict[str, np.ndarray]:
     return {k: np.array(v) * 1e3 for k, v in out.items()}
 
 
+def _summary_rows(name: str, per: list, t_flights: np.ndarray, draws: np.ndarray) -> list[str]:
+    """Return the tracker's rows of one case at 1.0 and 0.5 s lead, and its flights > 2.8 s."""
+    rows = []
+    for label, keep in ((name, np.ones(len(per), bool)), (name + ', > 2.8 s', t_flights > 2.8)):
+        for lead in (1.0, 0.5):
+            got = [
+                (per[i][lead]['tracker'], draws[i])
+                for i in np.flatnonzero(keep)
+                if per[i][lead]['tracker'] is not None
+            ]
+            if not got or (label != name and lead != 1.0):
+                continue
+            err = np.array([g[0][0] for g in got])
+            nees = np.array([g[0][2] for g in got])
+            d = np.array([g[1] for g in got])
+            medians = [np.median(err[d == k]) for k in np.unique(d)]
+            rows.append(
+                f'{label:>28} {lead:>5.1f} {len(got):>4} {np.median(medians):>7.3f} '
+                f'{min(medians):>7.3f}-{max(medians):<7.3f} {np.mean(nees):>6.2f} '
+                f'{np.mean(nees <= CHI2_2_95):>7.2f}'
+            )
+    return rows
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
     ap.add_argument('--flights', type=int, default=60, help='flights per case')
@@ -319,27 +397,32 @@ def main() -> None:
         '--clutter', type=float, default=0.0, help='false detections per second [Hz] added'
     )
     args = ap.parse_args()
-    settings = TrackerSettings(wind_sigma=args.wind_sigma) if args.wind_sigma > 0 else None
+    unknown = sorted(set(args.cases) - set(CASES))
+    if unknown:
+        ap.error(f'unknown case(s) {unknown}; the cases: {list(CASES)}')
     # Warm the compiled kernels so that the timings are of the steady state.
-    warm = Release(model='full')
-    run_flight(warm, 0)
+    run_flight(Release(model='full'), 0)
     methods = ('tracker', 'oracle', 'drag', 'parabola')
     print(
-        f'camera {RATE:g} Hz, noise {NOISE * 100:g} cm, latency {LATENCY * 1000:g} ms; '
-        f'{args.flights} flights per case x {args.draws} draws, seeds {args.seed}..'
+        f'camera {RATE:g} Hz, noise {NOISE * 100:g} cm, latency {LATENCY * 1000:g} ms unless the '
+        f'case says; {args.flights} flights per case x {args.draws} draws, seeds {args.seed}..'
         f'{args.seed + args.draws - 1}, tracker wind_sigma {args.wind_sigma:g} m/s, '
-        f'clutter {args.clutter:g} Hz'
+        f'clutter {args.clutter:g} Hz. NEES: 2 and 0.95 in the 95 % ellipse when honest.'
     )
-    for ci, case in enumerate(args.cases):
-        per = []
+    summary = []
+    for case_name in args.cases:
+        case, ci = CASES[case_name], list(CASES).index(case_name)
+        per, t_flights, draw_of = [], [], []
         for seed in range(args.seed, args.seed + args.draws):
             rng = np.random.default_rng(seed * 1000 + ci)
-            releases = random_releases(rng, args.flights, CASES[case])
-            per += [
-                run_flight(r, seed * 100000 + ci * 1000 + k, settings, clutter=args.clutter)
-                for k, r in enumerate(releases)
-            ]
-        print(f'\ncase: true coefficients {case}')
+            for k, r in enumerate(random_releases(rng, args.flights, case)):
+                res, t_land = run_flight(
+                    r, seed * 100000 + ci * 1000 + k, case, args.wind_sigma, clutter=args.clutter
+                )
+                per.append(res)
+                t_flights.append(t_land)
+                draw_of.append(seed)
+        print(f'\ncase: {case_name}')
         print(
             f'{"lead [s]":>8} {"method":>9} {"n":>4} {"median [m]":>11} {"p95 [m]":>9} '
             f'{"|dt| med [s]":>13} {"|dt| p95 [s]":>13} {"failed":>7} {"NEES":>6} '
@@ -365,22 +448,43 @@ def main() -> None:
                     f'{np.percentile(err, 95):>9.3f} {np.median(dt):>13.4f} '
                     f'{np.percentile(dt, 95):>13.4f} {failed:>7}{consistency}'
                 )
+        summary += _summary_rows(case_name, per, np.array(t_flights), np.array(draw_of))
+    print(
+        '\ntracker per case (median of the per-draw medians [m] and their range; NEES mean; '
+        'fraction in the 95 % ellipse; targets: NEES 1.5-3, >= 0.90 inside)'
+    )
+    print(f'{"case":>28} {"lead":>5} {"n":>4} {"median":>7} {"draw range":>15} {"NEES":>6} '
+          f'{"in 95%":>7}')
+    for row in summary:
+        print(row)
     period = 1e3 / RATE
-    times = time_tracker(random_releases(np.random.default_rng(args.seed), 20, {}), args.seed)
+    times = time_tracker(
+        random_releases(np.random.default_rng(args.seed), 20, CASES['defaults']), args.seed
+    )
     print(
         f'\ntracker time per fix [ms] over {times["update wall"].size} fixes of 20 flights '
         f"(frame period {period:.2f} ms; cpu = this thread's CPU time, wall includes waiting "
         f'for a shared core)'
     )
-    print(f'{"":>22} {"median":>8} {"p99":>8} {"max":>8} {"p99/period":>11}')
+    print(f'{"":>22} {"median":>8} {"p99":>8} {"max":>8} {"p99/period":>11} {"at 120 Hz":>10}')
     for key, ms in times.items():
+        p99 = np.percentile(ms, 99)
         print(
-            f'{key:>22} {np.median(ms):>8.3f} {np.percentile(ms, 99):>8.3f} {ms.max():>8.3f} '
-            f'{np.percentile(ms, 99) / period:>11.3f}'
+            f'{key:>22} {np.median(ms):>8.3f} {p99:>8.3f} {ms.max():>8.3f} '
+            f'{p99 / period:>11.3f} {p99 * 120.0 / 1e3:>10.3f}'
         )
 
 
 if __name__ == '__main__':
     import results  # bench/results.py: the figures go to bench/RESULTS.md
 
-    raise SystemExit(results.recorded('prediction', main))
+    # One section per kind of run: the plain cases, with the wind estimated, with clutter.
+    pre = argparse.ArgumentParser(add_help=False)
+    pre.add_argument('--wind-sigma', type=float, default=0.0)
+    pre.add_argument('--clutter', type=float, default=0.0)
+    flags, _ = pre.parse_known_args()
+    section = 'prediction' + ''.join(
+        f', {name} {value:g}' for name, value in
+        (('wind_sigma', flags.wind_sigma), ('clutter Hz', flags.clutter)) if value > 0.0
+    )
+    raise SystemExit(results.recorded(section, main))
