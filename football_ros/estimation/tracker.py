@@ -84,6 +84,7 @@ from .motion import (
     X_KD,
     X_KL,
     X_S,
+    X_V,
     X_W,
 )
 from .sensor import check_numbers
@@ -111,7 +112,8 @@ class TrackerSettings:
     Filter settings (SI).
 
     ``noise`` [m] 1-sigma per axis of the fixes; ``accel_noise`` [m/s^2/sqrt(Hz)] white model-error
-    acceleration; ``axis_noise`` [rad/sqrt(s)] and ``rate_noise`` [rad/s/sqrt(s)] on s and h;
+    acceleration, plus ``tumble_noise`` x (1 - S_g) when the estimate is gyroscopically unstable
+    (McCoy's S_g < 1: a low-spin kick whose axis motion the sigma points cannot follow); ``axis_noise`` [rad/sqrt(s)] and ``rate_noise`` [rad/s/sqrt(s)] on s and h;
     ``scale_rate`` [1/sqrt(s)] random walk of kd and kl; priors ``axis_sigma`` [rad],
     ``rate_sigma`` [rad/s] (transverse), ``spin_sigma`` (fraction of the nominal spin; None = the
     ball's :data:`SPIN_SPREAD`), ``scale_sigma`` (of kd and kl, mean 1); ``spin_rpm`` nominal
@@ -130,6 +132,7 @@ class TrackerSettings:
 
     noise: float = 0.02
     accel_noise: float = 0.03
+    tumble_noise: float = 2.0
     axis_noise: float = 0.001
     rate_noise: float = 0.01
     scale_rate: float = 0.003
@@ -161,6 +164,7 @@ class TrackerSettings:
     LIMITS = {
         'noise': (1e-4, 10.0),
         'accel_noise': (0.0, 100.0),
+        'tumble_noise': (0.0, 100.0),
         'axis_noise': (0.0, 10.0),
         'rate_noise': (0.0, 100.0),
         'scale_rate': (0.0, 10.0),
@@ -298,6 +302,12 @@ class FlightTracker:
         self.params[dyn.P_WIND + 1] += s.wind[1]
         spin = abs(preset.spin_rpm if s.spin_rpm is None else s.spin_rpm) * RPM
         self.nominal_h1 = ball.inertia_ratio * spin  # [rad/s]
+        # McCoy's S_g = (h1 D / V)^2 / (4 M), M = rho S D^3 C_Malpha / (2 I_t): P = h1 D / V.
+        m_nd = (
+            ball.air_density * math.pi * ball.diameter**5 * ball.c_m_alpha
+            / (8.0 * ball.inertia_transverse)
+        )
+        self._sg_scale = ball.diameter**2 / (4.0 * m_nd) if m_nd > 0.0 else math.inf
         self.track: _Track | None = None
         self.throws = 0
         depth = max(64, 8 * s.min_points)  # candidate fixes kept (clutter, wild stamps too)
@@ -428,7 +438,7 @@ class FlightTracker:
         mean = sum(w * m for w, m in means) / wsum
         cov = sum(w * (c + np.outer(m - mean, m - mean)) for (w, m), c in zip(means, covs)) / wsum
         t_land = float(mean[0])
-        extra = s.accel_noise**2 * max(t_land, 0.0) ** 3 / 3.0
+        extra = self._accel_variance(self.track.best.x) * max(t_land, 0.0) ** 3 / 3.0
         cov_xy = cov[1:, 1:] + extra * np.eye(2)
         var_t = float(cov[0, 0])
         position = np.array([mean[1], mean[2], height])
@@ -600,7 +610,7 @@ class FlightTracker:
         pts, wm, wc = _sigma_points(x, P, s.spread)
         propagate_points(pts, dt, self.params, s.step)
         xm, Pm = _moments(pts, wm, wc)
-        q = s.accel_noise**2
+        q = self._accel_variance(x)
         for i in range(3):
             Pm[i, i] += q * dt**3 / 3.0
             Pm[i, 3 + i] += q * dt**2 / 2.0
@@ -616,6 +626,26 @@ class FlightTracker:
         xm[X_S:X_S + 3] /= np.linalg.norm(xm[X_S:X_S + 3])
         ok = bool(np.all(np.isfinite(xm)) and np.all(np.isfinite(Pm)))
         return xm, 0.5 * (Pm + Pm.T), ok
+
+    def gyroscopic_stability(self, x: np.ndarray) -> float:
+        """McCoy's S_g of a filter state (air speed against the wind the parameters hold)."""
+        h1 = float(x[X_H:X_H + 3] @ x[X_S:X_S + 3])
+        air = x[X_V:X_V + 3] - self.params[dyn.P_WIND:dyn.P_WIND + 3]
+        if x.size == N_X_WIND:
+            air[:2] -= x[X_W:X_W + 2]
+        speed2 = float(air @ air)
+        return self._sg_scale * h1 * h1 / speed2 if speed2 > 0.0 else math.inf
+
+    def _accel_variance(self, x: np.ndarray) -> float:
+        """
+        Model-error acceleration PSD [m^2/s^4/Hz]: more while the ball can tumble (S_g < 1).
+
+        From the estimate's own S_g (its spin as learnt so far): the sigma points of a
+        tumbling ball spread less than its real axis motion does.
+        """
+        s = self.settings
+        unstable = min(max(1.0 - self.gyroscopic_stability(x), 0.0), 1.0)
+        return s.accel_noise**2 + (s.tumble_noise * unstable) ** 2
 
     def _candidate(self, t: float, z: np.ndarray) -> UpdateResult:
         """Keep the fix; start a throw when it and recent ones fit a ballistic arc."""
