@@ -98,12 +98,18 @@ def camera_fixes(release, seed: int, t_land: float, lead: float) -> list:
     return [o for o in fixes if o.delivery <= t_land - lead]
 
 
-def flight_setup(release, seed: int, lead: float):
-    """Return (t_land, xy_land, the fixes (:func:`camera_fixes`), their model)."""
+def flight_setup(release, seed: int, lead: float, wind_sigma: float = 0.0):
+    """
+    Return (t_land, xy_land, the fixes (:func:`camera_fixes`), their model).
+
+    With ``wind_sigma`` > 0 the horizontal wind is among the model's unknowns (the tracker's
+    wind states); else the model flies in the flight's true wind (known).
+    """
     truth = Flight.from_release(release).simulate(rate=100.0, duration=20.0)
     t_land = float(truth.times[-1])
     obs = camera_fixes(release, seed, t_land, lead)
-    model = ThrowModel(obs[0].stamp, 1.0 / RATE, len(obs), aero=AeroModel())
+    aero = AeroModel() if wind_sigma > 0.0 else AeroModel(wind=release.aero_model().wind)
+    model = ThrowModel(obs[0].stamp, 1.0 / RATE, len(obs), aero=aero, wind=wind_sigma > 0.0)
     if not np.allclose(model.times, [o.stamp for o in obs], rtol=0.0, atol=1e-9):
         raise RuntimeError('the fixes are not on one 60 Hz grid')
     return t_land, truth.positions[-1, :2], obs, model
@@ -135,10 +141,16 @@ def posterior(jac: dict, sigmas: dict) -> tuple[np.ndarray, np.ndarray, list]:
     return g @ cov @ g.T, cov, names
 
 
+WIND_SIGMA = [0.0]
+"""The wind's prior sigma [m/s] of this run (``--wind-sigma``; 0: the wind is known)."""
+
+
 def prior_sigmas(prior: str, known=(), **changes) -> dict:
     """Prior sigma per parameter for a :data:`PRIORS` entry, ``known`` ones at 0."""
     axis_s, spin_s, scale_s = PRIORS[prior]
     sig = {'alpha0': axis_s, 'beta0': axis_s, 'spin': spin_s, 'kd': scale_s, 'kl': scale_s}
+    if WIND_SIGMA[0] > 0.0:
+        sig.update(wind_x=WIND_SIGMA[0], wind_y=WIND_SIGMA[0])
     sig.update(changes)
     sig.update(dict.fromkeys(known, 0.0))
     return sig
@@ -238,8 +250,17 @@ def main() -> None:
                     help='TrackerSettings changes for the replay, e.g. accel_noise=0')
     ap.add_argument('--map', action='store_true', help='batch MAP fit on the same fixes')
     ap.add_argument('--draws', type=int, default=4000)
+    ap.add_argument('--seeds', type=int, default=1,
+                    help="the flights of this many of the benchmark's draws (seeds seed..)")
+    ap.add_argument('--wind-sigma', type=float, default=0.0,
+                    help='the wind unknown with this prior sigma [m/s], the tracker told it too')
     args = ap.parse_args()
+    if not (1 <= args.seeds <= 100 and 0.0 <= args.wind_sigma <= 30.0):
+        ap.error('--seeds must be 1-100 and --wind-sigma 0-30 m/s')
+    WIND_SIGMA[0] = args.wind_sigma
     changes = {k: _value(v) for k, v in (item.split('=', 1) for item in args.set)}
+    if args.wind_sigma > 0.0:
+        changes.setdefault('wind_sigma', args.wind_sigma)
     TrackerSettings(**changes)  # validate before the long loop
     cases = (
         [c for c, case in CASES.items() if (case.ball, case.rate, case.noise) == (
@@ -249,25 +270,30 @@ def main() -> None:
     )
     print(
         f'camera {RATE:g} Hz, noise {NOISE * 100:g} cm, latency {LATENCY * 1000:g} ms; '
-        f'lead {args.lead:g} s; {args.flights} flights per case, seed {args.seed}'
+        f'lead {args.lead:g} s; {args.flights} flights x {args.seeds} draws per case, seeds '
+        f'{args.seed}..{args.seed + args.seeds - 1}; wind '
+        + (f'unknown (prior sigma {args.wind_sigma:g} m/s)' if args.wind_sigma else 'known')
         + (f'; tracker settings changed: {changes}' if changes else '')
     )
     for case in cases:
         ci = list(CASES).index(case)
-        releases = random_releases(np.random.default_rng(args.seed * 1000 + ci), args.flights,
-                                   CASES[case])
         t0 = time.perf_counter()
         t_lands, jacs, trk, fixes, maps = [], [], [], [], []
-        for k, release in enumerate(releases):
-            seed = args.seed * 100000 + ci * 1000 + k
-            t_land, xy_land, obs, model = flight_setup(release, seed, args.lead)
-            t_lands.append(t_land)
-            fixes.append(len(obs))
-            jacs.append(jacobians(release, model, xy_land))
-            if args.tracker:
-                trk.append(tracker_errors(release, obs, xy_land, changes))
-            if args.map:
-                maps.append(map_errors(release, obs, model, xy_land))
+        for draw in range(args.seed, args.seed + args.seeds):  # the benchmark's seeding
+            releases = random_releases(np.random.default_rng(draw * 1000 + ci), args.flights,
+                                       CASES[case])
+            for k, release in enumerate(releases):
+                seed = draw * 100000 + ci * 1000 + k
+                t_land, xy_land, obs, model = flight_setup(
+                    release, seed, args.lead, args.wind_sigma
+                )
+                t_lands.append(t_land)
+                fixes.append(len(obs))
+                jacs.append(jacobians(release, model, xy_land))
+                if args.tracker:
+                    trk.append(tracker_errors(release, obs, xy_land, changes))
+                if args.map:
+                    maps.append(map_errors(release, obs, model, xy_land))
         t_lands = np.array(t_lands)
         print(f'\ncase: true coefficients {case} ({time.perf_counter() - t0:.0f} s; fixes per '
               f'flight {min(fixes)}-{max(fixes)})')

@@ -89,6 +89,18 @@ def test_the_model_reproduces_the_flight_of_a_release():
     assert model.theta_of(off)[-2:] == pytest.approx([1.3, 0.7])
 
 
+def test_the_wind_as_an_unknown_flies_the_release_in_its_wind():
+    windy = RELEASE.replace(aero={'wind': (1.5, -5.0, 0.0)})
+    model = ThrowModel(FIRST, PERIOD, COUNT, wind=True)
+    theta = model.theta_of(windy)
+    assert model.names[-2:] == ('wind_x', 'wind_y') and list(theta[-2:]) == [1.5, -5.0]
+    traj = Flight.from_release(windy).simulate(rate=100.0, duration=20.0)
+    out = model.evaluate(theta)
+    np.testing.assert_allclose(out[-3:-1], traj.positions[-1, :2], atol=1e-9)
+    calm = model.evaluate(np.concatenate([theta[:-2], [0.0, 0.0]]))
+    assert abs(calm[-2] - out[-2]) > 1.0  # a 5 m/s crosswind moves the landing by metres
+
+
 def test_finite_difference_jacobian_matches_gravity_only_motion():
     model = ThrowModel(FIRST, PERIOD, COUNT, aero=NO_AIR)
     theta = model.theta_of(RELEASE)

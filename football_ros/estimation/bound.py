@@ -51,10 +51,12 @@ THETA = (
 """Parameters of a throw [m, m, m, m/s, rad, rad, rad, rad, rad/s (signed), 1, 1]."""
 THETA_RATES = THETA + ('alpha_rate', 'beta_rate')
 """With the axis rates at the release [rad/s] (as :class:`Release`'s, in rad/s)."""
+THETA_WIND = ('wind_x', 'wind_y')
+"""The horizontal wind [m/s] in ``field`` (the tracker's ``wind_sigma`` states), if unknown."""
 FD_STEPS = {
     'x0': 1e-3, 'y0': 1e-3, 'z0': 1e-3, 'speed': 1e-3, 'elevation': 1e-5, 'azimuth': 1e-5,
     'alpha0': 1e-5, 'beta0': 1e-5, 'spin': 1e-2, 'kd': 1e-4, 'kl': 1e-4,
-    'alpha_rate': 1e-4, 'beta_rate': 1e-4,
+    'alpha_rate': 1e-4, 'beta_rate': 1e-4, 'wind_x': 1e-3, 'wind_y': 1e-3,
 }
 """Central-difference steps per parameter (units of :data:`THETA`)."""
 SQRT_2PI = math.sqrt(2.0 * math.pi)
@@ -69,7 +71,8 @@ class ThrowModel:
     ``first`` [s] the first capture time after the release, then every ``period`` [s],
     ``count`` captures. ``aero`` the coefficients that kd = kl = 1 means (the tracker's
     nominal ones: kd multiplies C_D0 and C_D2, kl C_Lalpha, like
-    :mod:`football_ros.estimation.tracker`); ``rates`` adds the axis rates to theta.
+    :mod:`football_ros.estimation.tracker`); ``rates`` adds the axis rates to theta,
+    ``wind`` the horizontal wind (:data:`THETA_WIND`; else the wind is ``aero``'s).
     """
 
     def __init__(
@@ -81,6 +84,7 @@ class ThrowModel:
         aero: AeroModel | None = None,
         rates: bool = False,
         step: float = DEFAULT_STEP,
+        wind: bool = False,
         horizon: float = 20.0,
     ) -> None:
         if not (0.0 <= first and period > 0.0 and count >= 0):
@@ -88,7 +92,7 @@ class ThrowModel:
         self.times = first + period * np.arange(count)
         self.ball = get_preset(ball)
         self.aero = aero or AeroModel()
-        self.names = THETA_RATES if rates else THETA
+        self.names = (THETA_RATES if rates else THETA) + (THETA_WIND if wind else ())
         self.step, self.horizon = step, horizon
 
     def theta_of(self, release: Release) -> np.ndarray:
@@ -108,6 +112,7 @@ class ThrowModel:
             'spin': release.spin_rpm * RPM, 'kd': kd, 'kl': kl,
             'alpha_rate': math.radians(release.alpha_rate_deg_s),
             'beta_rate': math.radians(release.beta_rate_deg_s),
+            'wind_x': a.wind[0], 'wind_y': a.wind[1],
         }
         return np.array([values[n] for n in self.names], dtype=float)
 
@@ -126,6 +131,11 @@ class ThrowModel:
             c_d0=self.aero.c_d0 * p['kd'],
             c_d2=self.aero.c_d2 * p['kd'],
             c_l_alpha=self.aero.c_l_alpha * p['kl'],
+            wind=(
+                p.get('wind_x', self.aero.wind[0]),
+                p.get('wind_y', self.aero.wind[1]),
+                self.aero.wind[2],
+            ),
         )
         return Flight(self.ball, initial, 'full', 'linear', self.step, aero)
 

@@ -113,7 +113,8 @@ class TrackerSettings:
 
     ``noise`` [m] 1-sigma per axis of the fixes; ``accel_noise`` [m/s^2/sqrt(Hz)] white model-error
     acceleration, plus ``tumble_noise`` x (1 - S_g) when the estimate is gyroscopically unstable
-    (McCoy's S_g < 1: a low-spin kick whose axis motion the sigma points cannot follow); ``axis_noise`` [rad/sqrt(s)] and ``rate_noise`` [rad/s/sqrt(s)] on s and h;
+    (McCoy's S_g < 1: a low-spin kick whose axis motion the sigma points cannot follow);
+    ``axis_noise`` [rad/sqrt(s)] and ``rate_noise`` [rad/s/sqrt(s)] on s and h;
     ``scale_rate`` [1/sqrt(s)] random walk of kd and kl; priors ``axis_sigma`` [rad],
     ``rate_sigma`` [rad/s] (transverse), ``spin_sigma`` (fraction of the nominal spin; None = the
     ball's :data:`SPIN_SPREAD`), ``scale_sigma`` (of kd and kl, mean 1); ``spin_rpm`` nominal
@@ -433,7 +434,6 @@ class FlightTracker:
         """Mix the hypotheses' moments on one plane; None if a point missed it or non-finite."""
         if not means or any(m is None for _, m in means) or not math.isfinite(height):
             return None
-        s = self.settings
         wsum = sum(w for w, _ in means)
         mean = sum(w * m for w, m in means) / wsum
         cov = sum(w * (c + np.outer(m - mean, m - mean)) for (w, m), c in zip(means, covs)) / wsum
@@ -628,7 +628,7 @@ class FlightTracker:
         return xm, 0.5 * (Pm + Pm.T), ok
 
     def gyroscopic_stability(self, x: np.ndarray) -> float:
-        """McCoy's S_g of a filter state (air speed against the wind the parameters hold)."""
+        """Return McCoy's S_g of a filter state (air speed against the parameters' wind)."""
         h1 = float(x[X_H:X_H + 3] @ x[X_S:X_S + 3])
         air = x[X_V:X_V + 3] - self.params[dyn.P_WIND:dyn.P_WIND + 3]
         if x.size == N_X_WIND:
