@@ -378,4 +378,5 @@ def main() -> None:
 if __name__ == '__main__':
     import results  # bench/results.py: the figures go to bench/RESULTS.md
 
-    raise SystemExit(results.recorded('prediction bound', main))
+    wind = '--wind-sigma' in sys.argv  # its own section: the bound with the wind unknown
+    raise SystemExit(results.recorded('prediction bound' + (', wind unknown' if wind else ''), main))
