@@ -379,4 +379,5 @@ if __name__ == '__main__':
     import results  # bench/results.py: the figures go to bench/RESULTS.md
 
     wind = '--wind-sigma' in sys.argv  # its own section: the bound with the wind unknown
-    raise SystemExit(results.recorded('prediction bound' + (', wind unknown' if wind else ''), main))
+    section = 'prediction bound' + (', wind unknown' if wind else '')
+    raise SystemExit(results.recorded(section, main))
