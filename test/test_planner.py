@@ -29,6 +29,7 @@ from football_ros.planning import (
     Receiver,
     wilson,
 )
+from football_ros.planning import kernels, planner
 from football_ros.planning.planner import closest_approach
 from hypothesis import given, HealthCheck, settings
 from hypothesis import strategies as hs
@@ -73,6 +74,30 @@ def test_hidden_targets_flown_by_flight_pass_within_1cm(model):
         assert p.miss_m < 0.01
         assert abs(t_arr - p.arrival_time) < 2e-3
         assert p.release.speed == pytest.approx(35.0)
+
+
+def test_planner_kernel_takes_the_real_time_kernel_steps_and_stops_past_the_plane():
+    release = Release(model='full', aero={'wind': [2.0, -1.0, 0.0]}, position=(0.0, 0.0, 1.8))
+    flight = Flight.from_release(release)
+    ref = flight.simulate(rate=1000.0, duration=30.0)
+    # The checking flight's state is the one Flight builds from the Release.
+    y0 = planner._state_vector(release.initial_state(), flight.ball.inertia_ratio)
+    assert np.array_equal(y0, flight.y0)
+    plane, d = np.array([20.0, 0.0, 0.0]), np.array([1.0, 0.0, 0.0])
+    times, states, landed = kernels.fly(y0, 1e-3, flight.params, 30.0, 0.0, plane, d, -1)
+    assert landed and ref.landed and np.array_equal(times, ref.times)
+    # Positions and velocities bit for bit (propagate's samples only re-project the attitude).
+    assert np.array_equal(states[:, dyn.R:dyn.V + 3], ref.states[:, dyn.R:dyn.V + 3])
+    assert np.max(np.abs(states - ref.states)) < 1e-12
+    short, few, landed = kernels.fly(y0, 1e-3, flight.params, 30.0, 0.0, plane, d, 2)
+    first = int(np.argmax(ref.positions[:, 0] >= 20.0))
+    assert not landed and len(short) == first + 3 and np.array_equal(few, states[:first + 3])
+    found, t, point = kernels.plane_crossing(short, few, plane, d)
+    assert found and point[0] == pytest.approx(20.0, abs=1e-9)
+    assert ref.times[first - 1] < t <= ref.times[first]
+    # A fixed duration ends on the last whole step at or before it, as propagate's samples.
+    fixed, _, _ = kernels.fly(y0, 1e-3, flight.params, 0.4567, 0.0, plane, d, -1)
+    assert len(fixed) == 457 and fixed[-1] == pytest.approx(0.456)
 
 
 def test_paper_model_aim_equals_vacuum_parabola():

@@ -54,17 +54,28 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from . import kernels
 from ..physics import dynamics as dyn
 from ..physics import frames
 from ..physics.aero import resolve
-from ..physics.flight import DEFAULT_STEP, Flight
+from ..physics.flight import DEFAULT_STEP
+from ..physics.limits import check_flyable
 from ..physics.linear_theory import (
     _drifting_equilibrium,
     _local_exponents_scalar,
     _scalar_constants,
     local_exponents,
+    moment_slope,
 )
-from ..physics.release import initial_state_of, LIMITS, Release, release_states, ReleaseError, RPM
+from ..physics.release import (
+    initial_state_of,
+    InitialState,
+    LIMITS,
+    Release,
+    release_states,
+    ReleaseError,
+    RPM,
+)
 
 OBJECTIVES = ('fastest', 'lowest_speed', 'flat', 'lofted')
 ATTITUDES = ('equilibrium', 'linear', 'refined', 'aligned')
@@ -221,35 +232,60 @@ def equilibrium_axis(
     frozen theory's C1 = C2 = 0 release (x_p = -F/C, no drift; for the paper's model the axis
     at the equilibrium sideslip s3p, turning at w_V).
     """
-    consts = _scalar_constants(params)
-    velocity = np.asarray(velocity, dtype=float)
-    air = velocity - params[dyn.P_WIND:dyn.P_WIND + 3]
-    h1 = float(h1)
+    wind = tuple(float(w) for w in params[dyn.P_WIND:dyn.P_WIND + 3])
+    axis, rate = _equilibrium_axis(_scalar_constants(params), wind, _vec(velocity), float(h1),
+                                   drift)
+    return np.array(axis), np.array(rate)
+
+
+def _vec(v) -> tuple[float, float, float]:
+    """Plain-float 3-tuple of a vector."""
+    return float(v[0]), float(v[1]), float(v[2])
+
+
+def _dot(a, b) -> float:
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _cross(a, b) -> tuple[float, float, float]:
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def _equilibrium_axis(consts: tuple, wind: tuple, velocity: tuple, h1: float, drift: bool):
+    """
+    Return :func:`equilibrium_axis` in plain floats: (axis, rate) 3-tuples.
+
+    ``consts`` and ``wind`` from the kernel parameters (:func:`_scalar_constants`, P_WIND).
+    """
+    air = (velocity[0] - wind[0], velocity[1] - wind[1], velocity[2] - wind[2])
     _, _, b, d_c, x_p = _local_exponents_scalar(consts, air, h1)
     x_p_dot = 0.0
     if drift:
         x_p, x_p_dot = _drifting_equilibrium(
             lambda a, h: _local_exponents_scalar(consts, a, float(h)),
             consts,
-            air,
+            np.array(air),
             h1,
             b,
             d_c,
             x_p,
         )
     x_p, x_p_dot = complex(x_p), complex(x_p_dot)
-    speed = math.sqrt(float(air @ air))
-    e1 = air / speed
+    speed = math.sqrt(_dot(air, air))
+    e1 = (air[0] / speed, air[1] / speed, air[2] / speed)
     horizontal = math.hypot(air[0], air[1])
-    e2 = np.array([-e1[2] * air[0] / horizontal, -e1[2] * air[1] / horizontal, horizontal / speed])
-    e3 = np.cross(e1, e2)
+    e2 = (-e1[2] * air[0] / horizontal, -e1[2] * air[1] / horizontal, horizontal / speed)
+    e3 = _cross(e1, e2)
     s1 = math.sqrt(max(0.0, 1.0 - abs(x_p) ** 2))
-    axis = s1 * e1 + x_p.real * e2 + x_p.imag * e3
-    axis /= math.sqrt(float(axis @ axis))
-    omega_v = -float(params[dyn.P_GRAVITY]) * horizontal / speed / speed
-    rate = omega_v * np.cross(e3, axis) + x_p_dot.real * e2 + x_p_dot.imag * e3
-    rate -= float(rate @ axis) * axis
-    return axis, rate
+    axis = tuple(s1 * e1[i] + x_p.real * e2[i] + x_p.imag * e3[i] for i in range(3))
+    norm = math.sqrt(_dot(axis, axis))
+    axis = (axis[0] / norm, axis[1] / norm, axis[2] / norm)
+    omega_v = -consts[9] * horizontal / speed / speed
+    turn = _cross(e3, axis)
+    rate = tuple(omega_v * turn[i] + x_p_dot.real * e2[i] + x_p_dot.imag * e3[i]
+                 for i in range(3))
+    along = _dot(rate, axis)
+    return axis, (rate[0] - along * axis[0], rate[1] - along * axis[1], rate[2] - along * axis[2])
 
 
 def equilibrium_attitude(
@@ -261,22 +297,37 @@ def equilibrium_attitude(
     :func:`equilibrium_axis` expressed as the release options: angles against the ground
     velocity, rates relative to ``field`` (:func:`football_ros.physics.release.release_states`).
     """
-    velocity = np.asarray(velocity, dtype=float)
-    return _options(velocity, *equilibrium_axis(params, velocity, h1, drift))
+    velocity = _vec(velocity)
+    wind = tuple(float(w) for w in params[dyn.P_WIND:dyn.P_WIND + 3])
+    axis, rate = _equilibrium_axis(_scalar_constants(params), wind, velocity, float(h1), drift)
+    return _options(velocity, axis, rate)
 
 
-def _options(velocity: np.ndarray, axis: np.ndarray, rate: np.ndarray) -> dict[str, float]:
-    """Return the release options (deg, deg/s) of an axis and its rate in ``field``."""
-    alpha, beta, _ = frames.aero_angles(axis, velocity)
-    comps = frames.to_velocity_frame(rate, velocity)
+def _options(velocity, axis, rate) -> dict[str, float]:
+    """
+    Return the release options (deg, deg/s) of an axis and its rate in ``field``.
+
+    Angles against ``velocity`` (its frame, :func:`football_ros.physics.frames.velocity_frame`);
+    3-sequences of floats.
+    """
+    velocity, axis, rate = _vec(velocity), _vec(axis), _vec(rate)
+    norm = math.sqrt(_dot(velocity, velocity))
+    e1 = (velocity[0] / norm, velocity[1] / norm, velocity[2] / norm)
+    up = (-e1[2] * e1[0], -e1[2] * e1[1], 1.0 - e1[2] * e1[2])  # UP - (UP.e1) e1
+    norm = math.sqrt(_dot(up, up))
+    e2 = (up[0] / norm, up[1] / norm, up[2] / norm)
+    e3 = _cross(e1, e2)
+    alpha = math.atan2(_dot(axis, e2), _dot(axis, e1))
+    beta = math.asin(min(1.0, max(-1.0, _dot(axis, e3))))
+    comps = (_dot(rate, e1), _dot(rate, e2), _dot(rate, e3))
     ca, sa, cb, sb = math.cos(alpha), math.sin(alpha), math.cos(beta), math.sin(beta)
-    d_alpha = np.array([-cb * sa, cb * ca, 0.0])
-    d_beta = np.array([-sb * ca, -sb * sa, cb])
+    d_alpha = (-cb * sa, cb * ca, 0.0)
+    d_beta = (-sb * ca, -sb * sa, cb)
     return {
         'alpha0_deg': math.degrees(alpha),
         'beta0_deg': math.degrees(beta),
-        'alpha_rate_deg_s': math.degrees(float(comps @ d_alpha) / (cb * cb)),
-        'beta_rate_deg_s': math.degrees(float(comps @ d_beta)),
+        'alpha_rate_deg_s': math.degrees(_dot(comps, d_alpha) / (cb * cb)),
+        'beta_rate_deg_s': math.degrees(_dot(comps, d_beta)),
     }
 
 
@@ -296,11 +347,24 @@ def wobble_of(
     every ``WOBBLE_SAMPLE`` (and the last one); the second number is delta at the last of them.
     ``states`` (N, N_STATE) of the real-time kernel.
     """
-    keep = np.nonzero(times <= (times[-1] if until is None else until) + 1e-12)[0]
-    if keep.size > 2:
-        stride = max(1, int(round(WOBBLE_SAMPLE / max(times[1] - times[0], 1e-9))))
-        keep = np.unique(np.append(keep[::stride], keep[-1]))
-    states = states[keep]
+    return _wobbles(((times, states),), params, until)[0]
+
+
+def _wobbles(parts, params: np.ndarray, until: float | None = None) -> list[tuple[float, float]]:
+    """
+    Return :func:`wobble_of` of several sampled flights (times, states).
+
+    One vectorised pass over all their samples.
+    """
+    chosen, ends = [], []
+    for times, states in parts:
+        keep = np.nonzero(times <= (times[-1] if until is None else until) + 1e-12)[0]
+        if keep.size > 2:
+            stride = max(1, int(round(WOBBLE_SAMPLE / max(times[1] - times[0], 1e-9))))
+            keep = np.unique(np.append(keep[::stride], keep[-1]))
+        chosen.append(states[keep])
+        ends.append((ends[-1] if ends else 0) + keep.size)
+    states = np.concatenate(chosen) if len(chosen) > 1 else chosen[0]
     described = dyn.describe(states, params)
     axis = described[:, dyn.D_AXIS:dyn.D_AXIS + 3]
     air = states[:, dyn.V:dyn.V + 3] - params[dyn.P_WIND:dyn.P_WIND + 3]
@@ -319,14 +383,18 @@ def wobble_of(
     s1 = np.sqrt(np.clip(1.0 - np.abs(x_p) ** 2, 0.0, None))
     eq = frames.from_velocity_frame(np.stack([s1, x_p.real, x_p.imag], axis=-1), air)
     eq /= np.linalg.norm(eq, axis=-1, keepdims=True)
-    cosines = np.clip(np.sum(axis * eq, axis=-1), -1.0, 1.0)
-    wobble = math.degrees(float(np.max(np.arccos(cosines))))
-    return wobble, math.degrees(float(described[-1, dyn.D_DELTA]))
+    angles = np.arccos(np.clip(np.sum(axis * eq, axis=-1), -1.0, 1.0))
+    out, first = [], 0
+    for end in ends:
+        out.append((math.degrees(float(np.max(angles[first:end]))),
+                    math.degrees(float(described[end - 1, dyn.D_DELTA]))))
+        first = end
+    return out
 
 
-def _angle_deg(a: np.ndarray, b: np.ndarray) -> float:
-    """Angle [deg] between two unit vectors."""
-    return math.degrees(math.acos(min(1.0, max(-1.0, float(a @ b)))))
+def _angle_deg(a, b) -> float:
+    """Angle [deg] between two unit vectors (3-sequences)."""
+    return math.degrees(math.acos(min(1.0, max(-1.0, _dot(a, b)))))
 
 
 MAX_EQUILIBRIUM_DEG = 30.0
@@ -347,6 +415,8 @@ class _Shooter:
         self.ball, self.aero = resolve(base.preset(), base.model, base.aero_model())
         self.params = dyn.make_params(self.ball, base.moment, self.aero)
         self.gravity = float(self.params[dyn.P_GRAVITY])
+        self.consts = _scalar_constants(self.params)
+        self.wind = _vec(self.params[dyn.P_WIND:dyn.P_WIND + 3])
         self.h1 = self.ball.inertia_ratio * base.spin_rpm * RPM
         self.r0 = np.array(base.position, dtype=float)
         self.flights = 0
@@ -374,25 +444,29 @@ class _Shooter:
         of the air velocity, within ``MAX_OFFSET_DEG`` of the velocity, rate below
         ``MAX_RATE_DEG_S``); else the axis along the air velocity turning with it; else along
         the velocity, not rotating. ``note`` says which fallback was taken ('' for none).
+        Vectors as 3-tuples of floats.
         """
-        vel = frames.direction(speed, math.radians(elev), math.radians(azim))
-        ground = vel / speed
+        vel = _direction(speed, elev, azim)
+        ground = (vel[0] / speed, vel[1] / speed, vel[2] / speed)
         if self.mode == 'aligned':
-            return vel, ground, np.zeros(3), ''
-        axis, rate = equilibrium_axis(self.params, vel, self.h1, self.mode != 'linear')
-        air = vel - self.params[dyn.P_WIND:dyn.P_WIND + 3]
-        e1 = air / math.sqrt(float(air @ air))
+            return vel, ground, (0.0, 0.0, 0.0), ''
+        axis, rate = _equilibrium_axis(self.consts, self.wind, vel, self.h1,
+                                       self.mode != 'linear')
+        wind = self.wind
+        air = (vel[0] - wind[0], vel[1] - wind[1], vel[2] - wind[2])
+        air_speed = math.sqrt(_dot(air, air))
+        e1 = (air[0] / air_speed, air[1] / air_speed, air[2] / air_speed)
         off_air = _angle_deg(axis, e1)
         if (off_air <= MAX_EQUILIBRIUM_DEG and _angle_deg(axis, ground) <= MAX_OFFSET_DEG
-                and math.degrees(math.sqrt(float(rate @ rate))) <= MAX_RATE_DEG_S):
+                and math.degrees(math.sqrt(_dot(rate, rate))) <= MAX_RATE_DEG_S):
             return vel, axis, rate, ''
         note = (f'the equilibrium is {off_air:.0f} deg off the air velocity (beyond the linear '
                 'theory): axis along the air velocity, turning with it')
         if _angle_deg(e1, ground) <= MAX_OFFSET_DEG:
-            omega_v = -self.gravity * math.hypot(e1[0], e1[1]) / math.sqrt(float(air @ air))
-            e2 = frames.velocity_frame(air)[1]
-            return vel, e1, omega_v * e2, note
-        return vel, ground, np.zeros(3), (
+            omega_v = -self.gravity * math.hypot(e1[0], e1[1]) / air_speed
+            e2 = frames.velocity_frame(np.array(air))[1]
+            return vel, e1, _vec(omega_v * e2), note
+        return vel, ground, (0.0, 0.0, 0.0), (
             f'the air velocity is {_angle_deg(e1, ground):.0f} deg off the velocity (wind): '
             'axis along the velocity, not rotating')
 
@@ -400,23 +474,25 @@ class _Shooter:
         """Release attitude options for a release (degrees) in the current mode."""
         vel, axis, rate, _ = self.axis_rate(speed, elev, azim)
         att = _options(vel, axis, rate)
-        for key, off in zip(att, self.offsets):
-            att[key] += float(off)
+        if self.offsets.any():
+            for key, off in zip(att, self.offsets):
+                att[key] += float(off)
         return att
 
     def y0(self, speed: float, elev: float, azim: float) -> np.ndarray:
         """State vector of the real-time kernel, built as :class:`Flight` builds it."""
-        if not np.any(self.offsets):
+        if not self.offsets.any():
             # The release's axis and rate directly (what the release options give, to
             # round-off, without the detour through angles).
             vel, axis, rate, _ = self.axis_rate(speed, elev, azim)
-            spin = self.base.spin_rpm * RPM
+            h1 = self.ball.inertia_ratio * self.base.spin_rpm * RPM
+            turn = _cross(axis, rate)
             y0 = np.zeros(dyn.N_STATE)
             y0[dyn.R:dyn.R + 3] = self.r0
             y0[dyn.V:dyn.V + 3] = vel
-            y0[dyn.Q:dyn.Q + 4] = frames.attitude_with_axis(axis)
-            y0[dyn.H:dyn.H + 3] = np.cross(axis, rate) + self.ball.inertia_ratio * spin * axis
-            y0[dyn.H1] = self.ball.inertia_ratio * spin
+            y0[dyn.Q:dyn.Q + 4] = frames.attitude_with_axis(np.array(axis))
+            y0[dyn.H:dyn.H + 3] = [turn[i] + h1 * axis[i] for i in range(3)]
+            y0[dyn.H1] = h1
             return y0
         att = self.attitude(speed, elev, azim)
         st = initial_state_of(
@@ -442,15 +518,16 @@ class _Shooter:
 
     def cross_vacuum(self, speed: float, elev: float, azim: float):
         """Return :meth:`cross` of the vacuum parabola (closed form; None if never there)."""
-        vel = frames.direction(speed, math.radians(elev), math.radians(azim))
-        along = float(vel @ self.d)
+        vel = _direction(speed, elev, azim)
+        d, n, r0, target = self.d, self.n, self.r0, self.target
+        along = vel[0] * d[0] + vel[1] * d[1]
         if along <= 0.0:
             return None
-        t = float((self.target - self.r0) @ self.d) / along
-        p = self.r0 + vel * t
-        p[2] -= 0.5 * self.gravity * t * t
-        off = p - self.target
-        return float(off @ self.n), float(off[2]), t
+        t = ((target[0] - r0[0]) * d[0] + (target[1] - r0[1]) * d[1]) / along
+        off_x = r0[0] + vel[0] * t - target[0]
+        off_y = r0[1] + vel[1] * t - target[1]
+        off_z = r0[2] + vel[2] * t - 0.5 * self.gravity * t * t - target[2]
+        return off_x * n[0] + off_y * n[1], off_z, t
 
     def duration_guess(self, speed: float, elev: float) -> float:
         horizontal = max(speed * math.cos(math.radians(elev)), 1.0)
@@ -483,12 +560,11 @@ class _Shooter:
             duration = self.duration_guess(speed, elev)
         while True:
             self.flights += 1
-            times, states, landed = dyn.propagate(
-                y0, self.step, self.params, self.step, duration, ground
+            times, states, landed = kernels.fly(
+                y0, self.step, self.params, duration, ground, self.target, self.d, 0
             )
-            hit = _plane_crossing(times, states, self.target, self.d)
-            if hit is not None:
-                t, p = hit
+            found, t, p = kernels.plane_crossing(times, states, self.target, self.d)
+            if found:
                 off = p - self.target
                 self.last_time = float(t)
                 return float(off @ self.n), float(off[2]), t
@@ -497,41 +573,15 @@ class _Shooter:
             duration = min(2.0 * duration, 30.0)
 
 
-def _hermite(p0, v0, p1, v1, dt, u):
-    """Cubic Hermite position at fraction ``u`` of a step of ``dt`` [s] (arrays broadcast)."""
-    u2, u3 = u * u, u * u * u
-    return (
-        (2 * u3 - 3 * u2 + 1) * p0
-        + (u3 - 2 * u2 + u) * dt * v0
-        + (-2 * u3 + 3 * u2) * p1
-        + (u3 - u2) * dt * v1
-    )
+def _direction(speed: float, elev: float, azim: float) -> tuple[float, float, float]:
+    """
+    Return the velocity [m/s] in ``field`` of a speed, elevation and azimuth [deg].
 
-
-def _plane_crossing(times, states, target, d):
-    """First crossing (time, position) of the plane (p - T).d = 0, moving forward, or None."""
-    pos = states[:, dyn.R:dyn.R + 3]
-    f = (pos - target) @ d
-    ahead = np.nonzero(f >= 0.0)[0]
-    if ahead.size == 0 or ahead[0] == 0:
-        return None
-    k = int(ahead[0]) - 1
-    dt = times[k + 1] - times[k]
-    p0, p1 = pos[k], pos[k + 1]
-    v0, v1 = states[k, dyn.V:dyn.V + 3], states[k + 1, dyn.V:dyn.V + 3]
-    f0, f1 = f[k], f[k + 1]
-    u = f0 / (f0 - f1) if f1 != f0 else 0.0
-    for _ in range(8):  # Newton on the cubic of the along-plane coordinate
-        val = (_hermite(p0, v0, p1, v1, dt, u) - target) @ d
-        du = 1e-6
-        slope = ((_hermite(p0, v0, p1, v1, dt, u + du) - target) @ d - val) / du
-        if slope == 0.0:
-            break
-        step = val / slope
-        u = min(max(u - step, 0.0), 1.0)
-        if abs(step) < 1e-12:
-            break
-    return times[k] + u * dt, _hermite(p0, v0, p1, v1, dt, u)
+    :func:`football_ros.physics.frames.direction` in plain floats.
+    """
+    e, a = math.radians(elev), math.radians(azim)
+    ce = math.cos(e)
+    return speed * (ce * math.cos(a)), speed * (ce * math.sin(a)), speed * math.sin(e)
 
 
 def closest_approach(times, states, target) -> tuple[float, float, np.ndarray]:
@@ -539,23 +589,12 @@ def closest_approach(times, states, target) -> tuple[float, float, np.ndarray]:
     Closest approach of a sampled path to ``target``: (distance [m], time [s], point [m]).
 
     On the cubic Hermite interpolant of the samples' positions and velocities (201 points in
-    each of the two steps beside the closest sample).
+    each of the two steps beside the closest sample; :func:`kernels.closest_approach`).
     """
-    pos = states[:, dyn.R:dyn.R + 3]
-    vel = states[:, dyn.V:dyn.V + 3]
-    k = int(np.argmin(np.linalg.norm(pos - target, axis=1)))
-    best = (float(np.linalg.norm(pos[k] - target)), float(times[k]), pos[k].copy())
-    u = np.linspace(0.0, 1.0, 201)[:, None]
-    for j in (k - 1, k):
-        if j < 0 or j + 1 >= len(times):
-            continue
-        dt = times[j + 1] - times[j]
-        pts = _hermite(pos[j], vel[j], pos[j + 1], vel[j + 1], dt, u)
-        dist = np.linalg.norm(pts - target, axis=1)
-        i = int(np.argmin(dist))
-        if dist[i] < best[0]:
-            best = (float(dist[i]), float(times[j] + u[i, 0] * dt), pts[i].copy())
-    return best
+    dist, t, point = kernels.closest_approach(
+        np.ascontiguousarray(times, dtype=float), np.ascontiguousarray(states, dtype=float),
+        np.asarray(target, dtype=float), kernels.APPROACH_POINTS)
+    return float(dist), float(t), point
 
 
 # --- solving ----------------------------------------------------------------
@@ -815,7 +854,7 @@ def _closest_reachable(sh: _Shooter, speed: float, elev_range) -> np.ndarray:
     best, best_d = None, math.inf
     for elev in np.linspace(max(elev_range[0], 0.0), elev_range[1], 15):
         y0 = sh.y0(speed, float(elev), math.degrees(sh.bearing))
-        times, states, _ = dyn.propagate(y0, sh.step, sh.params, sh.step, 30.0, 0.0)
+        times, states, _ = kernels.fly(y0, sh.step, sh.params, 30.0, 0.0, sh.target, sh.d, -1)
         sh.flights += 1
         dist, _, point = closest_approach(times, states, sh.target)
         if dist < best_d:
@@ -956,9 +995,8 @@ def plan(
             f'the plan needs elevation {elev:.2f} deg outside elevation_range '
             f'[{lo_e:g}, {hi_e:g}] deg', 'elevation_range',
             _closest_reachable(sh, speed, (lo_e, hi_e)))
-    linear = equilibrium_attitude(
-        sh.params, frames.direction(speed, math.radians(elev), math.radians(azim)), sh.h1, False
-    )
+    linear = _options(_direction(speed, elev, azim), *_equilibrium_axis(
+        sh.consts, sh.wind, _direction(speed, elev, azim), sh.h1, False))
     mode = attitude
     if attitude == 'refined':
         sh.offsets = _refine(sh, speed, elev, azim)
@@ -1004,7 +1042,7 @@ def _refine(sh: _Shooter, speed: float, elev: float, azim: float) -> np.ndarray:
             y0 = sh.y0(speed, elev, azim)
         except ReleaseError:
             return 1e3
-        times, states, _ = dyn.propagate(y0, sh.step, sh.params, sh.step, until, -1e4)
+        times, states, _ = kernels.fly(y0, sh.step, sh.params, until, -1e4, sh.target, sh.d, -1)
         sh.flights += 1
         return wobble_of(times, states, sh.params)[0]
 
@@ -1019,47 +1057,57 @@ def _refine(sh: _Shooter, speed: float, elev: float, azim: float) -> np.ndarray:
     return sh.offsets
 
 
+PAST_PLANE_STEPS = 2
+"""Steps the checking flight goes on after it crosses the target plane (the closest approach
+is within a step of the crossing; its interpolant needs the step after the closest sample)."""
+
+
 def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear, tolerance,
                   with_wobble=True):
-    """Build the Release, fly it by :class:`Flight` and check the miss (module docstring)."""
+    """
+    Build the Release, fly it as :class:`Flight` flies it and check the miss (module docstring).
+
+    The checking flight starts from the Release's own state (:meth:`Release.initial_state`),
+    passes the step rules of :func:`football_ros.physics.limits.check_flyable` and is flown by
+    :func:`kernels.fly` (the real-time kernel's steps) to ``PAST_PLANE_STEPS`` past the target
+    plane, or to its landing on z = 0, or 30 s.
+    """
     att = sh.attitude(speed, elev, azim)
     try:
         release = sh.base.replace(speed=speed, elevation_deg=elev,
                                   azimuth_deg=_wrap(azim), **att)
+        initial = release.initial_state()
+        check_flyable(sh.params, initial, sh.step)
     except ReleaseError as exc:
         raise PlanError(f'the planned release is outside the release limits: {exc}',
                         'release') from None
-    flight = Flight.from_release(release, sh.step)
-    guess = sh.duration_guess(speed, elev)
-    traj = flight.simulate(rate=1.0 / sh.step, duration=guess)
-    miss, t_arr, point = closest_approach(traj.times, traj.states, sh.target)
-    if miss > tolerance and not traj.landed and traj.times[-1] < 30.0:
-        traj = flight.simulate(rate=1.0 / sh.step, duration=30.0)
-        miss, t_arr, point = closest_approach(traj.times, traj.states, sh.target)
+    times, states, _ = kernels.fly(_state_vector(initial, sh.ball.inertia_ratio), sh.step,
+                                   sh.params, 30.0, 0.0, sh.target, sh.d, PAST_PLANE_STEPS)
     sh.flights += 1
+    miss, t_arr, point = closest_approach(times, states, sh.target)
     if not miss <= tolerance:
         raise PlanError(
             f'the checking flight misses the target by {miss:.3f} m > tolerance '
             f'{tolerance:g} m', 'tolerance', point)
-    keep = traj.times <= t_arr + 1e-12
+    keep = times <= t_arr + 1e-12
     wobble = delta = aligned_wobble = aligned_delta = math.nan
-    if with_wobble:
-        wobble, delta = wobble_of(traj.times[keep], traj.states[keep], flight.params)
-    warnings = []
-    note = sh.axis_rate(speed, elev, azim)[3]
-    if note and mode != 'aligned':
-        warnings.append(note)
-    if not flight.modes.stable:
-        warnings.append('gyroscopically unstable at release: the equilibrium is not an '
-                        'attractor and the wobble grows')
     if with_wobble:
         saved = sh.mode
         sh.mode = 'aligned'
         y0 = sh.y0(speed, elev, azim)
         sh.mode = saved
-        times, states, _ = dyn.propagate(y0, sh.step, sh.params, sh.step, t_arr, 0.0)
+        a_times, a_states, _ = kernels.fly(y0, sh.step, sh.params, t_arr, 0.0, sh.target, sh.d,
+                                           -1)
         sh.flights += 1
-        aligned_wobble, aligned_delta = wobble_of(times, states, sh.params)
+        (wobble, delta), (aligned_wobble, aligned_delta) = _wobbles(
+            ((times[keep], states[keep]), (a_times, a_states)), sh.params)
+    warnings = []
+    note = sh.axis_rate(speed, elev, azim)[3]
+    if note and mode != 'aligned':
+        warnings.append(note)
+    if not _gyroscopically_stable(sh, initial):
+        warnings.append('gyroscopically unstable at release: the equilibrium is not an '
+                        'attractor and the wobble grows')
     return Plan(
         release=release,
         objective=objective,
@@ -1075,10 +1123,29 @@ def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear,
         attitude=mode,
         linear_release={k: float(v) for k, v in linear.items()},
         flights=sh.flights,
-        path_times=np.append(traj.times[keep], t_arr),
-        path_positions=np.vstack([traj.positions[keep], point]),
+        path_times=np.append(times[keep], t_arr),
+        path_positions=np.vstack([states[keep, dyn.R:dyn.R + 3], point]),
         warnings=tuple(warnings),
     )
+
+
+def _state_vector(initial: InitialState, inertia_ratio: float) -> np.ndarray:
+    """Real-time state vector of a release state, as :class:`Flight` builds it."""
+    y0 = np.zeros(dyn.N_STATE)
+    y0[dyn.R:dyn.R + 3] = initial.position
+    y0[dyn.V:dyn.V + 3] = initial.velocity
+    y0[dyn.Q:dyn.Q + 4] = initial.attitude
+    y0[dyn.H:dyn.H + 3] = initial.transverse_rate + inertia_ratio * initial.spin * initial.axis
+    y0[dyn.H1] = inertia_ratio * initial.spin
+    return y0
+
+
+def _gyroscopically_stable(sh: _Shooter, initial: InitialState) -> bool:
+    """Return the frozen linear theory's criterion at release (``LinearModes.stable``)."""
+    air = _vec(initial.velocity)
+    air = (air[0] - sh.wind[0], air[1] - sh.wind[1], air[2] - sh.wind[2])
+    h1 = sh.ball.inertia_ratio * initial.spin
+    return h1 * h1 > 4.0 * moment_slope(sh.ball, math.sqrt(_dot(air, air)))
 
 
 def _wrap(azim: float) -> float:

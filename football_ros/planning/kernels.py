@@ -1,0 +1,172 @@
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The planner's compiled flights: the real-time kernel's RK4 steps, stopped at the target plane.
+
+:func:`fly` takes the steps of :func:`football_ros.physics.dynamics.propagate` sampled at every
+step (the same states: positions and velocities bit for bit, the attitude to round-off, as
+``propagate`` takes a zero-length projected step for each sample) without the per-sample
+partial step, and can stop a few steps after the path first crosses the target plane
+(p - T).d = 0 moving forward. :func:`plane_crossing` and :func:`closest_approach` locate the
+crossing and the closest approach to T on the cubic Hermite interpolant of the steps
+(:func:`football_ros.physics.batch._hermite`, the one interpolant).
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+import numpy as np
+
+from ..physics import dynamics as dyn
+from ..physics.batch import _hermite
+
+APPROACH_POINTS = np.linspace(0.0, 1.0, 201)
+"""Fractions of a step at which :func:`closest_approach` evaluates the interpolant."""
+
+
+@njit(cache=True, nogil=True)
+def fly(y0, dt, params, duration, ground, target, d, past_plane):
+    """
+    RK4 steps of ``dt`` [s] from ``y0`` (real-time state vector); return (times, states, landed).
+
+    States at t = k dt for k = 0 .. floor(duration / dt) (as ``dynamics.propagate`` with
+    sample period dt), or to the landing on z = ``ground`` (the last state then the landing,
+    located as ``propagate`` locates it). ``past_plane`` >= 0: stop that many steps after the
+    first state with (p - target).d >= 0 (a forward crossing of the target plane; ``target``,
+    ``d`` (3,) in ``field``); < 0: never.
+    """
+    n_max = int(math.floor(duration / dt + 1e-9)) + 1
+    times = np.empty(n_max)
+    states = np.empty((n_max, y0.size))
+    y = y0.copy()
+    work = np.empty((5, y0.size))
+    times[0] = 0.0
+    states[0] = y0
+    dyn._project(states[0])  # propagate's first sample: a zero-length projected step
+    left = -1
+    if past_plane >= 0:
+        f = (y0[dyn.R] - target[0]) * d[0] + (y0[dyn.R + 1] - target[1]) * d[1] + (
+            y0[dyn.R + 2] - target[2]) * d[2]
+        if f >= 0.0:
+            left = past_plane
+    for k in range(1, n_max):
+        if left == 0:
+            return times[:k], states[:k], False
+        dyn.rk4_step_with(y, dt, params, states[k], work)
+        if dyn.crossed_ground(y, states[k], ground):
+            return dyn._finish_with_landing(times, states, k, y, (k - 1) * dt, dt, params,
+                                            ground)
+        y[:] = states[k]
+        times[k] = k * dt
+        if left > 0:
+            left -= 1
+        elif past_plane >= 0:
+            f = (y[dyn.R] - target[0]) * d[0] + (y[dyn.R + 1] - target[1]) * d[1] + (
+                y[dyn.R + 2] - target[2]) * d[2]
+            if f >= 0.0:
+                left = past_plane
+    return times, states, False
+
+
+@njit(cache=True)
+def _along(p0, v0, p1, v1, dt, u, target, d):
+    """(Hermite position at u - target).d."""
+    out = 0.0
+    for i in range(3):
+        out += (_hermite(p0[i], v0[i], p1[i], v1[i], dt, u) - target[i]) * d[i]
+    return out
+
+
+@njit(cache=True)
+def plane_crossing(times, states, target, d):
+    """
+    First forward crossing of the plane (p - target).d = 0: (found, time [s], position (3,)).
+
+    Newton on the cubic Hermite interpolant of the along-plane coordinate inside the step
+    (8 iterations at most, forward-difference slope).
+    """
+    n = times.size
+    k = -1
+    for j in range(n):
+        f = 0.0
+        for i in range(3):
+            f += (states[j, dyn.R + i] - target[i]) * d[i]
+        if f >= 0.0:
+            k = j - 1
+            break
+    point = np.zeros(3)
+    if k < 0:
+        return False, 0.0, point
+    dt = times[k + 1] - times[k]
+    p0, p1 = states[k, dyn.R:dyn.R + 3], states[k + 1, dyn.R:dyn.R + 3]
+    v0, v1 = states[k, dyn.V:dyn.V + 3], states[k + 1, dyn.V:dyn.V + 3]
+    f0, f1 = 0.0, 0.0
+    for i in range(3):
+        f0 += (p0[i] - target[i]) * d[i]
+        f1 += (p1[i] - target[i]) * d[i]
+    u = f0 / (f0 - f1) if f1 != f0 else 0.0
+    for _ in range(8):
+        val = _along(p0, v0, p1, v1, dt, u, target, d)
+        du = 1e-6
+        slope = (_along(p0, v0, p1, v1, dt, u + du, target, d) - val) / du
+        if slope == 0.0:
+            break
+        step = val / slope
+        u = min(max(u - step, 0.0), 1.0)
+        if abs(step) < 1e-12:
+            break
+    for i in range(3):
+        point[i] = _hermite(p0[i], v0[i], p1[i], v1[i], dt, u)
+    return True, times[k] + u * dt, point
+
+
+@njit(cache=True)
+def closest_approach(times, states, target, fractions):
+    """
+    Closest approach of sampled states to ``target``: (distance [m], time [s], point (3,)).
+
+    The closest sample, then the cubic Hermite interpolant at ``fractions`` of each of the two
+    steps beside it.
+    """
+    n = times.size
+    k = 0
+    best = math.inf
+    for j in range(n):
+        dist = 0.0
+        for i in range(3):
+            dist += (states[j, dyn.R + i] - target[i]) ** 2
+        dist = math.sqrt(dist)
+        if dist < best:
+            best, k = dist, j
+    point = states[k, dyn.R:dyn.R + 3].copy()
+    t_best = times[k]
+    trial = np.empty(3)
+    for j in (k - 1, k):
+        if j < 0 or j + 1 >= n:
+            continue
+        dt = times[j + 1] - times[j]
+        for u in fractions:
+            dist = 0.0
+            for i in range(3):
+                trial[i] = _hermite(states[j, dyn.R + i], states[j, dyn.V + i],
+                                    states[j + 1, dyn.R + i], states[j + 1, dyn.V + i], dt, u)
+                dist += (trial[i] - target[i]) ** 2
+            dist = math.sqrt(dist)
+            if dist < best:
+                best, t_best = dist, times[j] + u * dt
+                point[:] = trial
+    return best, t_best, point
