@@ -17,13 +17,14 @@ The throw planner: target point in ``field`` -> speed, elevation, azimuth and re
 
 Aim. The ball's centre must pass through the target T. The planner shoots on the package's own
 flight (the real-time kernel of :class:`football_ros.physics.Flight`, RK4 at the simulator's
-step): the miss is measured where the flown path crosses the vertical plane through T
-perpendicular to the horizontal line from the release point to T (a lateral and a vertical
-offset, cubic Hermite inside the step), and Newton steps with a finite-difference Jacobian and
-Broyden updates drive it below ``SOLVE_TOLERANCE``. Two equations, three unknowns: the objective
-fixes the third. ``fastest``: the flat arc at the largest speed; ``flat`` / ``lofted``: the two
-arcs at the given speed; ``lowest_speed``: the elevation that needs the least speed (where the
-two arcs meet); a wanted arrival time replaces the objective by a third equation.
+step, compiled in :mod:`.kernels` and stopped at the target plane): the miss is measured where
+the flown path crosses the vertical plane through T perpendicular to the horizontal line from
+the release point to T (a lateral and a vertical offset, cubic Hermite inside the step), and
+Newton steps with a finite-difference Jacobian and Broyden updates drive it below
+``SOLVE_TOLERANCE``. Two equations, three unknowns: the objective fixes the third.
+``fastest``: the flat arc at the largest speed; ``flat`` / ``lofted``: the two arcs at the given
+speed; ``lowest_speed``: the elevation that needs the least speed (where the two arcs meet); a
+wanted arrival time replaces the objective by a third equation.
 
 Attitude. The least wobble is not the axis along the velocity: the spin momentum can follow the
 turning velocity only with the nose at the equilibrium sideslip. The release puts the axis on
@@ -40,10 +41,12 @@ Wobble amplitude (:func:`wobble_of`): the largest angle between the spin axis an
 quasi-steady equilibrium axis X_p(t) (velocity frame of the local air velocity, the local speed,
 path angle and spin), over the flight from release to the arrival at the target.
 
-Check. A solved plan is flown once more by :class:`Flight` from its :class:`Release`, with the
-ground at z = 0, and its closest approach to T must be within ``tolerance``; otherwise
-:class:`PlanError`. Every refusal names the limit and, where one exists, the closest reachable
-point (the nearest of the points a scan of elevations at the limiting speed reaches).
+Check. A solved plan is flown once more from its :class:`Release`'s own initial state, as
+:class:`Flight` flies it (the step rules of ``check_flyable``, the real-time kernel's RK4 steps
+by :func:`kernels.fly`), with the ground at z = 0, to just past the target plane; its closest
+approach to T must be within ``tolerance``; otherwise :class:`PlanError`. Every refusal names
+the limit and, where one exists, the closest reachable point (the nearest of the points a scan
+of elevations at the limiting speed reaches).
 """
 
 from __future__ import annotations
@@ -472,12 +475,16 @@ class _Shooter:
 
     def attitude(self, speed: float, elev: float, azim: float) -> dict[str, float]:
         """Release attitude options for a release (degrees) in the current mode."""
-        vel, axis, rate, _ = self.axis_rate(speed, elev, azim)
+        return self.attitude_note(speed, elev, azim)[0]
+
+    def attitude_note(self, speed: float, elev: float, azim: float):
+        """Return (:meth:`attitude`, the note of :meth:`axis_rate`)."""
+        vel, axis, rate, note = self.axis_rate(speed, elev, azim)
         att = _options(vel, axis, rate)
         if self.offsets.any():
             for key, off in zip(att, self.offsets):
                 att[key] += float(off)
-        return att
+        return att, note
 
     def y0(self, speed: float, elev: float, azim: float) -> np.ndarray:
         """State vector of the real-time kernel, built as :class:`Flight` builds it."""
@@ -1072,7 +1079,7 @@ def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear,
     :func:`kernels.fly` (the real-time kernel's steps) to ``PAST_PLANE_STEPS`` past the target
     plane, or to its landing on z = 0, or 30 s.
     """
-    att = sh.attitude(speed, elev, azim)
+    att, note = sh.attitude_note(speed, elev, azim)
     try:
         release = sh.base.replace(speed=speed, elevation_deg=elev,
                                   azimuth_deg=_wrap(azim), **att)
@@ -1102,7 +1109,6 @@ def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear,
         (wobble, delta), (aligned_wobble, aligned_delta) = _wobbles(
             ((times[keep], states[keep]), (a_times, a_states)), sh.params)
     warnings = []
-    note = sh.axis_rate(speed, elev, azim)[3]
     if note and mode != 'aligned':
         warnings.append(note)
     if not _gyroscopically_stable(sh, initial):
@@ -1146,6 +1152,11 @@ def _gyroscopically_stable(sh: _Shooter, initial: InitialState) -> bool:
     air = (air[0] - sh.wind[0], air[1] - sh.wind[1], air[2] - sh.wind[2])
     h1 = sh.ball.inertia_ratio * initial.spin
     return h1 * h1 > 4.0 * moment_slope(sh.ball, math.sqrt(_dot(air, air)))
+
+
+def warm_up() -> None:
+    """Load (or, on a cold numba cache, compile) the planner's kernels: one short plan."""
+    plan([12.0, 0.0, 1.5], Release(position=(0.0, 0.0, 1.8), model='full'), wobble=False)
 
 
 def _wrap(azim: float) -> float:
