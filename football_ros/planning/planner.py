@@ -33,9 +33,10 @@ x_p = -F/C of the flown model plus its first-order drift B x_p'/C, against the a
 turn with the velocity frame (w_V = -g cos(Phi)/U about e3) and the equilibrium's drift x_p':
 the release whose mode amplitudes K1 = K2 = 0 (C1 = C2 = 0 for the paper's frozen theory).
 ``attitude='refined'`` then minimises the wobble of the whole nonlinear flight over the four
-attitude numbers (Nelder-Mead) and aims again. Where the equilibrium lies beyond the linear
-theory (more than 30 deg off the air velocity: slow lobs, s3p ~ 1/V^3) the axis goes along the
-air velocity, turning with it, and the plan warns (:meth:`_Shooter.axis_rate`).
+attitude numbers (the axis' deviation from X_p linearised in them by four more flights, its
+largest value minimised: :func:`_refine`) and aims again. Where the equilibrium lies beyond
+the linear theory (more than 30 deg off the air velocity: slow lobs, s3p ~ 1/V^3) the axis goes
+along the air velocity, turning with it, and the plan warns (:meth:`_Shooter.axis_rate`).
 
 Wobble amplitude (:func:`wobble_of`): the largest angle between the spin axis and the local
 quasi-steady equilibrium axis X_p(t) (velocity frame of the local air velocity, the local speed,
@@ -361,13 +362,30 @@ def _wobbles(parts, params: np.ndarray, until: float | None = None) -> list[tupl
     """
     chosen, ends = [], []
     for times, states in parts:
-        keep = np.nonzero(times <= (times[-1] if until is None else until) + 1e-12)[0]
-        if keep.size > 2:
-            stride = max(1, int(round(WOBBLE_SAMPLE / max(times[1] - times[0], 1e-9))))
-            keep = np.unique(np.append(keep[::stride], keep[-1]))
-        chosen.append(states[keep])
-        ends.append((ends[-1] if ends else 0) + keep.size)
+        chosen.append(_wobble_samples(times, states, until))
+        ends.append((ends[-1] if ends else 0) + len(chosen[-1]))
     states = np.concatenate(chosen) if len(chosen) > 1 else chosen[0]
+    axis, eq, described = _axis_and_equilibrium(states, params)
+    angles = np.arccos(np.clip(np.sum(axis * eq, axis=-1), -1.0, 1.0))
+    out, first = [], 0
+    for end in ends:
+        out.append((math.degrees(float(np.max(angles[first:end]))),
+                    math.degrees(float(described[end - 1, dyn.D_DELTA]))))
+        first = end
+    return out
+
+
+def _wobble_samples(times: np.ndarray, states: np.ndarray, until: float | None = None):
+    """Return the states the wobble amplitude is taken over (:func:`wobble_of`)."""
+    keep = np.nonzero(times <= (times[-1] if until is None else until) + 1e-12)[0]
+    if keep.size > 2:
+        stride = max(1, int(round(WOBBLE_SAMPLE / max(times[1] - times[0], 1e-9))))
+        keep = np.unique(np.append(keep[::stride], keep[-1]))
+    return states[keep]
+
+
+def _axis_and_equilibrium(states: np.ndarray, params: np.ndarray):
+    """Return the spin axis, the equilibrium axis X_p (unit, (N, 3), ``field``) and describe."""
     described = dyn.describe(states, params)
     axis = described[:, dyn.D_AXIS:dyn.D_AXIS + 3]
     air = states[:, dyn.V:dyn.V + 3] - params[dyn.P_WIND:dyn.P_WIND + 3]
@@ -386,13 +404,7 @@ def _wobbles(parts, params: np.ndarray, until: float | None = None) -> list[tupl
     s1 = np.sqrt(np.clip(1.0 - np.abs(x_p) ** 2, 0.0, None))
     eq = frames.from_velocity_frame(np.stack([s1, x_p.real, x_p.imag], axis=-1), air)
     eq /= np.linalg.norm(eq, axis=-1, keepdims=True)
-    angles = np.arccos(np.clip(np.sum(axis * eq, axis=-1), -1.0, 1.0))
-    out, first = [], 0
-    for end in ends:
-        out.append((math.degrees(float(np.max(angles[first:end]))),
-                    math.degrees(float(described[end - 1, dyn.D_DELTA]))))
-        first = end
-    return out
+    return axis, eq, described
 
 
 def _angle_deg(a, b) -> float:
@@ -1036,32 +1048,93 @@ def _reaim(aim: _Aim, sh: _Shooter, arc, speed, elev, azim, arrival_time, object
     return sol[0], sol[1], sol[2]
 
 
-def _refine(sh: _Shooter, speed: float, elev: float, azim: float) -> np.ndarray:
-    """Attitude offsets (deg, deg, deg/s, deg/s) minimising the nonlinear flight's wobble."""
-    from scipy.optimize import minimize
+REFINE_STEPS = np.array([0.05, 0.05, 0.5, 0.5])
+"""Finite-difference steps of the refinement's four attitude offsets (deg, deg, deg/s, deg/s)."""
 
+
+def _refine(sh: _Shooter, speed: float, elev: float, azim: float) -> np.ndarray:
+    """
+    Attitude offsets (deg, deg, deg/s, deg/s) minimising the nonlinear flight's wobble.
+
+    The deviation of the axis from the equilibrium axis, d(t) = s(t) - X_p(t), answers the
+    small offsets x of the release attitude linearly: d(t) = d0(t) + J(t) x, J by forward
+    differences (4 flights beside the equilibrium release's). The offsets minimising
+    max_t |d(t)| (the wobble amplitude, 2 sin(angle / 2)) on that model are found by SLSQP in
+    epigraph form, then flown: kept if the flown wobble is below the equilibrium release's.
+    """
     out = sh.cross(speed, elev, azim)
     until = out[2] if out is not None else sh.duration_guess(speed, elev)
 
-    def cost(offsets):
+    def deviation(offsets):
         sh.offsets = np.asarray(offsets, dtype=float)
         try:
             y0 = sh.y0(speed, elev, azim)
         except ReleaseError:
-            return 1e3
+            return None
         times, states, _ = kernels.fly(y0, sh.step, sh.params, until, -1e4, sh.target, sh.d, -1)
         sh.flights += 1
-        return wobble_of(times, states, sh.params)[0]
+        axis, eq, _ = _axis_and_equilibrium(_wobble_samples(times, states), sh.params)
+        return axis - eq
 
     start = np.zeros(4)
-    simplex = np.array([start] + [start + np.eye(4)[i] * s for i, s in
-                                  enumerate((0.3, 0.3, 3.0, 3.0))])
-    res = minimize(cost, start, method='Nelder-Mead',
-                   options={'initial_simplex': simplex, 'maxfev': 80, 'xatol': 1e-3,
-                            'fatol': 1e-4})
-    best = res.x if res.fun <= cost(start) else start
+    base = deviation(start)
+    columns = [deviation(h * np.eye(4)[i]) for i, h in enumerate(REFINE_STEPS)]
+    if base is None or any(c is None for c in columns):
+        sh.offsets = start
+        return sh.offsets
+    jac = np.stack([c - base for c in columns], axis=-1)  # (N, 3, 4), per step of REFINE_STEPS
+    scale = float(np.max(np.linalg.norm(base, axis=-1)))
+    if scale <= 0.0:
+        sh.offsets = start
+        return sh.offsets
+    z = _minimax(base / scale, jac / scale)
+    best = start
+    if z is not None:
+        trial = z * REFINE_STEPS
+        flown = deviation(trial)
+        if flown is not None and np.max(np.linalg.norm(flown, axis=-1)) < scale:
+            best = trial
     sh.offsets = np.asarray(best, dtype=float)
     return sh.offsets
+
+
+def _minimax(d0: np.ndarray, jac: np.ndarray) -> np.ndarray | None:
+    """
+    Return the x minimising max_n |d0[n] + jac[n] @ x| (d0 (N, 3), jac (N, 3, k)), or None.
+
+    SLSQP in epigraph form (min s subject to s^2 >= |r_n|^2) on an active set: the largest
+    residuals and every tenth sample first, then the samples the answer violates, until none.
+    """
+    from scipy.optimize import minimize
+
+    n, k = jac.shape[0], jac.shape[2]
+    norms = np.linalg.norm(d0, axis=-1)
+    active = np.union1d(np.argsort(norms)[-20:], np.arange(0, n, 10))
+    z = np.append(np.zeros(k), float(np.max(norms)))
+    for _ in range(6):
+        d, j = d0[active], jac[active]
+
+        def constraint(z, d=d, j=j):
+            r = d + j @ z[:k]
+            return z[k] * z[k] - np.sum(r * r, axis=-1)
+
+        def constraint_jac(z, d=d, j=j):
+            r = d + j @ z[:k]
+            return np.column_stack([-2.0 * np.einsum('nc,nck->nk', r, j),
+                                    np.full(len(r), 2.0 * z[k])])
+
+        res = minimize(lambda z: z[k], z, jac=lambda z: np.eye(k + 1)[k], method='SLSQP',
+                       constraints=[{'type': 'ineq', 'fun': constraint, 'jac': constraint_jac}],
+                       options={'maxiter': 100, 'ftol': 1e-12})
+        if not np.all(np.isfinite(res.x)):
+            return None
+        z = res.x
+        worst = np.linalg.norm(d0 + jac @ z[:k], axis=-1)
+        over = np.nonzero(worst > abs(z[k]) * (1.0 + 1e-6))[0]
+        if over.size == 0:
+            break
+        active = np.union1d(active, over[np.argsort(worst[over])[-20:]])
+    return z[:k]
 
 
 PAST_PLANE_STEPS = 2
