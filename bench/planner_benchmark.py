@@ -186,23 +186,26 @@ def wobble_floor(model: str, landing, rounds: int) -> tuple[float, int]:
 def wobble(quick: bool) -> None:
     print('\n## Wobble: the nominal pass (target = its landing point), amplitude over the flight')
     print(f'{"model":<7}{"attitude":<13}{"wobble [deg]":>13}{"/ aligned":>11}'
-          f'{"delta at arrival":>18}{"flights":>9}  release (alpha0, beta0 deg; rates deg/s)')
+          f'{"delta at arrival":>18}{"flights":>9}{"time [ms]":>11}'
+          '  release (alpha0, beta0 deg; rates deg/s)')
     verdicts = []
     for model in ('paper', 'full'):
         nominal = Release(model=model)
         landing = Flight.from_release(nominal).simulate(rate=100.0, duration=10.0).positions[-1]
         ref = None
         for attitude in ('aligned', 'linear', 'equilibrium', 'refined'):
+            t0 = CLOCK()
             p = plan(landing, Release(model=model), objective='flat', attitude=attitude)
+            took = (CLOCK() - t0) * 1e3
             ref = ref or p.wobble_deg
             r = p.release
             print(f'{model:<7}{attitude:<13}{p.wobble_deg:>13.3f}{p.wobble_deg / ref:>11.3f}'
-                  f'{p.arrival_delta_deg:>18.2f}{p.flights:>9}  ({r.alpha0_deg:.2f}, '
+                  f'{p.arrival_delta_deg:>18.2f}{p.flights:>9}{took:>11.1f}  ({r.alpha0_deg:.2f}, '
                   f'{r.beta0_deg:.2f}; {r.alpha_rate_deg_s:.1f}, {r.beta_rate_deg_s:.1f})')
         refined = p.wobble_deg / ref
         floor, flights = wobble_floor(model, landing, 1 if quick else 3)
         print(f'{model:<7}{"floor":<13}{floor:>13.3f}{floor / ref:>11.3f}{"":>18}{flights:>9}'
-              '  (offline: the best of any release attitude, thorough Nelder-Mead)')
+              f'{"":>11}  (offline: the best of any release attitude, thorough Nelder-Mead)')
         verdicts.append(f'{model}: refined {refined:.3f} x aligned, '
                         f'{"met" if refined <= 0.1 else "NOT met"}'
                         + ('' if floor / ref <= 0.1 else
