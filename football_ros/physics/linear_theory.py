@@ -288,8 +288,15 @@ def mode_rates(
     return (one, two) if abs(one.imag) >= abs(two.imag) else (two, one)
 
 
-def _scalar_constants(params: np.ndarray) -> tuple:
-    """Return the kernel parameters :func:`_local_exponents_scalar` reads, as Python floats."""
+def scalar_constants(params: np.ndarray) -> tuple:
+    """
+    Return the kernel parameters the scalar paths read, as a tuple of Python floats.
+
+    From kernel ``params`` (:func:`football_ros.physics.dynamics.make_params`): spin ratio
+    I_t/I_s, fk [1/m], dk [1/m], C_Lalpha, C_Mq, diameter [m], C_Npalpha, M_alpha / U^2
+    [1/m^2], C_Mpalpha, gravity [m/s^2], C_D0, C_lp, in that order; the ``consts`` of
+    :func:`local_exponents_scalar` and :func:`drifting_equilibrium`.
+    """
     keys = (
         dyn.P_SPIN_RATIO,
         dyn.P_FORCE_K,
@@ -307,11 +314,12 @@ def _scalar_constants(params: np.ndarray) -> tuple:
     return tuple(float(params[k]) for k in keys)
 
 
-def _local_exponents_scalar(consts: tuple, air_velocity, h1: float) -> tuple:
+def local_exponents_scalar(consts: tuple, air_velocity, h1: float) -> tuple:
     """
-    :func:`local_exponents` for one sample in plain floats (the real-time path).
+    Return :func:`local_exponents` for one sample, in plain floats (the real-time path).
 
-    ``consts`` from :func:`_scalar_constants`.
+    ``consts`` from :func:`scalar_constants`, ``air_velocity`` a 3-sequence [m/s] in
+    ``field``, ``h1`` [rad/s]. Returns (sigma_1, sigma_2, B, D_c, x_p) as Python complexes.
     """
     spin_ratio, fk, dk, c_la, c_mq, diameter, c_np, moment_k, c_mp, gravity = consts[:10]
     ux, uy, uz = (float(c) for c in air_velocity)
@@ -355,19 +363,50 @@ def _path_rates(consts: tuple, air, h1):
     return u_dot, dk * speed * c_lp * spin_ratio * h1
 
 
-def _drifting_equilibrium(exponents, consts, air, h1, b, d_c, x_p):
+def drifting_equilibrium(exponents, consts, air, h1, b, d_c, x_p):
     """
     Return the equilibrium to first order in its drift, and that drift: (x_p + B x_p'/C, x_p').
 
     Inserting x = x_p(t) + y in x'' + B x' - C x = F leaves B x_p' on the right; its
-    quasi-static answer is y = B x_p' / C. x_p' is a central difference of ``exponents``
-    (:func:`local_exponents` or the scalar twin) along the linearised path rates.
+    quasi-static answer is y = B x_p' / C. x_p' [1/s] is a central difference of
+    ``exponents`` (``exponents(air, h1)``: :func:`local_exponents` or the scalar twin) along
+    the linearised path rates. ``consts`` from :func:`scalar_constants`; ``air`` [m/s]
+    (..., 3) in ``field`` and ``h1`` [rad/s] the samples, ``b``, ``d_c``, ``x_p`` their
+    :func:`local_exponents`.
     """
     u_dot, h1_dot = _path_rates(consts, air, h1)
     eps = EQUILIBRIUM_STEP
     air = np.asarray(air, dtype=float)
     ahead = exponents(air + eps * u_dot, h1 + eps * h1_dot)[4]
     behind = exponents(air - eps * u_dot, h1 - eps * h1_dot)[4]
+    x_p_dot = (ahead - behind) / (2.0 * eps)
+    c = -(b * b + d_c * d_c) / 4.0
+    return x_p + b * x_p_dot / c, x_p_dot
+
+
+def drifting_equilibrium_scalar(consts: tuple, air, h1: float, b, d_c, x_p):
+    """
+    Return :func:`drifting_equilibrium` for one sample in plain floats (X_p, x_p').
+
+    ``air`` a 3-sequence [m/s] in ``field``, ``h1`` [rad/s], ``b``, ``d_c``, ``x_p`` its
+    :func:`local_exponents_scalar`; the exponents along the path by
+    :func:`local_exponents_scalar`. The vectorised path's operations in its order (the same
+    numbers); Python complexes.
+    """
+    spin_ratio, fk, dk, gravity, c_d0, c_lp = (
+        consts[0], consts[1], consts[2], consts[9], consts[10], consts[11])
+    ux, uy, uz = float(air[0]), float(air[1]), float(air[2])
+    speed = math.sqrt(ux * ux + uy * uy + uz * uz)
+    drag = -fk * c_d0 * speed
+    u_dot = (drag * ux - 0.0, drag * uy - 0.0, drag * uz - gravity)
+    h1_dot = dk * speed * c_lp * spin_ratio * h1
+    eps = EQUILIBRIUM_STEP
+    ahead = local_exponents_scalar(
+        consts, (ux + eps * u_dot[0], uy + eps * u_dot[1], uz + eps * u_dot[2]),
+        h1 + eps * h1_dot)[4]
+    behind = local_exponents_scalar(
+        consts, (ux - eps * u_dot[0], uy - eps * u_dot[1], uz - eps * u_dot[2]),
+        h1 - eps * h1_dot)[4]
     x_p_dot = (ahead - behind) / (2.0 * eps)
     c = -(b * b + d_c * d_c) / 4.0
     return x_p + b * x_p_dot / c, x_p_dot
@@ -406,9 +445,9 @@ def quasi_steady_components(
     times = np.asarray(times, dtype=float)
     h1 = np.broadcast_to(h1, times.shape)
     sig1, sig2, b, d_c, x_p = local_exponents(params, air_velocities, h1)
-    x_p, x_p_dot = _drifting_equilibrium(
+    x_p, x_p_dot = drifting_equilibrium(
         lambda air, h: local_exponents(params, air, h),
-        _scalar_constants(params),
+        scalar_constants(params),
         air_velocities,
         h1,
         b,
@@ -441,8 +480,8 @@ class QuasiSteadyTracker:
         self, modes: LinearModes, params: np.ndarray, release_air_velocity: np.ndarray
     ) -> None:
         self.modes, self.params = modes, params
-        self._consts = _scalar_constants(params)
-        sig1, sig2, b, d_c, x_p = _local_exponents_scalar(
+        self._consts = scalar_constants(params)
+        sig1, sig2, b, d_c, x_p = local_exponents_scalar(
             self._consts, release_air_velocity, modes.h1
         )
         x_p, x_p_dot = self._equilibrium(release_air_velocity, modes.h1, b, d_c, x_p)
@@ -458,7 +497,7 @@ class QuasiSteadyTracker:
 
         NaN once an unstable ball's theory overflows.
         """
-        sig1, sig2, b, d_c, x_p = _local_exponents_scalar(self._consts, air_velocity, float(h1))
+        sig1, sig2, b, d_c, x_p = local_exponents_scalar(self._consts, air_velocity, float(h1))
         x_p = self._equilibrium(air_velocity, float(h1), b, d_c, x_p)[0]
         if t > self._t:
             l1, l2, lb, ld = self._last
@@ -483,8 +522,4 @@ class QuasiSteadyTracker:
         return np.array([math.atan2(s2, s1), math.asin(s3)])
 
     def _equilibrium(self, air, h1, b, d_c, x_p):
-        def exponents(air_, h1_):
-            return _local_exponents_scalar(self._consts, air_, float(h1_))
-
-        x_p, x_p_dot = _drifting_equilibrium(exponents, self._consts, air, h1, b, d_c, x_p)
-        return complex(x_p), complex(x_p_dot)
+        return drifting_equilibrium_scalar(self._consts, air, float(h1), b, d_c, x_p)

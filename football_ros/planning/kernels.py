@@ -21,7 +21,7 @@ step (the same states: positions and velocities bit for bit, the attitude to rou
 partial step, and can stop a few steps after the path first crosses the target plane
 (p - T).d = 0 moving forward. :func:`plane_crossing` and :func:`closest_approach` locate the
 crossing and the closest approach to T on the cubic Hermite interpolant of the steps
-(:func:`football_ros.physics.batch._hermite`, the one interpolant).
+(:func:`football_ros.physics.batch.hermite`, the one interpolant).
 """
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ from numba import njit
 import numpy as np
 
 from ..physics import dynamics as dyn
-from ..physics.batch import _hermite
+from ..physics.batch import hermite
 
 APPROACH_POINTS = np.linspace(0.0, 1.0, 201)
 """Fractions of a step at which :func:`closest_approach` evaluates the interpolant."""
@@ -56,7 +56,7 @@ def fly(y0, dt, params, duration, ground, target, d, past_plane):
     work = np.empty((5, y0.size))
     times[0] = 0.0
     states[0] = y0
-    dyn._project(states[0])  # propagate's first sample: a zero-length projected step
+    dyn.project_invariants(states[0])  # propagate's first sample: a zero-length projected step
     left = -1
     if past_plane >= 0:
         f = (y0[dyn.R] - target[0]) * d[0] + (y0[dyn.R + 1] - target[1]) * d[1] + (
@@ -68,8 +68,8 @@ def fly(y0, dt, params, duration, ground, target, d, past_plane):
             return times[:k], states[:k], False
         dyn.rk4_step_with(y, dt, params, states[k], work)
         if dyn.crossed_ground(y, states[k], ground):
-            return dyn._finish_with_landing(times, states, k, y, (k - 1) * dt, dt, params,
-                                            ground)
+            return dyn.finish_with_landing(times, states, k, y, (k - 1) * dt, dt, params,
+                                           ground)
         y[:] = states[k]
         times[k] = k * dt
         if left > 0:
@@ -87,7 +87,7 @@ def _along(p0, v0, p1, v1, dt, u, target, d):
     """(Hermite position at u - target).d."""
     out = 0.0
     for i in range(3):
-        out += (_hermite(p0[i], v0[i], p1[i], v1[i], dt, u) - target[i]) * d[i]
+        out += (hermite(p0[i], v0[i], p1[i], v1[i], dt, u) - target[i]) * d[i]
     return out
 
 
@@ -130,7 +130,7 @@ def plane_crossing(times, states, target, d):
         if abs(step) < 1e-12:
             break
     for i in range(3):
-        point[i] = _hermite(p0[i], v0[i], p1[i], v1[i], dt, u)
+        point[i] = hermite(p0[i], v0[i], p1[i], v1[i], dt, u)
     return True, times[k] + u * dt, point
 
 
@@ -162,8 +162,8 @@ def closest_approach(times, states, target, fractions):
         for u in fractions:
             dist = 0.0
             for i in range(3):
-                trial[i] = _hermite(states[j, dyn.R + i], states[j, dyn.V + i],
-                                    states[j + 1, dyn.R + i], states[j + 1, dyn.V + i], dt, u)
+                trial[i] = hermite(states[j, dyn.R + i], states[j, dyn.V + i],
+                                   states[j + 1, dyn.R + i], states[j + 1, dyn.V + i], dt, u)
                 dist += (trial[i] - target[i]) ** 2
             dist = math.sqrt(dist)
             if dist < best:

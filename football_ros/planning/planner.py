@@ -65,11 +65,12 @@ from ..physics.aero import resolve
 from ..physics.flight import DEFAULT_STEP
 from ..physics.limits import check_flyable
 from ..physics.linear_theory import (
-    _drifting_equilibrium,
-    _local_exponents_scalar,
-    _scalar_constants,
+    drifting_equilibrium,
+    drifting_equilibrium_scalar,
     local_exponents,
+    local_exponents_scalar,
     moment_slope,
+    scalar_constants,
 )
 from ..physics.release import (
     initial_state_of,
@@ -237,7 +238,7 @@ def equilibrium_axis(
     at the equilibrium sideslip s3p, turning at w_V).
     """
     wind = tuple(float(w) for w in params[dyn.P_WIND:dyn.P_WIND + 3])
-    axis, rate = _equilibrium_axis(_scalar_constants(params), wind, _vec(velocity), float(h1),
+    axis, rate = _equilibrium_axis(scalar_constants(params), wind, _vec(velocity), float(h1),
                                    drift)
     return np.array(axis), np.array(rate)
 
@@ -259,21 +260,13 @@ def _equilibrium_axis(consts: tuple, wind: tuple, velocity: tuple, h1: float, dr
     """
     Return :func:`equilibrium_axis` in plain floats: (axis, rate) 3-tuples.
 
-    ``consts`` and ``wind`` from the kernel parameters (:func:`_scalar_constants`, P_WIND).
+    ``consts`` and ``wind`` from the kernel parameters (:func:`scalar_constants`, P_WIND).
     """
     air = (velocity[0] - wind[0], velocity[1] - wind[1], velocity[2] - wind[2])
-    _, _, b, d_c, x_p = _local_exponents_scalar(consts, air, h1)
+    _, _, b, d_c, x_p = local_exponents_scalar(consts, air, h1)
     x_p_dot = 0.0
     if drift:
-        x_p, x_p_dot = _drifting_equilibrium(
-            lambda a, h: _local_exponents_scalar(consts, a, float(h)),
-            consts,
-            np.array(air),
-            h1,
-            b,
-            d_c,
-            x_p,
-        )
+        x_p, x_p_dot = drifting_equilibrium_scalar(consts, air, h1, b, d_c, x_p)
     x_p, x_p_dot = complex(x_p), complex(x_p_dot)
     speed = math.sqrt(_dot(air, air))
     e1 = (air[0] / speed, air[1] / speed, air[2] / speed)
@@ -303,7 +296,7 @@ def equilibrium_attitude(
     """
     velocity = _vec(velocity)
     wind = tuple(float(w) for w in params[dyn.P_WIND:dyn.P_WIND + 3])
-    axis, rate = _equilibrium_axis(_scalar_constants(params), wind, velocity, float(h1), drift)
+    axis, rate = _equilibrium_axis(scalar_constants(params), wind, velocity, float(h1), drift)
     return _options(velocity, axis, rate)
 
 
@@ -392,9 +385,9 @@ def _axis_and_equilibrium(states: np.ndarray, params: np.ndarray):
     h1 = states[:, dyn.H1]
     _, _, b, d_c, x_p = local_exponents(params, air, h1)
     with np.errstate(all='ignore'):
-        x_p = _drifting_equilibrium(
+        x_p = drifting_equilibrium(
             lambda a, h: local_exponents(params, a, h),
-            _scalar_constants(params),
+            scalar_constants(params),
             air,
             h1,
             b,
@@ -430,7 +423,7 @@ class _Shooter:
         self.ball, self.aero = resolve(base.preset(), base.model, base.aero_model())
         self.params = dyn.make_params(self.ball, base.moment, self.aero)
         self.gravity = float(self.params[dyn.P_GRAVITY])
-        self.consts = _scalar_constants(self.params)
+        self.consts = scalar_constants(self.params)
         self.wind = _vec(self.params[dyn.P_WIND:dyn.P_WIND + 3])
         self.h1 = self.ball.inertia_ratio * base.spin_rpm * RPM
         self.r0 = np.array(base.position, dtype=float)
