@@ -17,7 +17,8 @@
 import math
 
 from football_ros.physics import dynamics as dyn
-from football_ros.physics import Flight, Release
+from football_ros.physics import Flight, frames, Release
+from football_ros.physics import linear_theory as lt
 from football_ros.physics.linear_theory import linear_modes
 from football_ros.planning import (
     compare_arcs,
@@ -128,6 +129,31 @@ def test_equilibrium_release_has_no_mode_amplitudes_in_the_frozen_theory():
     drift = equilibrium_attitude(params, st.velocity, h1)
     assert 0.2 < drift['alpha0_deg'] < 1.0
     assert drift['beta0_deg'] == pytest.approx(att['beta0_deg'], rel=0.03)
+
+
+@pytest.mark.parametrize('model', ['paper', 'full'])
+def test_compiled_equilibrium_axes_are_the_linear_theory_ones(model):
+    # kernels.equilibrium_axes (the linear theory's plain-float functions, compiled) against
+    # the vectorised path (local_exponents, drifting_equilibrium, frames) on a windy flight.
+    aero = {'wind': [3.0, -2.0, 0.5]} if model == 'full' else {}
+    release = Release(model=model, aero=aero, position=(0.0, 0.0, 1.8), beta0_deg=2.0)
+    flight = Flight.from_release(release)
+    states = flight.simulate(rate=200.0, duration=2.5).states
+    params = flight.params
+    axis, eq = kernels.equilibrium_axes(states, params, lt.scalar_constants(params))
+    air = states[:, dyn.V:dyn.V + 3] - params[dyn.P_WIND:dyn.P_WIND + 3]
+    h1 = states[:, dyn.H1]
+    _, _, b, d_c, x_p = lt.local_exponents(params, air, h1)
+    x_eq = lt.drifting_equilibrium(lambda a, h: lt.local_exponents(params, a, h),
+                                   lt.scalar_constants(params), air, h1, b, d_c, x_p)[0]
+    s1 = np.sqrt(1.0 - np.abs(x_eq) ** 2)
+    ref = frames.from_velocity_frame(np.stack([s1, x_eq.real, x_eq.imag], axis=-1), air)
+    ref /= np.linalg.norm(ref, axis=-1, keepdims=True)
+    assert np.max(np.abs(eq - ref)) < 1e-12
+    assert np.array_equal(axis, dyn.describe(states, params)[:, dyn.D_AXIS:dyn.D_AXIS + 3])
+    # The equilibrium is a few degrees off the air velocity, as the linear theory says.
+    off = np.degrees(np.arccos(np.sum(ref * air / np.linalg.norm(air, axis=-1)[:, None], -1)))
+    assert 1.0 < np.median(off) < 10.0
 
 
 @pytest.mark.parametrize('model', ['paper', 'full'])

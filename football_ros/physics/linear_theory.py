@@ -320,9 +320,12 @@ def local_exponents_scalar(consts: tuple, air_velocity, h1: float) -> tuple:
 
     ``consts`` from :func:`scalar_constants`, ``air_velocity`` a 3-sequence [m/s] in
     ``field``, ``h1`` [rad/s]. Returns (sigma_1, sigma_2, B, D_c, x_p) as Python complexes.
+    Numba compiles it as it stands (the planner's wobble kernel: :mod:`football_ros.planning.
+    kernels`).
     """
-    spin_ratio, fk, dk, c_la, c_mq, diameter, c_np, moment_k, c_mp, gravity = consts[:10]
-    ux, uy, uz = (float(c) for c in air_velocity)
+    spin_ratio, fk, dk, c_la, c_mq = consts[0], consts[1], consts[2], consts[3], consts[4]
+    diameter, c_np, moment_k, c_mp, gravity = consts[5], consts[6], consts[7], consts[8], consts[9]
+    ux, uy, uz = float(air_velocity[0]), float(air_velocity[1]), float(air_velocity[2])
     speed = math.sqrt(ux * ux + uy * uy + uz * uz)
     cos_phi = math.hypot(ux, uy) / speed
     spin = spin_ratio * h1
@@ -393,21 +396,39 @@ def drifting_equilibrium_scalar(consts: tuple, air, h1: float, b, d_c, x_p):
     :func:`local_exponents_scalar`. The vectorised path's operations in its order (the same
     numbers); Python complexes.
     """
-    spin_ratio, fk, dk, gravity, c_d0, c_lp = (
-        consts[0], consts[1], consts[2], consts[9], consts[10], consts[11])
+    air_ahead, h1_ahead, air_behind, h1_behind = drift_points(consts, air, h1)
+    return drift_of(b, d_c, x_p, local_exponents_scalar(consts, air_ahead, h1_ahead)[4],
+                    local_exponents_scalar(consts, air_behind, h1_behind)[4])
+
+
+def drift_points(consts: tuple, air, h1: float) -> tuple:
+    """
+    Return the samples of the drift's central difference: (air, h1) ahead, then behind.
+
+    ``EQUILIBRIUM_STEP`` along the linearised path rates (:func:`_path_rates`: gravity and
+    drag C_D0 on the air velocity, spin damping on h1) from ``air`` [m/s] (3-sequence, in
+    ``field``) and ``h1`` [rad/s]; air velocities as 3-tuples. Numba compiles it as it stands.
+    """
+    spin_ratio, fk, dk = consts[0], consts[1], consts[2]
+    gravity, c_d0, c_lp = consts[9], consts[10], consts[11]
     ux, uy, uz = float(air[0]), float(air[1]), float(air[2])
     speed = math.sqrt(ux * ux + uy * uy + uz * uz)
     drag = -fk * c_d0 * speed
-    u_dot = (drag * ux - 0.0, drag * uy - 0.0, drag * uz - gravity)
+    dx, dy, dz = drag * ux - 0.0, drag * uy - 0.0, drag * uz - gravity
     h1_dot = dk * speed * c_lp * spin_ratio * h1
     eps = EQUILIBRIUM_STEP
-    ahead = local_exponents_scalar(
-        consts, (ux + eps * u_dot[0], uy + eps * u_dot[1], uz + eps * u_dot[2]),
-        h1 + eps * h1_dot)[4]
-    behind = local_exponents_scalar(
-        consts, (ux - eps * u_dot[0], uy - eps * u_dot[1], uz - eps * u_dot[2]),
-        h1 - eps * h1_dot)[4]
-    x_p_dot = (ahead - behind) / (2.0 * eps)
+    return ((ux + eps * dx, uy + eps * dy, uz + eps * dz), h1 + eps * h1_dot,
+            (ux - eps * dx, uy - eps * dy, uz - eps * dz), h1 - eps * h1_dot)
+
+
+def drift_of(b, d_c, x_p, x_p_ahead, x_p_behind) -> tuple:
+    """
+    Return (X_p, x_p') of :func:`drifting_equilibrium` from x_p at :func:`drift_points`.
+
+    ``b``, ``d_c``, ``x_p``: :func:`local_exponents_scalar` at the sample, ``x_p_ahead`` and
+    ``x_p_behind`` its x_p at the two points. Numba compiles it as it stands.
+    """
+    x_p_dot = (x_p_ahead - x_p_behind) / (2.0 * EQUILIBRIUM_STEP)
     c = -(b * b + d_c * d_c) / 4.0
     return x_p + b * x_p_dot / c, x_p_dot
 

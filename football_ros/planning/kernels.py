@@ -32,10 +32,16 @@ from numba import njit
 import numpy as np
 
 from ..physics import dynamics as dyn
+from ..physics import linear_theory as lt
 from ..physics.batch import hermite
 
 APPROACH_POINTS = np.linspace(0.0, 1.0, 201)
 """Fractions of a step at which :func:`closest_approach` evaluates the interpolant."""
+
+# The linear theory's plain-float functions, compiled as they stand (one source for each).
+_exponents = njit(cache=True, error_model='numpy')(lt.local_exponents_scalar)
+_drift_points = njit(cache=True, error_model='numpy')(lt.drift_points)
+_drift_of = njit(cache=True, error_model='numpy')(lt.drift_of)
 
 
 @njit(cache=True, nogil=True)
@@ -170,3 +176,45 @@ def closest_approach(times, states, target, fractions):
                 best, t_best = dist, times[j] + u * dt
                 point[:] = trial
     return best, t_best, point
+
+
+@njit(cache=True, error_model='numpy')
+def equilibrium_axes(states, params, consts):
+    """
+    Return the spin axes and the equilibrium axes X_p (unit, (N, 3), ``field``) of state rows.
+
+    ``states`` (N, N_STATE) of the real-time kernel, ``params`` its parameters,
+    ``consts`` = :func:`football_ros.physics.linear_theory.scalar_constants` of them. X_p: the
+    drifting equilibrium x_p + B x_p' / C (:func:`~football_ros.physics.linear_theory.
+    drifting_equilibrium_scalar`, compiled) against the local air velocity v - wind, at the
+    row's h1, in the velocity frame of that air velocity (s1 = sqrt(1 - |X_p|^2)). NaN where
+    the theory has no equilibrium.
+    """
+    n = states.shape[0]
+    axes = np.empty((n, 3))
+    eqs = np.empty((n, 3))
+    wx, wy, wz = params[dyn.P_WIND], params[dyn.P_WIND + 1], params[dyn.P_WIND + 2]
+    for k in range(n):
+        y = states[k]
+        sx, sy, sz = dyn.axis_of(y)
+        axes[k, 0], axes[k, 1], axes[k, 2] = sx, sy, sz
+        air = (y[dyn.V] - wx, y[dyn.V + 1] - wy, y[dyn.V + 2] - wz)
+        h1 = y[dyn.H1]
+        _, _, b, d_c, x_p = _exponents(consts, air, h1)
+        air_a, h1_a, air_b, h1_b = _drift_points(consts, air, h1)
+        x_eq = _drift_of(b, d_c, x_p, _exponents(consts, air_a, h1_a)[4],
+                         _exponents(consts, air_b, h1_b)[4])[0]
+        speed = math.sqrt(air[0] * air[0] + air[1] * air[1] + air[2] * air[2])
+        e1x, e1y, e1z = air[0] / speed, air[1] / speed, air[2] / speed
+        e2x, e2y, e2z = -e1z * e1x, -e1z * e1y, 1.0 - e1z * e1z
+        n2 = math.sqrt(e2x * e2x + e2y * e2y + e2z * e2z)
+        e2x, e2y, e2z = e2x / n2, e2y / n2, e2z / n2
+        e3x, e3y, e3z = e1y * e2z - e1z * e2y, e1z * e2x - e1x * e2z, e1x * e2y - e1y * e2x
+        size = abs(x_eq)
+        s1 = math.sqrt(max(0.0, 1.0 - size * size))
+        qx = s1 * e1x + x_eq.real * e2x + x_eq.imag * e3x
+        qy = s1 * e1y + x_eq.real * e2y + x_eq.imag * e3y
+        qz = s1 * e1z + x_eq.real * e2z + x_eq.imag * e3z
+        norm = math.sqrt(qx * qx + qy * qy + qz * qz)
+        eqs[k, 0], eqs[k, 1], eqs[k, 2] = qx / norm, qy / norm, qz / norm
+    return axes, eqs

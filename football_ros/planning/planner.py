@@ -65,9 +65,7 @@ from ..physics.aero import resolve
 from ..physics.flight import DEFAULT_STEP
 from ..physics.limits import check_flyable
 from ..physics.linear_theory import (
-    drifting_equilibrium,
     drifting_equilibrium_scalar,
-    local_exponents,
     local_exponents_scalar,
     moment_slope,
     scalar_constants,
@@ -351,19 +349,19 @@ def _wobbles(parts, params: np.ndarray, until: float | None = None) -> list[tupl
     """
     Return :func:`wobble_of` of several sampled flights (times, states).
 
-    One vectorised pass over all their samples.
+    One compiled pass over all their samples (:func:`kernels.equilibrium_axes`).
     """
     chosen, ends = [], []
     for times, states in parts:
         chosen.append(_wobble_samples(times, states, until))
         ends.append((ends[-1] if ends else 0) + len(chosen[-1]))
     states = np.concatenate(chosen) if len(chosen) > 1 else chosen[0]
-    axis, eq, described = _axis_and_equilibrium(states, params)
+    axis, eq = _axis_and_equilibrium(states, params)
     angles = np.arccos(np.clip(np.sum(axis * eq, axis=-1), -1.0, 1.0))
+    last = dyn.describe(states[np.array(ends) - 1], params)[:, dyn.D_DELTA]
     out, first = [], 0
-    for end in ends:
-        out.append((math.degrees(float(np.max(angles[first:end]))),
-                    math.degrees(float(described[end - 1, dyn.D_DELTA]))))
+    for i, end in enumerate(ends):
+        out.append((math.degrees(float(np.max(angles[first:end]))), math.degrees(float(last[i]))))
         first = end
     return out
 
@@ -373,31 +371,15 @@ def _wobble_samples(times: np.ndarray, states: np.ndarray, until: float | None =
     keep = np.nonzero(times <= (times[-1] if until is None else until) + 1e-12)[0]
     if keep.size > 2:
         stride = max(1, int(round(WOBBLE_SAMPLE / max(times[1] - times[0], 1e-9))))
-        keep = np.unique(np.append(keep[::stride], keep[-1]))
+        every = keep[::stride]
+        keep = every if every[-1] == keep[-1] else np.append(every, keep[-1])
     return states[keep]
 
 
 def _axis_and_equilibrium(states: np.ndarray, params: np.ndarray):
-    """Return the spin axis, the equilibrium axis X_p (unit, (N, 3), ``field``) and describe."""
-    described = dyn.describe(states, params)
-    axis = described[:, dyn.D_AXIS:dyn.D_AXIS + 3]
-    air = states[:, dyn.V:dyn.V + 3] - params[dyn.P_WIND:dyn.P_WIND + 3]
-    h1 = states[:, dyn.H1]
-    _, _, b, d_c, x_p = local_exponents(params, air, h1)
-    with np.errstate(all='ignore'):
-        x_p = drifting_equilibrium(
-            lambda a, h: local_exponents(params, a, h),
-            scalar_constants(params),
-            air,
-            h1,
-            b,
-            d_c,
-            x_p,
-        )[0]
-    s1 = np.sqrt(np.clip(1.0 - np.abs(x_p) ** 2, 0.0, None))
-    eq = frames.from_velocity_frame(np.stack([s1, x_p.real, x_p.imag], axis=-1), air)
-    eq /= np.linalg.norm(eq, axis=-1, keepdims=True)
-    return axis, eq, described
+    """Return the spin axis and the equilibrium axis X_p (unit, (N, 3), ``field``)."""
+    return kernels.equilibrium_axes(np.ascontiguousarray(states), params,
+                                    scalar_constants(params))
 
 
 def _angle_deg(a, b) -> float:
@@ -1066,7 +1048,7 @@ def _refine(sh: _Shooter, speed: float, elev: float, azim: float) -> np.ndarray:
             return None
         times, states, _ = kernels.fly(y0, sh.step, sh.params, until, -1e4, sh.target, sh.d, -1)
         sh.flights += 1
-        axis, eq, _ = _axis_and_equilibrium(_wobble_samples(times, states), sh.params)
+        axis, eq = _axis_and_equilibrium(_wobble_samples(times, states), sh.params)
         return axis - eq
 
     start = np.zeros(4)
@@ -1222,7 +1204,7 @@ def _gyroscopically_stable(sh: _Shooter, initial: InitialState) -> bool:
 
 def warm_up() -> None:
     """Load (or, on a cold numba cache, compile) the planner's kernels: one short plan."""
-    plan([12.0, 0.0, 1.5], Release(position=(0.0, 0.0, 1.8), model='full'), wobble=False)
+    plan([12.0, 0.0, 1.5], Release(position=(0.0, 0.0, 1.8), model='full'))
 
 
 def _wrap(azim: float) -> float:
