@@ -792,8 +792,9 @@ class _Aim:
             elev = _vacuum_elevation(speed, sh.distance, sh.height, sh.gravity, lofted)
             if elev is None:
                 elev = _lowest_speed_elevation(sh.distance, sh.height) + (5.0 if lofted else -5.0)
-            elif not lofted:
-                elev += 2.0  # drag: a little higher than in vacuum
+            elif not lofted and sh.base.model != 'paper':
+                elev += 2.0  # drag: a little higher than in vacuum (the paper's centre flies
+                # the vacuum parabola: there the vacuum elevation is the answer)
             guess = (speed, elev, math.degrees(sh.bearing))
         return self._fixed_speed(speed, guess[1], guess[2])
 
