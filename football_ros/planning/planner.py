@@ -368,12 +368,12 @@ def _wobbles(parts, params: np.ndarray, until: float | None = None) -> list[tupl
 
 def _wobble_samples(times: np.ndarray, states: np.ndarray, until: float | None = None):
     """Return the states the wobble amplitude is taken over (:func:`wobble_of`)."""
-    keep = np.nonzero(times <= (times[-1] if until is None else until) + 1e-12)[0]
-    if keep.size > 2:
-        stride = max(1, int(round(WOBBLE_SAMPLE / max(times[1] - times[0], 1e-9))))
-        every = keep[::stride]
-        keep = every if every[-1] == keep[-1] else np.append(every, keep[-1])
-    return states[keep]
+    n = int(np.searchsorted(times, (times[-1] if until is None else until) + 1e-12, 'right'))
+    if n <= 2:  # times increase: the samples with t <= until are the first n
+        return states[:n]
+    stride = max(1, int(round(WOBBLE_SAMPLE / max(times[1] - times[0], 1e-9))))
+    every = np.arange(0, n, stride)
+    return states[every if every[-1] == n - 1 else np.append(every, n - 1)]
 
 
 def _axis_and_equilibrium(states: np.ndarray, params: np.ndarray):
@@ -1145,7 +1145,7 @@ def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear,
         raise PlanError(
             f'the checking flight misses the target by {miss:.3f} m > tolerance '
             f'{tolerance:g} m', 'tolerance', point)
-    keep = times <= t_arr + 1e-12
+    keep = slice(0, int(np.searchsorted(times, t_arr + 1e-12, 'right')))  # times increase
     wobble = delta = aligned_wobble = aligned_delta = math.nan
     if with_wobble:
         saved = sh.mode
