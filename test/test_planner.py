@@ -154,6 +154,13 @@ def test_compiled_equilibrium_axes_are_the_linear_theory_ones(model):
     # The equilibrium is a few degrees off the air velocity, as the linear theory says.
     off = np.degrees(np.arccos(np.sum(ref * air / np.linalg.norm(air, axis=-1)[:, None], -1)))
     assert 1.0 < np.median(off) < 10.0
+    # The wobble kernel: the largest axis-equilibrium angle over the rows, delta at the last.
+    rows = np.arange(0, len(states), 3)
+    largest, delta = kernels.wobble(states, rows, params, lt.scalar_constants(params))
+    angles = np.arccos(np.clip(np.sum(axis * ref, axis=-1), -1.0, 1.0))[rows]
+    assert largest == pytest.approx(np.max(angles), abs=1e-11)
+    assert delta == dyn.describe(states[rows[-1:]], params)[0, dyn.D_DELTA]
+    assert 0.5 < math.degrees(largest) < 20.0
 
 
 @pytest.mark.parametrize('model', ['paper', 'full'])

@@ -193,28 +193,59 @@ def equilibrium_axes(states, params, consts):
     n = states.shape[0]
     axes = np.empty((n, 3))
     eqs = np.empty((n, 3))
-    wx, wy, wz = params[dyn.P_WIND], params[dyn.P_WIND + 1], params[dyn.P_WIND + 2]
     for k in range(n):
-        y = states[k]
-        sx, sy, sz = dyn.axis_of(y)
-        axes[k, 0], axes[k, 1], axes[k, 2] = sx, sy, sz
-        air = (y[dyn.V] - wx, y[dyn.V + 1] - wy, y[dyn.V + 2] - wz)
-        h1 = y[dyn.H1]
-        _, _, b, d_c, x_p = _exponents(consts, air, h1)
-        air_a, h1_a, air_b, h1_b = _drift_points(consts, air, h1)
-        x_eq = _drift_of(b, d_c, x_p, _exponents(consts, air_a, h1_a)[4],
-                         _exponents(consts, air_b, h1_b)[4])[0]
-        speed = math.sqrt(air[0] * air[0] + air[1] * air[1] + air[2] * air[2])
-        e1x, e1y, e1z = air[0] / speed, air[1] / speed, air[2] / speed
-        e2x, e2y, e2z = -e1z * e1x, -e1z * e1y, 1.0 - e1z * e1z
-        n2 = math.sqrt(e2x * e2x + e2y * e2y + e2z * e2z)
-        e2x, e2y, e2z = e2x / n2, e2y / n2, e2z / n2
-        e3x, e3y, e3z = e1y * e2z - e1z * e2y, e1z * e2x - e1x * e2z, e1x * e2y - e1y * e2x
-        size = abs(x_eq)
-        s1 = math.sqrt(max(0.0, 1.0 - size * size))
-        qx = s1 * e1x + x_eq.real * e2x + x_eq.imag * e3x
-        qy = s1 * e1y + x_eq.real * e2y + x_eq.imag * e3y
-        qz = s1 * e1z + x_eq.real * e2z + x_eq.imag * e3z
-        norm = math.sqrt(qx * qx + qy * qy + qz * qz)
-        eqs[k, 0], eqs[k, 1], eqs[k, 2] = qx / norm, qy / norm, qz / norm
+        axes[k, 0], axes[k, 1], axes[k, 2] = dyn.axis_of(states[k])
+        eqs[k, 0], eqs[k, 1], eqs[k, 2] = _equilibrium_axis(states[k], params, consts)
     return axes, eqs
+
+
+@njit(cache=True, error_model='numpy')
+def wobble(states, rows, params, consts):
+    """
+    Return (wobble amplitude, delta at the last row) [rad] over the state rows ``rows``.
+
+    The largest angle between the spin axis and X_p (:func:`equilibrium_axes`; NaN if any is
+    NaN) and the angle between the axis and the air velocity at ``rows[-1]`` (delta of
+    :func:`football_ros.physics.dynamics.describe`); NaN, NaN without rows.
+    """
+    largest = 0.0 if rows.size else math.nan
+    for k in rows:
+        sx, sy, sz = dyn.axis_of(states[k])
+        qx, qy, qz = _equilibrium_axis(states[k], params, consts)
+        angle = math.acos(min(1.0, max(-1.0, sx * qx + sy * qy + sz * qz)))
+        if math.isnan(angle) or angle > largest:
+            largest = angle
+            if math.isnan(angle):
+                break
+    if not rows.size:
+        return largest, math.nan
+    y = states[rows[-1]]
+    air = (y[dyn.V] - params[dyn.P_WIND], y[dyn.V + 1] - params[dyn.P_WIND + 1],
+           y[dyn.V + 2] - params[dyn.P_WIND + 2])
+    s1 = dyn.velocity_frame_components(air, dyn.axis_of(y))[0]
+    return largest, math.acos(min(1.0, max(-1.0, s1)))
+
+
+@njit(cache=True, error_model='numpy')
+def _equilibrium_axis(y, params, consts):
+    """X_p of :func:`equilibrium_axes` for one state (a 3-tuple)."""
+    air = (y[dyn.V] - params[dyn.P_WIND], y[dyn.V + 1] - params[dyn.P_WIND + 1],
+           y[dyn.V + 2] - params[dyn.P_WIND + 2])
+    h1 = y[dyn.H1]
+    _, _, b, d_c, x_p = _exponents(consts, air, h1)
+    air_a, h1_a, air_b, h1_b = _drift_points(consts, air, h1)
+    x_eq = _drift_of(b, d_c, x_p, _exponents(consts, air_a, h1_a)[4],
+                     _exponents(consts, air_b, h1_b)[4])[0]
+    speed = math.sqrt(air[0] * air[0] + air[1] * air[1] + air[2] * air[2])
+    e1x, e1y, e1z = air[0] / speed, air[1] / speed, air[2] / speed
+    e2x, e2y, e2z = -e1z * e1x, -e1z * e1y, 1.0 - e1z * e1z
+    n2 = math.sqrt(e2x * e2x + e2y * e2y + e2z * e2z)
+    e2x, e2y, e2z = e2x / n2, e2y / n2, e2z / n2
+    e3x, e3y, e3z = e1y * e2z - e1z * e2y, e1z * e2x - e1x * e2z, e1x * e2y - e1y * e2x
+    size = abs(x_eq)
+    s1 = math.sqrt(max(0.0, 1.0 - size * size))
+    qx = s1 * e1x + x_eq.real * e2x + x_eq.imag * e3x
+    qy = s1 * e1y + x_eq.real * e2y + x_eq.imag * e3y
+    qz = s1 * e1z + x_eq.real * e2z + x_eq.imag * e3z
+    norm = math.sqrt(qx * qx + qy * qy + qz * qz)
+    return qx / norm, qy / norm, qz / norm

@@ -346,34 +346,26 @@ def wobble_of(
 
 
 def _wobbles(parts, params: np.ndarray, until: float | None = None) -> list[tuple[float, float]]:
-    """
-    Return :func:`wobble_of` of several sampled flights (times, states).
+    """Return :func:`wobble_of` of several sampled flights (times, states): compiled passes."""
+    consts = scalar_constants(params)
+    return [tuple(math.degrees(v) for v in kernels.wobble(
+        np.ascontiguousarray(states), _wobble_rows(times, until), params, consts))
+        for times, states in parts]
 
-    One compiled pass over all their samples (:func:`kernels.equilibrium_axes`).
-    """
-    chosen, ends = [], []
-    for times, states in parts:
-        chosen.append(_wobble_samples(times, states, until))
-        ends.append((ends[-1] if ends else 0) + len(chosen[-1]))
-    states = np.concatenate(chosen) if len(chosen) > 1 else chosen[0]
-    axis, eq = _axis_and_equilibrium(states, params)
-    angles = np.arccos(np.clip(np.sum(axis * eq, axis=-1), -1.0, 1.0))
-    last = dyn.describe(states[np.array(ends) - 1], params)[:, dyn.D_DELTA]
-    out, first = [], 0
-    for i, end in enumerate(ends):
-        out.append((math.degrees(float(np.max(angles[first:end]))), math.degrees(float(last[i]))))
-        first = end
-    return out
+
+def _wobble_rows(times: np.ndarray, until: float | None = None) -> np.ndarray:
+    """Return the rows the wobble amplitude is taken over (:func:`wobble_of`)."""
+    n = int(np.searchsorted(times, (times[-1] if until is None else until) + 1e-12, 'right'))
+    if n <= 2:  # times increase: the samples with t <= until are the first n
+        return np.arange(n)
+    stride = max(1, int(round(WOBBLE_SAMPLE / max(times[1] - times[0], 1e-9))))
+    every = np.arange(0, n, stride)
+    return every if every[-1] == n - 1 else np.append(every, n - 1)
 
 
 def _wobble_samples(times: np.ndarray, states: np.ndarray, until: float | None = None):
     """Return the states the wobble amplitude is taken over (:func:`wobble_of`)."""
-    n = int(np.searchsorted(times, (times[-1] if until is None else until) + 1e-12, 'right'))
-    if n <= 2:  # times increase: the samples with t <= until are the first n
-        return states[:n]
-    stride = max(1, int(round(WOBBLE_SAMPLE / max(times[1] - times[0], 1e-9))))
-    every = np.arange(0, n, stride)
-    return states[every if every[-1] == n - 1 else np.append(every, n - 1)]
+    return states[_wobble_rows(times, until)]
 
 
 def _axis_and_equilibrium(states: np.ndarray, params: np.ndarray):
