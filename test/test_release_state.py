@@ -18,6 +18,7 @@ import math
 
 from football_ros.physics import frames
 from football_ros.physics.release import (
+    attitude_with_axis_scalar,
     initial_state_of,
     InitialState,
     LIMITS,
@@ -62,6 +63,18 @@ def test_initial_state_is_the_vectorised_one_bit_for_bit(ball, model):
         for name in FIELDS:
             assert np.array_equal(getattr(mine, name), getattr(ref, name)), (name, release)
         assert mine.attitude.tolist() == frames.attitude_with_axis(ref.axis).tolist()
+
+
+def test_scalar_attitude_is_the_frames_one_bit_for_bit():
+    # Every branch: near-vertical axes (+x of field stands in for up), the four quaternion
+    # branches (axes all around), unnormalised input.
+    rng = np.random.default_rng(5)
+    axes = list(rng.normal(size=(400, 3)) * rng.uniform(0.1, 10.0, (400, 1)))
+    axes += [np.array([1e-4, -2e-4, 1.0]), np.array([0.0, 0.0, -3.0]), np.array([-1.0, 0, 0]),
+             np.array([0.0, -1.0, 0.0]), np.array([0.0, 1.0, 1e-3])]
+    for axis in axes:
+        assert list(attitude_with_axis_scalar(tuple(axis.tolist()))) == \
+            frames.attitude_with_axis(axis).tolist(), axis
 
 
 def test_initial_state_returns_fresh_arrays():

@@ -460,7 +460,7 @@ def _release_state(speed, elevation_deg, azimuth_deg, spin_rpm, alpha0_deg, beta
     axis_rate = tuple(c0 * e1[i] + c1 * e2[i] + c2 * e3[i] for i in range(3))
     position = tuple(float(p) for p in position)
     return (position, velocity, axis, _cross3(axis, axis_rate), spin_rpm * RPM,
-            _attitude_with_axis(axis))
+            attitude_with_axis_scalar(axis))
 
 
 def _unit3(v: tuple) -> tuple:
@@ -472,8 +472,13 @@ def _cross3(a: tuple, b: tuple) -> tuple:
     return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
 
 
-def _attitude_with_axis(axis: tuple) -> tuple:
-    """:func:`football_ros.physics.frames.attitude_with_axis` in plain floats (same numbers)."""
+def attitude_with_axis_scalar(axis) -> tuple[float, float, float, float]:
+    """
+    Return :func:`football_ros.physics.frames.attitude_with_axis` of one axis, in plain floats.
+
+    ``axis`` a 3-sequence in ``field`` (normalised here); the quaternion (x, y, z, w) whose
+    body x is the axis and body z as close to up as it can be, the same numbers bit for bit.
+    """
     x = _unit3(axis)
     if abs(x[2]) < 0.999:
         z = _unit3((0.0 - x[2] * x[0], 0.0 - x[2] * x[1], 1.0 - x[2] * x[2]))

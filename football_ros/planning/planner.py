@@ -71,6 +71,7 @@ from ..physics.linear_theory import (
     scalar_constants,
 )
 from ..physics.release import (
+    attitude_with_axis_scalar,
     initial_state_of,
     InitialState,
     LIMITS,
@@ -476,7 +477,7 @@ class _Shooter:
             y0 = np.zeros(dyn.N_STATE)
             y0[dyn.R:dyn.R + 3] = self.r0
             y0[dyn.V:dyn.V + 3] = vel
-            y0[dyn.Q:dyn.Q + 4] = frames.attitude_with_axis(np.array(axis))
+            y0[dyn.Q:dyn.Q + 4] = attitude_with_axis_scalar(axis)
             y0[dyn.H:dyn.H + 3] = [turn[i] + h1 * axis[i] for i in range(3)]
             y0[dyn.H1] = h1
             return y0
