@@ -250,7 +250,7 @@ class InitialState:
             arrays.append(arr)
         pos, vel, quat, omega = arrays
         check_position(list(pos))
-        norm = check_rigid_body(tuple(vel), tuple(quat), tuple(omega), float(pos[2]))
+        norm = check_rigid_body(vel.tolist(), quat.tolist(), omega.tolist(), float(pos[2]))
         quat = quat / norm
         axis = frames.body_x_axis(quat)
         spin = float(np.dot(omega, axis))
