@@ -438,9 +438,9 @@ def test_equilibrium_drift_matches_the_flights_own():
     tr = Flight.from_release(Release(model='full')).simulate(rate=1000.0, duration=10.0)
     h1 = tr.states[:, 13]
     _, _, b, d_c, x_p = lt.local_exponents(tr.params, tr.air_velocities, h1)
-    x_eq, _ = lt._drifting_equilibrium(
+    x_eq, _ = lt.drifting_equilibrium(
         lambda a, h: lt.local_exponents(tr.params, a, h),
-        lt._scalar_constants(tr.params),
+        lt.scalar_constants(tr.params),
         tr.air_velocities,
         h1,
         b,

@@ -52,6 +52,7 @@ from .runner import run_node
 from ..physics import compile_ahead
 from ..physics.frames import FIELD_FRAME
 from ..planning import arcs_summary, compare_arcs, hit_probability, plan, PlanError, Receiver
+from ..planning.planner import warm_up
 from ..planning.request import PlanRequest, read_plan_request
 from ..requests import capped, MAX_REQUEST_BYTES, read_request, RequestError
 
@@ -89,6 +90,7 @@ class PlannerNode(Node):
         self._paths = self.create_publisher(Path, qos.PLAN_PATH, qos.PLAN_PATH_QOS)
         self._releases = self.create_publisher(String, qos.RELEASE_REQUEST, qos.REQUEST)
         compile_ahead()
+        warm_up()  # the planner's own kernels
         self.create_subscription(String, qos.PLAN_REQUEST, self._on_request, qos.REQUEST_INBOX)
         if self.receiver_topic:
             self.create_subscription(Odometry, self.receiver_topic, self._on_receiver, 10)

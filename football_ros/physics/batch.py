@@ -208,8 +208,13 @@ Columns are balls: the inner loops run over balls, so the compiler can use SIMD 
 
 
 @njit(cache=True)
-def _hermite(p0, d0, p1, d1, dt, u):
-    """Cubic Hermite interpolant at fraction u of a step of length dt."""
+def hermite(p0, d0, p1, d1, dt, u):
+    """
+    Return the cubic Hermite interpolant at fraction ``u`` in [0, 1] of a step of ``dt`` [s].
+
+    ``p0``, ``p1``: the values at the step's ends, ``d0``, ``d1``: their time derivatives (per
+    second); the one interpolant of sampled flights (batch landings, the planner's crossings).
+    """
     u2, u3 = u * u, u * u * u
     return (
         (2 * u3 - 3 * u2 + 1) * p0
@@ -229,7 +234,7 @@ def _hermite_root(z0, d0, z1, d1, h, ground):
     lo, hi = 0.0, 1.0
     for _ in range(60):
         mid = 0.5 * (lo + hi)
-        if _hermite(z0, d0, z1, d1, h, mid) > ground:
+        if hermite(z0, d0, z1, d1, h, mid) > ground:
             lo = mid
         else:
             hi = mid
@@ -245,7 +250,7 @@ def _curved(y, nxt, j, b, h, u):
     """
     p0, d0, p1 = y[j, b], y[j + 3, b], nxt[j, b]
     quadratic = p0 + d0 * h * u + (p1 - p0 - d0 * h) * u * u
-    return abs(_hermite(p0, d0, p1, nxt[j + 3, b], h, u) - quadratic)
+    return abs(hermite(p0, d0, p1, nxt[j + 3, b], h, u) - quadratic)
 
 
 @njit(cache=True, fastmath=True)
@@ -270,7 +275,7 @@ def _landing(y, nxt, b, h, params, ground, out):
         a, c = 0.0, 1.0  # bisection on the interpolant over [lo, hi]
         for _ in range(60):
             mid = 0.5 * (a + c)
-            if _hermite(z0, d0, z1, d1, (hi - lo) * h, mid) > ground:
+            if hermite(z0, d0, z1, d1, (hi - lo) * h, mid) > ground:
                 a = mid
             else:
                 c = mid
@@ -374,8 +379,8 @@ def _integrate_batch(
                         u = _landing(y, nxt, b, h, params, ground, at)
                         results[ball, 0], results[ball, 1] = at[0, 0], at[1, 0]
                     else:
-                        results[ball, 0] = _hermite(y[0, b], y[3, b], nxt[0, b], nxt[3, b], h, u)
-                        results[ball, 1] = _hermite(y[1, b], y[4, b], nxt[1, b], nxt[4, b], h, u)
+                        results[ball, 0] = hermite(y[0, b], y[3, b], nxt[0, b], nxt[3, b], h, u)
+                        results[ball, 1] = hermite(y[1, b], y[4, b], nxt[1, b], nxt[4, b], h, u)
                     results[ball, 2] = t + u * h
                     results[ball, 3] = 1.0
                     flying[b] = False

@@ -145,8 +145,12 @@ def derivative(y: np.ndarray, params: np.ndarray, out: np.ndarray) -> None:
 
 
 @njit(cache=True)
-def _project(y: np.ndarray) -> None:
-    """Normalise q_nr and make h.s equal h1 (the invariants of the exact flow)."""
+def project_invariants(y: np.ndarray) -> None:
+    """
+    Project a state onto the invariants of the exact flow, in place.
+
+    Normalises q_nr and makes h.s equal h1 (the step's last act: :func:`rk4_step_with`).
+    """
     norm = math.sqrt(y[Q] ** 2 + y[Q + 1] ** 2 + y[Q + 2] ** 2 + y[Q + 3] ** 2)
     for i in range(4):
         y[Q + i] /= norm
@@ -182,7 +186,7 @@ def rk4_step_with(
     derivative(tmp, params, k4)
     for i in range(n):
         out[i] = y[i] + dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
-    _project(out)
+    project_invariants(out)
 
 
 @njit(cache=True)
@@ -249,12 +253,12 @@ def propagate(
         while (n_steps + 1) * dt <= t_sample + 1e-12:
             rk4_step_with(y, dt, params, nxt, work)
             if crossed_ground(y, nxt, ground):
-                return _finish_with_landing(times, states, k, y, n_steps * dt, dt, params, ground)
+                return finish_with_landing(times, states, k, y, n_steps * dt, dt, params, ground)
             y[:] = nxt
             n_steps += 1
         rk4_step_with(y, t_sample - n_steps * dt, params, nxt, work)
         if crossed_ground(y, nxt, ground):
-            return _finish_with_landing(
+            return finish_with_landing(
                 times, states, k, y, n_steps * dt, t_sample - n_steps * dt, params, ground
             )
         times[k] = t_sample
@@ -263,7 +267,15 @@ def propagate(
 
 
 @njit(cache=True)
-def _finish_with_landing(times, states, k, y, t, step, params, ground):
+def finish_with_landing(times, states, k, y, t, step, params, ground):
+    """
+    End a sampled flight at its landing inside the step of length ``step`` [s] from ``y``.
+
+    ``y`` is the state at time ``t`` [s] (at or above z = ``ground`` [m]), ``k`` the index of
+    the landing sample in ``times`` / ``states`` (filled in place: the landing state, z set to
+    ``ground``, at its bisected time). Returns (times, states, True) cut after that sample, as
+    :func:`propagate` returns them.
+    """
     tau = landing_time_in_step(y, step, params, ground)
     rk4_step(y, tau, params, states[k])
     states[k, R + 2] = ground

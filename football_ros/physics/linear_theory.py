@@ -288,8 +288,15 @@ def mode_rates(
     return (one, two) if abs(one.imag) >= abs(two.imag) else (two, one)
 
 
-def _scalar_constants(params: np.ndarray) -> tuple:
-    """Return the kernel parameters :func:`_local_exponents_scalar` reads, as Python floats."""
+def scalar_constants(params: np.ndarray) -> tuple:
+    """
+    Return the kernel parameters the scalar paths read, as a tuple of Python floats.
+
+    From kernel ``params`` (:func:`football_ros.physics.dynamics.make_params`): spin ratio
+    I_t/I_s, fk [1/m], dk [1/m], C_Lalpha, C_Mq, diameter [m], C_Npalpha, M_alpha / U^2
+    [1/m^2], C_Mpalpha, gravity [m/s^2], C_D0, C_lp, in that order; the ``consts`` of
+    :func:`local_exponents_scalar` and :func:`drifting_equilibrium`.
+    """
     keys = (
         dyn.P_SPIN_RATIO,
         dyn.P_FORCE_K,
@@ -307,14 +314,18 @@ def _scalar_constants(params: np.ndarray) -> tuple:
     return tuple(float(params[k]) for k in keys)
 
 
-def _local_exponents_scalar(consts: tuple, air_velocity, h1: float) -> tuple:
+def local_exponents_scalar(consts: tuple, air_velocity, h1: float) -> tuple:
     """
-    :func:`local_exponents` for one sample in plain floats (the real-time path).
+    Return :func:`local_exponents` for one sample, in plain floats (the real-time path).
 
-    ``consts`` from :func:`_scalar_constants`.
+    ``consts`` from :func:`scalar_constants`, ``air_velocity`` a 3-sequence [m/s] in
+    ``field``, ``h1`` [rad/s]. Returns (sigma_1, sigma_2, B, D_c, x_p) as Python complexes.
+    Numba compiles it as it stands (the planner's wobble kernel: :mod:`football_ros.planning.
+    kernels`).
     """
-    spin_ratio, fk, dk, c_la, c_mq, diameter, c_np, moment_k, c_mp, gravity = consts[:10]
-    ux, uy, uz = (float(c) for c in air_velocity)
+    spin_ratio, fk, dk, c_la, c_mq = consts[0], consts[1], consts[2], consts[3], consts[4]
+    diameter, c_np, moment_k, c_mp, gravity = consts[5], consts[6], consts[7], consts[8], consts[9]
+    ux, uy, uz = float(air_velocity[0]), float(air_velocity[1]), float(air_velocity[2])
     speed = math.sqrt(ux * ux + uy * uy + uz * uz)
     cos_phi = math.hypot(ux, uy) / speed
     spin = spin_ratio * h1
@@ -355,13 +366,16 @@ def _path_rates(consts: tuple, air, h1):
     return u_dot, dk * speed * c_lp * spin_ratio * h1
 
 
-def _drifting_equilibrium(exponents, consts, air, h1, b, d_c, x_p):
+def drifting_equilibrium(exponents, consts, air, h1, b, d_c, x_p):
     """
     Return the equilibrium to first order in its drift, and that drift: (x_p + B x_p'/C, x_p').
 
     Inserting x = x_p(t) + y in x'' + B x' - C x = F leaves B x_p' on the right; its
-    quasi-static answer is y = B x_p' / C. x_p' is a central difference of ``exponents``
-    (:func:`local_exponents` or the scalar twin) along the linearised path rates.
+    quasi-static answer is y = B x_p' / C. x_p' [1/s] is a central difference of
+    ``exponents`` (``exponents(air, h1)``: :func:`local_exponents` or the scalar twin) along
+    the linearised path rates. ``consts`` from :func:`scalar_constants`; ``air`` [m/s]
+    (..., 3) in ``field`` and ``h1`` [rad/s] the samples, ``b``, ``d_c``, ``x_p`` their
+    :func:`local_exponents`.
     """
     u_dot, h1_dot = _path_rates(consts, air, h1)
     eps = EQUILIBRIUM_STEP
@@ -369,6 +383,52 @@ def _drifting_equilibrium(exponents, consts, air, h1, b, d_c, x_p):
     ahead = exponents(air + eps * u_dot, h1 + eps * h1_dot)[4]
     behind = exponents(air - eps * u_dot, h1 - eps * h1_dot)[4]
     x_p_dot = (ahead - behind) / (2.0 * eps)
+    c = -(b * b + d_c * d_c) / 4.0
+    return x_p + b * x_p_dot / c, x_p_dot
+
+
+def drifting_equilibrium_scalar(consts: tuple, air, h1: float, b, d_c, x_p):
+    """
+    Return :func:`drifting_equilibrium` for one sample in plain floats (X_p, x_p').
+
+    ``air`` a 3-sequence [m/s] in ``field``, ``h1`` [rad/s], ``b``, ``d_c``, ``x_p`` its
+    :func:`local_exponents_scalar`; the exponents along the path by
+    :func:`local_exponents_scalar`. The vectorised path's operations in its order (the same
+    numbers); Python complexes.
+    """
+    air_ahead, h1_ahead, air_behind, h1_behind = drift_points(consts, air, h1)
+    return drift_of(b, d_c, x_p, local_exponents_scalar(consts, air_ahead, h1_ahead)[4],
+                    local_exponents_scalar(consts, air_behind, h1_behind)[4])
+
+
+def drift_points(consts: tuple, air, h1: float) -> tuple:
+    """
+    Return the samples of the drift's central difference: (air, h1) ahead, then behind.
+
+    ``EQUILIBRIUM_STEP`` along the linearised path rates (:func:`_path_rates`: gravity and
+    drag C_D0 on the air velocity, spin damping on h1) from ``air`` [m/s] (3-sequence, in
+    ``field``) and ``h1`` [rad/s]; air velocities as 3-tuples. Numba compiles it as it stands.
+    """
+    spin_ratio, fk, dk = consts[0], consts[1], consts[2]
+    gravity, c_d0, c_lp = consts[9], consts[10], consts[11]
+    ux, uy, uz = float(air[0]), float(air[1]), float(air[2])
+    speed = math.sqrt(ux * ux + uy * uy + uz * uz)
+    drag = -fk * c_d0 * speed
+    dx, dy, dz = drag * ux - 0.0, drag * uy - 0.0, drag * uz - gravity
+    h1_dot = dk * speed * c_lp * spin_ratio * h1
+    eps = EQUILIBRIUM_STEP
+    return ((ux + eps * dx, uy + eps * dy, uz + eps * dz), h1 + eps * h1_dot,
+            (ux - eps * dx, uy - eps * dy, uz - eps * dz), h1 - eps * h1_dot)
+
+
+def drift_of(b, d_c, x_p, x_p_ahead, x_p_behind) -> tuple:
+    """
+    Return (X_p, x_p') of :func:`drifting_equilibrium` from x_p at :func:`drift_points`.
+
+    ``b``, ``d_c``, ``x_p``: :func:`local_exponents_scalar` at the sample, ``x_p_ahead`` and
+    ``x_p_behind`` its x_p at the two points. Numba compiles it as it stands.
+    """
+    x_p_dot = (x_p_ahead - x_p_behind) / (2.0 * EQUILIBRIUM_STEP)
     c = -(b * b + d_c * d_c) / 4.0
     return x_p + b * x_p_dot / c, x_p_dot
 
@@ -406,9 +466,9 @@ def quasi_steady_components(
     times = np.asarray(times, dtype=float)
     h1 = np.broadcast_to(h1, times.shape)
     sig1, sig2, b, d_c, x_p = local_exponents(params, air_velocities, h1)
-    x_p, x_p_dot = _drifting_equilibrium(
+    x_p, x_p_dot = drifting_equilibrium(
         lambda air, h: local_exponents(params, air, h),
-        _scalar_constants(params),
+        scalar_constants(params),
         air_velocities,
         h1,
         b,
@@ -441,8 +501,8 @@ class QuasiSteadyTracker:
         self, modes: LinearModes, params: np.ndarray, release_air_velocity: np.ndarray
     ) -> None:
         self.modes, self.params = modes, params
-        self._consts = _scalar_constants(params)
-        sig1, sig2, b, d_c, x_p = _local_exponents_scalar(
+        self._consts = scalar_constants(params)
+        sig1, sig2, b, d_c, x_p = local_exponents_scalar(
             self._consts, release_air_velocity, modes.h1
         )
         x_p, x_p_dot = self._equilibrium(release_air_velocity, modes.h1, b, d_c, x_p)
@@ -458,7 +518,7 @@ class QuasiSteadyTracker:
 
         NaN once an unstable ball's theory overflows.
         """
-        sig1, sig2, b, d_c, x_p = _local_exponents_scalar(self._consts, air_velocity, float(h1))
+        sig1, sig2, b, d_c, x_p = local_exponents_scalar(self._consts, air_velocity, float(h1))
         x_p = self._equilibrium(air_velocity, float(h1), b, d_c, x_p)[0]
         if t > self._t:
             l1, l2, lb, ld = self._last
@@ -483,8 +543,4 @@ class QuasiSteadyTracker:
         return np.array([math.atan2(s2, s1), math.asin(s3)])
 
     def _equilibrium(self, air, h1, b, d_c, x_p):
-        def exponents(air_, h1_):
-            return _local_exponents_scalar(self._consts, air_, float(h1_))
-
-        x_p, x_p_dot = _drifting_equilibrium(exponents, self._consts, air, h1, b, d_c, x_p)
-        return complex(x_p), complex(x_p_dot)
+        return drifting_equilibrium_scalar(self._consts, air, float(h1), b, d_c, x_p)

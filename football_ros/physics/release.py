@@ -166,6 +166,44 @@ def check_position(position: Any) -> tuple[float, float, float]:
     return (x, y, z)
 
 
+def check_rigid_body(velocity, attitude, angular_velocity, height: float) -> float:
+    """
+    Check the combined limits of a rigid-body state in ``field``; return the norm of ``attitude``.
+
+    ``velocity`` [m/s], ``attitude`` (x, y, z, w; body x = axis), ``angular_velocity`` [rad/s]:
+    finite 3- and 4-sequences of floats, ``height`` the release point's z [m]. Raises
+    ReleaseError for a speed, elevation, spin, axis offset or transverse rate outside LIMITS,
+    an attitude that is not a unit quaternion, or a release on the ground heading down (the
+    rules of :meth:`InitialState.from_rigid_body`, in plain floats).
+    """
+    vx, vy, vz = velocity
+    check_range('speed', math.hypot(vx, vy, vz), slack=DERIVED_SLACK)  # hypot: no overflow
+    check_range(
+        'elevation_deg', math.degrees(math.atan2(vz, math.hypot(vx, vy))), slack=DERIVED_SLACK
+    )
+    norm = math.hypot(*attitude)
+    if abs(norm - 1.0) > 1e-3:
+        raise ReleaseError(f'orientation must be a unit quaternion, |q| = {norm:.6g}')
+    x, y, z, w = (c / norm for c in attitude)
+    axis = (1 - 2 * (y * y + z * z), 2 * (x * y + w * z), 2 * (x * z - w * y))  # body x
+    speed = math.sqrt(vx * vx + vy * vy + vz * vz)
+    along = (axis[0] * vx + axis[1] * vy + axis[2] * vz) / speed
+    delta = math.degrees(math.acos(min(1.0, max(-1.0, along))))
+    check_range('axis offset from the velocity (deg)', delta, 'axis_offset_deg', DERIVED_SLACK)
+    wx, wy, wz = angular_velocity
+    spin = wx * axis[0] + wy * axis[1] + wz * axis[2]
+    check_range('spin_rpm', spin / RPM, slack=DERIVED_SLACK)
+    check_range(
+        'transverse angular rate (deg/s)',
+        math.degrees(math.hypot(wx - spin * axis[0], wy - spin * axis[1], wz - spin * axis[2])),
+        'transverse_rate_deg_s',
+        DERIVED_SLACK,
+    )
+    if height <= 0.0 and vz <= 0.0:
+        raise ReleaseError('a release on the ground (z = 0) must go up (positive elevation)')
+    return norm
+
+
 @dataclass(frozen=True)
 class InitialState:
     """
@@ -212,30 +250,11 @@ class InitialState:
             arrays.append(arr)
         pos, vel, quat, omega = arrays
         check_position(list(pos))
-        check_range('speed', math.hypot(*vel), slack=DERIVED_SLACK)  # hypot: no overflow
-        check_range(
-            'elevation_deg',
-            math.degrees(float(frames.flight_path_angle(vel))),
-            slack=DERIVED_SLACK,
-        )
-        norm = math.hypot(*quat)
-        if abs(norm - 1.0) > 1e-3:
-            raise ReleaseError(f'orientation must be a unit quaternion, |q| = {norm:.6g}')
+        norm = check_rigid_body(vel.tolist(), quat.tolist(), omega.tolist(), float(pos[2]))
         quat = quat / norm
         axis = frames.body_x_axis(quat)
-        delta = math.degrees(float(frames.aero_angles(axis, vel)[2]))
-        check_range('axis offset from the velocity (deg)', delta, 'axis_offset_deg', DERIVED_SLACK)
         spin = float(np.dot(omega, axis))
-        check_range('spin_rpm', spin / RPM, slack=DERIVED_SLACK)
         transverse = omega - spin * axis
-        check_range(
-            'transverse angular rate (deg/s)',
-            math.degrees(math.hypot(*transverse)),
-            'transverse_rate_deg_s',
-            DERIVED_SLACK,
-        )
-        if pos[2] <= 0.0 and vel[2] <= 0.0:
-            raise ReleaseError('a release on the ground (z = 0) must go up (positive elevation)')
         return InitialState(pos, vel, axis, transverse, spin, quat)
 
 
@@ -295,9 +314,15 @@ class Release:
         if self.position[2] <= 0.0 and self.elevation_deg <= 0.0:
             raise ReleaseError('a release on the ground (z = 0) must go up (positive elevation)')
         # The combined limits (total axis offset, transverse rate) of the state it starts: the
-        # rules the simulator applies to every flight order, so that one truth decides.
-        st = self.initial_state()
-        InitialState.from_rigid_body(st.position, st.velocity, st.attitude, st.angular_velocity())
+        # rules the simulator applies to every flight order, so that one truth decides. The
+        # state is computed once, in plain floats, and kept for :meth:`initial_state`.
+        position, velocity, axis, transverse, spin, attitude = _release_state(
+            *(getattr(self, key) for key in STATE_KEYS), self.position
+        )
+        check_rigid_body(
+            velocity, attitude, tuple(t + spin * a for t, a in zip(transverse, axis)), position[2]
+        )
+        object.__setattr__(self, '_state', (position, velocity, axis, transverse, spin, attitude))
 
     def aero_model(self) -> AeroModel | None:
         """Return the full model's settings (None for the paper's model)."""
@@ -336,19 +361,16 @@ class Release:
         return out
 
     def initial_state(self) -> InitialState:
-        """Return the rigid-body state in ``field`` this release means (docs/physics.md sec. 1)."""
-        return initial_state_of(
-            release_states(
-                self.speed,
-                self.elevation_deg,
-                self.azimuth_deg,
-                self.spin_rpm,
-                self.alpha0_deg,
-                self.beta0_deg,
-                self.alpha_rate_deg_s,
-                self.beta_rate_deg_s,
-                np.array(self.position, dtype=float),
-            )
+        """
+        Return the rigid-body state in ``field`` this release means (docs/physics.md sec. 1).
+
+        The numbers of :func:`release_states` (bit for bit), computed once at validation; each
+        call returns fresh arrays.
+        """
+        position, velocity, axis, transverse, spin, attitude = self._state
+        return InitialState(
+            np.array(position), np.array(velocity), np.array(axis), np.array(transverse), spin,
+            np.array(attitude),
         )
 
     def replace(self, **changes: Any) -> 'Release':
@@ -409,6 +431,77 @@ def release_states(
         'transverse_rate': np.cross(axis, axis_rate),
         'spin': spin_rpm * RPM,
     }
+
+
+def _release_state(speed, elevation_deg, azimuth_deg, spin_rpm, alpha0_deg, beta0_deg,
+                   alpha_rate_deg_s, beta_rate_deg_s, position):
+    """
+    :func:`release_states` and :func:`initial_state_of` for one release, in plain floats.
+
+    The same operations in the same order (the vectorised path's sums run left to right), so
+    the same numbers bit for bit; returns (position, velocity, axis, transverse_rate, spin,
+    attitude) as tuples and a float. The attitude's last normalisation is numpy's own.
+    """
+    elev, azim = math.radians(elevation_deg), math.radians(azimuth_deg)
+    alpha, beta = math.radians(alpha0_deg), math.radians(beta0_deg)
+    ce = math.cos(elev)
+    velocity = (speed * (ce * math.cos(azim)), speed * (ce * math.sin(azim)),
+                speed * math.sin(elev))
+    e1 = _unit3(velocity)
+    e2 = _unit3((0.0 - e1[2] * e1[0], 0.0 - e1[2] * e1[1], 1.0 - e1[2] * e1[2]))
+    e3 = _cross3(e1, e2)
+    ca, sa, cb, sb = math.cos(alpha), math.sin(alpha), math.cos(beta), math.sin(beta)
+    c0, c1, c2 = cb * ca, cb * sa, sb
+    axis = tuple(c0 * e1[i] + c1 * e2[i] + c2 * e3[i] for i in range(3))
+    rate_a, rate_b = math.radians(alpha_rate_deg_s), math.radians(beta_rate_deg_s)
+    c0 = rate_a * (-cb * sa) + rate_b * (-sb * ca)
+    c1 = rate_a * (cb * ca) + rate_b * (-sb * sa)
+    c2 = rate_a * 0.0 + rate_b * cb
+    axis_rate = tuple(c0 * e1[i] + c1 * e2[i] + c2 * e3[i] for i in range(3))
+    position = tuple(float(p) for p in position)
+    return (position, velocity, axis, _cross3(axis, axis_rate), spin_rpm * RPM,
+            attitude_with_axis_scalar(axis))
+
+
+def _unit3(v: tuple) -> tuple:
+    norm = math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+    return (v[0] / norm, v[1] / norm, v[2] / norm)
+
+
+def _cross3(a: tuple, b: tuple) -> tuple:
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def attitude_with_axis_scalar(axis) -> tuple[float, float, float, float]:
+    """
+    Return :func:`football_ros.physics.frames.attitude_with_axis` of one axis, in plain floats.
+
+    ``axis`` a 3-sequence in ``field`` (normalised here); the quaternion (x, y, z, w) whose
+    body x is the axis and body z as close to up as it can be, the same numbers bit for bit.
+    """
+    x = _unit3(axis)
+    if abs(x[2]) < 0.999:
+        z = _unit3((0.0 - x[2] * x[0], 0.0 - x[2] * x[1], 1.0 - x[2] * x[2]))
+    else:
+        z = _unit3((1.0 - x[0] * x[0], 0.0 - x[0] * x[1], 0.0 - x[0] * x[2]))
+    y = _cross3(z, x)
+    # quaternion_from_matrix of the columns (x, y, z): m[i][j] = column j, row i.
+    m00, m11, m22 = x[0], y[1], z[2]
+    trace = m00 + m11 + m22
+    if trace > 0.0:
+        k = 2.0 * math.sqrt(trace + 1.0)
+        q = [(y[2] - z[1]) / k, (z[0] - x[2]) / k, (x[1] - y[0]) / k, 0.25 * k]
+    elif m00 > m11 and m00 > m22:
+        k = 2.0 * math.sqrt(1.0 + m00 - m11 - m22)
+        q = [0.25 * k, (y[0] + x[1]) / k, (z[0] + x[2]) / k, (y[2] - z[1]) / k]
+    elif m11 > m22:
+        k = 2.0 * math.sqrt(1.0 + m11 - m00 - m22)
+        q = [(y[0] + x[1]) / k, 0.25 * k, (z[1] + y[2]) / k, (z[0] - x[2]) / k]
+    else:
+        k = 2.0 * math.sqrt(1.0 + m22 - m00 - m11)
+        q = [(z[0] + x[2]) / k, (z[1] + y[2]) / k, 0.25 * k, (x[1] - y[0]) / k]
+    q = np.array(q)
+    return tuple((q / np.linalg.norm(q)).tolist())
 
 
 def initial_state_of(states: dict[str, np.ndarray], i: int = 0) -> InitialState:

@@ -17,13 +17,14 @@ The throw planner: target point in ``field`` -> speed, elevation, azimuth and re
 
 Aim. The ball's centre must pass through the target T. The planner shoots on the package's own
 flight (the real-time kernel of :class:`football_ros.physics.Flight`, RK4 at the simulator's
-step): the miss is measured where the flown path crosses the vertical plane through T
-perpendicular to the horizontal line from the release point to T (a lateral and a vertical
-offset, cubic Hermite inside the step), and Newton steps with a finite-difference Jacobian and
-Broyden updates drive it below ``SOLVE_TOLERANCE``. Two equations, three unknowns: the objective
-fixes the third. ``fastest``: the flat arc at the largest speed; ``flat`` / ``lofted``: the two
-arcs at the given speed; ``lowest_speed``: the elevation that needs the least speed (where the
-two arcs meet); a wanted arrival time replaces the objective by a third equation.
+step, compiled in :mod:`.kernels` and stopped at the target plane): the miss is measured where
+the flown path crosses the vertical plane through T perpendicular to the horizontal line from
+the release point to T (a lateral and a vertical offset, cubic Hermite inside the step), and
+Newton steps with a finite-difference Jacobian and Broyden updates drive it below
+``SOLVE_TOLERANCE``. Two equations, three unknowns: the objective fixes the third.
+``fastest``: the flat arc at the largest speed; ``flat`` / ``lofted``: the two arcs at the given
+speed; ``lowest_speed``: the elevation that needs the least speed (where the two arcs meet); a
+wanted arrival time replaces the objective by a third equation.
 
 Attitude. The least wobble is not the axis along the velocity: the spin momentum can follow the
 turning velocity only with the nose at the equilibrium sideslip. The release puts the axis on
@@ -32,18 +33,21 @@ x_p = -F/C of the flown model plus its first-order drift B x_p'/C, against the a
 turn with the velocity frame (w_V = -g cos(Phi)/U about e3) and the equilibrium's drift x_p':
 the release whose mode amplitudes K1 = K2 = 0 (C1 = C2 = 0 for the paper's frozen theory).
 ``attitude='refined'`` then minimises the wobble of the whole nonlinear flight over the four
-attitude numbers (Nelder-Mead) and aims again. Where the equilibrium lies beyond the linear
-theory (more than 30 deg off the air velocity: slow lobs, s3p ~ 1/V^3) the axis goes along the
-air velocity, turning with it, and the plan warns (:meth:`_Shooter.axis_rate`).
+attitude numbers (the axis' deviation from X_p linearised in them by four more flights, its
+largest value minimised: :func:`_refine`) and aims again. Where the equilibrium lies beyond
+the linear theory (more than 30 deg off the air velocity: slow lobs, s3p ~ 1/V^3) the axis goes
+along the air velocity, turning with it, and the plan warns (:meth:`_Shooter.axis_rate`).
 
 Wobble amplitude (:func:`wobble_of`): the largest angle between the spin axis and the local
 quasi-steady equilibrium axis X_p(t) (velocity frame of the local air velocity, the local speed,
 path angle and spin), over the flight from release to the arrival at the target.
 
-Check. A solved plan is flown once more by :class:`Flight` from its :class:`Release`, with the
-ground at z = 0, and its closest approach to T must be within ``tolerance``; otherwise
-:class:`PlanError`. Every refusal names the limit and, where one exists, the closest reachable
-point (the nearest of the points a scan of elevations at the limiting speed reaches).
+Check. A solved plan is flown once more from its :class:`Release`'s own initial state, as
+:class:`Flight` flies it (the step rules of ``check_flyable``, the real-time kernel's RK4 steps
+by :func:`kernels.fly`), with the ground at z = 0, to just past the target plane; its closest
+approach to T must be within ``tolerance``; otherwise :class:`PlanError`. Every refusal names
+the limit and, where one exists, the closest reachable point (the nearest of the points a scan
+of elevations at the limiting speed reaches).
 """
 
 from __future__ import annotations
@@ -54,17 +58,28 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from . import kernels
 from ..physics import dynamics as dyn
 from ..physics import frames
 from ..physics.aero import resolve
-from ..physics.flight import DEFAULT_STEP, Flight
+from ..physics.flight import DEFAULT_STEP
+from ..physics.limits import check_flyable
 from ..physics.linear_theory import (
-    _drifting_equilibrium,
-    _local_exponents_scalar,
-    _scalar_constants,
-    local_exponents,
+    drifting_equilibrium_scalar,
+    local_exponents_scalar,
+    moment_slope,
+    scalar_constants,
 )
-from ..physics.release import initial_state_of, LIMITS, Release, release_states, ReleaseError, RPM
+from ..physics.release import (
+    attitude_with_axis_scalar,
+    initial_state_of,
+    InitialState,
+    LIMITS,
+    Release,
+    release_states,
+    ReleaseError,
+    RPM,
+)
 
 OBJECTIVES = ('fastest', 'lowest_speed', 'flat', 'lofted')
 ATTITUDES = ('equilibrium', 'linear', 'refined', 'aligned')
@@ -221,35 +236,52 @@ def equilibrium_axis(
     frozen theory's C1 = C2 = 0 release (x_p = -F/C, no drift; for the paper's model the axis
     at the equilibrium sideslip s3p, turning at w_V).
     """
-    consts = _scalar_constants(params)
-    velocity = np.asarray(velocity, dtype=float)
-    air = velocity - params[dyn.P_WIND:dyn.P_WIND + 3]
-    h1 = float(h1)
-    _, _, b, d_c, x_p = _local_exponents_scalar(consts, air, h1)
+    wind = tuple(float(w) for w in params[dyn.P_WIND:dyn.P_WIND + 3])
+    axis, rate = _equilibrium_axis(scalar_constants(params), wind, _vec(velocity), float(h1),
+                                   drift)
+    return np.array(axis), np.array(rate)
+
+
+def _vec(v) -> tuple[float, float, float]:
+    """Plain-float 3-tuple of a vector."""
+    return float(v[0]), float(v[1]), float(v[2])
+
+
+def _dot(a, b) -> float:
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _cross(a, b) -> tuple[float, float, float]:
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def _equilibrium_axis(consts: tuple, wind: tuple, velocity: tuple, h1: float, drift: bool):
+    """
+    Return :func:`equilibrium_axis` in plain floats: (axis, rate) 3-tuples.
+
+    ``consts`` and ``wind`` from the kernel parameters (:func:`scalar_constants`, P_WIND).
+    """
+    air = (velocity[0] - wind[0], velocity[1] - wind[1], velocity[2] - wind[2])
+    _, _, b, d_c, x_p = local_exponents_scalar(consts, air, h1)
     x_p_dot = 0.0
     if drift:
-        x_p, x_p_dot = _drifting_equilibrium(
-            lambda a, h: _local_exponents_scalar(consts, a, float(h)),
-            consts,
-            air,
-            h1,
-            b,
-            d_c,
-            x_p,
-        )
+        x_p, x_p_dot = drifting_equilibrium_scalar(consts, air, h1, b, d_c, x_p)
     x_p, x_p_dot = complex(x_p), complex(x_p_dot)
-    speed = math.sqrt(float(air @ air))
-    e1 = air / speed
+    speed = math.sqrt(_dot(air, air))
+    e1 = (air[0] / speed, air[1] / speed, air[2] / speed)
     horizontal = math.hypot(air[0], air[1])
-    e2 = np.array([-e1[2] * air[0] / horizontal, -e1[2] * air[1] / horizontal, horizontal / speed])
-    e3 = np.cross(e1, e2)
+    e2 = (-e1[2] * air[0] / horizontal, -e1[2] * air[1] / horizontal, horizontal / speed)
+    e3 = _cross(e1, e2)
     s1 = math.sqrt(max(0.0, 1.0 - abs(x_p) ** 2))
-    axis = s1 * e1 + x_p.real * e2 + x_p.imag * e3
-    axis /= math.sqrt(float(axis @ axis))
-    omega_v = -float(params[dyn.P_GRAVITY]) * horizontal / speed / speed
-    rate = omega_v * np.cross(e3, axis) + x_p_dot.real * e2 + x_p_dot.imag * e3
-    rate -= float(rate @ axis) * axis
-    return axis, rate
+    axis = tuple(s1 * e1[i] + x_p.real * e2[i] + x_p.imag * e3[i] for i in range(3))
+    norm = math.sqrt(_dot(axis, axis))
+    axis = (axis[0] / norm, axis[1] / norm, axis[2] / norm)
+    omega_v = -consts[9] * horizontal / speed / speed
+    turn = _cross(e3, axis)
+    rate = tuple(omega_v * turn[i] + x_p_dot.real * e2[i] + x_p_dot.imag * e3[i]
+                 for i in range(3))
+    along = _dot(rate, axis)
+    return axis, (rate[0] - along * axis[0], rate[1] - along * axis[1], rate[2] - along * axis[2])
 
 
 def equilibrium_attitude(
@@ -261,22 +293,37 @@ def equilibrium_attitude(
     :func:`equilibrium_axis` expressed as the release options: angles against the ground
     velocity, rates relative to ``field`` (:func:`football_ros.physics.release.release_states`).
     """
-    velocity = np.asarray(velocity, dtype=float)
-    return _options(velocity, *equilibrium_axis(params, velocity, h1, drift))
+    velocity = _vec(velocity)
+    wind = tuple(float(w) for w in params[dyn.P_WIND:dyn.P_WIND + 3])
+    axis, rate = _equilibrium_axis(scalar_constants(params), wind, velocity, float(h1), drift)
+    return _options(velocity, axis, rate)
 
 
-def _options(velocity: np.ndarray, axis: np.ndarray, rate: np.ndarray) -> dict[str, float]:
-    """Return the release options (deg, deg/s) of an axis and its rate in ``field``."""
-    alpha, beta, _ = frames.aero_angles(axis, velocity)
-    comps = frames.to_velocity_frame(rate, velocity)
+def _options(velocity, axis, rate) -> dict[str, float]:
+    """
+    Return the release options (deg, deg/s) of an axis and its rate in ``field``.
+
+    Angles against ``velocity`` (its frame, :func:`football_ros.physics.frames.velocity_frame`);
+    3-sequences of floats.
+    """
+    velocity, axis, rate = _vec(velocity), _vec(axis), _vec(rate)
+    norm = math.sqrt(_dot(velocity, velocity))
+    e1 = (velocity[0] / norm, velocity[1] / norm, velocity[2] / norm)
+    up = (-e1[2] * e1[0], -e1[2] * e1[1], 1.0 - e1[2] * e1[2])  # UP - (UP.e1) e1
+    norm = math.sqrt(_dot(up, up))
+    e2 = (up[0] / norm, up[1] / norm, up[2] / norm)
+    e3 = _cross(e1, e2)
+    alpha = math.atan2(_dot(axis, e2), _dot(axis, e1))
+    beta = math.asin(min(1.0, max(-1.0, _dot(axis, e3))))
+    comps = (_dot(rate, e1), _dot(rate, e2), _dot(rate, e3))
     ca, sa, cb, sb = math.cos(alpha), math.sin(alpha), math.cos(beta), math.sin(beta)
-    d_alpha = np.array([-cb * sa, cb * ca, 0.0])
-    d_beta = np.array([-sb * ca, -sb * sa, cb])
+    d_alpha = (-cb * sa, cb * ca, 0.0)
+    d_beta = (-sb * ca, -sb * sa, cb)
     return {
         'alpha0_deg': math.degrees(alpha),
         'beta0_deg': math.degrees(beta),
-        'alpha_rate_deg_s': math.degrees(float(comps @ d_alpha) / (cb * cb)),
-        'beta_rate_deg_s': math.degrees(float(comps @ d_beta)),
+        'alpha_rate_deg_s': math.degrees(_dot(comps, d_alpha) / (cb * cb)),
+        'beta_rate_deg_s': math.degrees(_dot(comps, d_beta)),
     }
 
 
@@ -296,37 +343,41 @@ def wobble_of(
     every ``WOBBLE_SAMPLE`` (and the last one); the second number is delta at the last of them.
     ``states`` (N, N_STATE) of the real-time kernel.
     """
-    keep = np.nonzero(times <= (times[-1] if until is None else until) + 1e-12)[0]
-    if keep.size > 2:
-        stride = max(1, int(round(WOBBLE_SAMPLE / max(times[1] - times[0], 1e-9))))
-        keep = np.unique(np.append(keep[::stride], keep[-1]))
-    states = states[keep]
-    described = dyn.describe(states, params)
-    axis = described[:, dyn.D_AXIS:dyn.D_AXIS + 3]
-    air = states[:, dyn.V:dyn.V + 3] - params[dyn.P_WIND:dyn.P_WIND + 3]
-    h1 = states[:, dyn.H1]
-    _, _, b, d_c, x_p = local_exponents(params, air, h1)
-    with np.errstate(all='ignore'):
-        x_p = _drifting_equilibrium(
-            lambda a, h: local_exponents(params, a, h),
-            _scalar_constants(params),
-            air,
-            h1,
-            b,
-            d_c,
-            x_p,
-        )[0]
-    s1 = np.sqrt(np.clip(1.0 - np.abs(x_p) ** 2, 0.0, None))
-    eq = frames.from_velocity_frame(np.stack([s1, x_p.real, x_p.imag], axis=-1), air)
-    eq /= np.linalg.norm(eq, axis=-1, keepdims=True)
-    cosines = np.clip(np.sum(axis * eq, axis=-1), -1.0, 1.0)
-    wobble = math.degrees(float(np.max(np.arccos(cosines))))
-    return wobble, math.degrees(float(described[-1, dyn.D_DELTA]))
+    return _wobbles(((times, states),), params, until)[0]
 
 
-def _angle_deg(a: np.ndarray, b: np.ndarray) -> float:
-    """Angle [deg] between two unit vectors."""
-    return math.degrees(math.acos(min(1.0, max(-1.0, float(a @ b)))))
+def _wobbles(parts, params: np.ndarray, until: float | None = None) -> list[tuple[float, float]]:
+    """Return :func:`wobble_of` of several sampled flights (times, states): compiled passes."""
+    consts = scalar_constants(params)
+    return [tuple(math.degrees(v) for v in kernels.wobble(
+        np.ascontiguousarray(states), _wobble_rows(times, until), params, consts))
+        for times, states in parts]
+
+
+def _wobble_rows(times: np.ndarray, until: float | None = None) -> np.ndarray:
+    """Return the rows the wobble amplitude is taken over (:func:`wobble_of`)."""
+    n = int(np.searchsorted(times, (times[-1] if until is None else until) + 1e-12, 'right'))
+    if n <= 2:  # times increase: the samples with t <= until are the first n
+        return np.arange(n)
+    stride = max(1, int(round(WOBBLE_SAMPLE / max(times[1] - times[0], 1e-9))))
+    every = np.arange(0, n, stride)
+    return every if every[-1] == n - 1 else np.append(every, n - 1)
+
+
+def _wobble_samples(times: np.ndarray, states: np.ndarray, until: float | None = None):
+    """Return the states the wobble amplitude is taken over (:func:`wobble_of`)."""
+    return states[_wobble_rows(times, until)]
+
+
+def _axis_and_equilibrium(states: np.ndarray, params: np.ndarray):
+    """Return the spin axis and the equilibrium axis X_p (unit, (N, 3), ``field``)."""
+    return kernels.equilibrium_axes(np.ascontiguousarray(states), params,
+                                    scalar_constants(params))
+
+
+def _angle_deg(a, b) -> float:
+    """Angle [deg] between two unit vectors (3-sequences)."""
+    return math.degrees(math.acos(min(1.0, max(-1.0, _dot(a, b)))))
 
 
 MAX_EQUILIBRIUM_DEG = 30.0
@@ -347,6 +398,8 @@ class _Shooter:
         self.ball, self.aero = resolve(base.preset(), base.model, base.aero_model())
         self.params = dyn.make_params(self.ball, base.moment, self.aero)
         self.gravity = float(self.params[dyn.P_GRAVITY])
+        self.consts = scalar_constants(self.params)
+        self.wind = _vec(self.params[dyn.P_WIND:dyn.P_WIND + 3])
         self.h1 = self.ball.inertia_ratio * base.spin_rpm * RPM
         self.r0 = np.array(base.position, dtype=float)
         self.flights = 0
@@ -374,49 +427,59 @@ class _Shooter:
         of the air velocity, within ``MAX_OFFSET_DEG`` of the velocity, rate below
         ``MAX_RATE_DEG_S``); else the axis along the air velocity turning with it; else along
         the velocity, not rotating. ``note`` says which fallback was taken ('' for none).
+        Vectors as 3-tuples of floats.
         """
-        vel = frames.direction(speed, math.radians(elev), math.radians(azim))
-        ground = vel / speed
+        vel = _direction(speed, elev, azim)
+        ground = (vel[0] / speed, vel[1] / speed, vel[2] / speed)
         if self.mode == 'aligned':
-            return vel, ground, np.zeros(3), ''
-        axis, rate = equilibrium_axis(self.params, vel, self.h1, self.mode != 'linear')
-        air = vel - self.params[dyn.P_WIND:dyn.P_WIND + 3]
-        e1 = air / math.sqrt(float(air @ air))
+            return vel, ground, (0.0, 0.0, 0.0), ''
+        axis, rate = _equilibrium_axis(self.consts, self.wind, vel, self.h1,
+                                       self.mode != 'linear')
+        wind = self.wind
+        air = (vel[0] - wind[0], vel[1] - wind[1], vel[2] - wind[2])
+        air_speed = math.sqrt(_dot(air, air))
+        e1 = (air[0] / air_speed, air[1] / air_speed, air[2] / air_speed)
         off_air = _angle_deg(axis, e1)
         if (off_air <= MAX_EQUILIBRIUM_DEG and _angle_deg(axis, ground) <= MAX_OFFSET_DEG
-                and math.degrees(math.sqrt(float(rate @ rate))) <= MAX_RATE_DEG_S):
+                and math.degrees(math.sqrt(_dot(rate, rate))) <= MAX_RATE_DEG_S):
             return vel, axis, rate, ''
         note = (f'the equilibrium is {off_air:.0f} deg off the air velocity (beyond the linear '
                 'theory): axis along the air velocity, turning with it')
         if _angle_deg(e1, ground) <= MAX_OFFSET_DEG:
-            omega_v = -self.gravity * math.hypot(e1[0], e1[1]) / math.sqrt(float(air @ air))
-            e2 = frames.velocity_frame(air)[1]
-            return vel, e1, omega_v * e2, note
-        return vel, ground, np.zeros(3), (
+            omega_v = -self.gravity * math.hypot(e1[0], e1[1]) / air_speed
+            e2 = frames.velocity_frame(np.array(air))[1]
+            return vel, e1, _vec(omega_v * e2), note
+        return vel, ground, (0.0, 0.0, 0.0), (
             f'the air velocity is {_angle_deg(e1, ground):.0f} deg off the velocity (wind): '
             'axis along the velocity, not rotating')
 
     def attitude(self, speed: float, elev: float, azim: float) -> dict[str, float]:
         """Release attitude options for a release (degrees) in the current mode."""
-        vel, axis, rate, _ = self.axis_rate(speed, elev, azim)
+        return self.attitude_note(speed, elev, azim)[0]
+
+    def attitude_note(self, speed: float, elev: float, azim: float):
+        """Return (:meth:`attitude`, the note of :meth:`axis_rate`)."""
+        vel, axis, rate, note = self.axis_rate(speed, elev, azim)
         att = _options(vel, axis, rate)
-        for key, off in zip(att, self.offsets):
-            att[key] += float(off)
-        return att
+        if self.offsets.any():
+            for key, off in zip(att, self.offsets):
+                att[key] += float(off)
+        return att, note
 
     def y0(self, speed: float, elev: float, azim: float) -> np.ndarray:
         """State vector of the real-time kernel, built as :class:`Flight` builds it."""
-        if not np.any(self.offsets):
+        if not self.offsets.any():
             # The release's axis and rate directly (what the release options give, to
             # round-off, without the detour through angles).
             vel, axis, rate, _ = self.axis_rate(speed, elev, azim)
-            spin = self.base.spin_rpm * RPM
+            h1 = self.ball.inertia_ratio * self.base.spin_rpm * RPM
+            turn = _cross(axis, rate)
             y0 = np.zeros(dyn.N_STATE)
             y0[dyn.R:dyn.R + 3] = self.r0
             y0[dyn.V:dyn.V + 3] = vel
-            y0[dyn.Q:dyn.Q + 4] = frames.attitude_with_axis(axis)
-            y0[dyn.H:dyn.H + 3] = np.cross(axis, rate) + self.ball.inertia_ratio * spin * axis
-            y0[dyn.H1] = self.ball.inertia_ratio * spin
+            y0[dyn.Q:dyn.Q + 4] = attitude_with_axis_scalar(axis)
+            y0[dyn.H:dyn.H + 3] = [turn[i] + h1 * axis[i] for i in range(3)]
+            y0[dyn.H1] = h1
             return y0
         att = self.attitude(speed, elev, azim)
         st = initial_state_of(
@@ -442,15 +505,16 @@ class _Shooter:
 
     def cross_vacuum(self, speed: float, elev: float, azim: float):
         """Return :meth:`cross` of the vacuum parabola (closed form; None if never there)."""
-        vel = frames.direction(speed, math.radians(elev), math.radians(azim))
-        along = float(vel @ self.d)
+        vel = _direction(speed, elev, azim)
+        d, n, r0, target = self.d, self.n, self.r0, self.target
+        along = vel[0] * d[0] + vel[1] * d[1]
         if along <= 0.0:
             return None
-        t = float((self.target - self.r0) @ self.d) / along
-        p = self.r0 + vel * t
-        p[2] -= 0.5 * self.gravity * t * t
-        off = p - self.target
-        return float(off @ self.n), float(off[2]), t
+        t = ((target[0] - r0[0]) * d[0] + (target[1] - r0[1]) * d[1]) / along
+        off_x = r0[0] + vel[0] * t - target[0]
+        off_y = r0[1] + vel[1] * t - target[1]
+        off_z = r0[2] + vel[2] * t - 0.5 * self.gravity * t * t - target[2]
+        return off_x * n[0] + off_y * n[1], off_z, t
 
     def duration_guess(self, speed: float, elev: float) -> float:
         horizontal = max(speed * math.cos(math.radians(elev)), 1.0)
@@ -483,12 +547,11 @@ class _Shooter:
             duration = self.duration_guess(speed, elev)
         while True:
             self.flights += 1
-            times, states, landed = dyn.propagate(
-                y0, self.step, self.params, self.step, duration, ground
+            times, states, landed = kernels.fly(
+                y0, self.step, self.params, duration, ground, self.target, self.d, 0
             )
-            hit = _plane_crossing(times, states, self.target, self.d)
-            if hit is not None:
-                t, p = hit
+            found, t, p = kernels.plane_crossing(times, states, self.target, self.d)
+            if found:
                 off = p - self.target
                 self.last_time = float(t)
                 return float(off @ self.n), float(off[2]), t
@@ -497,41 +560,15 @@ class _Shooter:
             duration = min(2.0 * duration, 30.0)
 
 
-def _hermite(p0, v0, p1, v1, dt, u):
-    """Cubic Hermite position at fraction ``u`` of a step of ``dt`` [s] (arrays broadcast)."""
-    u2, u3 = u * u, u * u * u
-    return (
-        (2 * u3 - 3 * u2 + 1) * p0
-        + (u3 - 2 * u2 + u) * dt * v0
-        + (-2 * u3 + 3 * u2) * p1
-        + (u3 - u2) * dt * v1
-    )
+def _direction(speed: float, elev: float, azim: float) -> tuple[float, float, float]:
+    """
+    Return the velocity [m/s] in ``field`` of a speed, elevation and azimuth [deg].
 
-
-def _plane_crossing(times, states, target, d):
-    """First crossing (time, position) of the plane (p - T).d = 0, moving forward, or None."""
-    pos = states[:, dyn.R:dyn.R + 3]
-    f = (pos - target) @ d
-    ahead = np.nonzero(f >= 0.0)[0]
-    if ahead.size == 0 or ahead[0] == 0:
-        return None
-    k = int(ahead[0]) - 1
-    dt = times[k + 1] - times[k]
-    p0, p1 = pos[k], pos[k + 1]
-    v0, v1 = states[k, dyn.V:dyn.V + 3], states[k + 1, dyn.V:dyn.V + 3]
-    f0, f1 = f[k], f[k + 1]
-    u = f0 / (f0 - f1) if f1 != f0 else 0.0
-    for _ in range(8):  # Newton on the cubic of the along-plane coordinate
-        val = (_hermite(p0, v0, p1, v1, dt, u) - target) @ d
-        du = 1e-6
-        slope = ((_hermite(p0, v0, p1, v1, dt, u + du) - target) @ d - val) / du
-        if slope == 0.0:
-            break
-        step = val / slope
-        u = min(max(u - step, 0.0), 1.0)
-        if abs(step) < 1e-12:
-            break
-    return times[k] + u * dt, _hermite(p0, v0, p1, v1, dt, u)
+    :func:`football_ros.physics.frames.direction` in plain floats.
+    """
+    e, a = math.radians(elev), math.radians(azim)
+    ce = math.cos(e)
+    return speed * (ce * math.cos(a)), speed * (ce * math.sin(a)), speed * math.sin(e)
 
 
 def closest_approach(times, states, target) -> tuple[float, float, np.ndarray]:
@@ -539,23 +576,12 @@ def closest_approach(times, states, target) -> tuple[float, float, np.ndarray]:
     Closest approach of a sampled path to ``target``: (distance [m], time [s], point [m]).
 
     On the cubic Hermite interpolant of the samples' positions and velocities (201 points in
-    each of the two steps beside the closest sample).
+    each of the two steps beside the closest sample; :func:`kernels.closest_approach`).
     """
-    pos = states[:, dyn.R:dyn.R + 3]
-    vel = states[:, dyn.V:dyn.V + 3]
-    k = int(np.argmin(np.linalg.norm(pos - target, axis=1)))
-    best = (float(np.linalg.norm(pos[k] - target)), float(times[k]), pos[k].copy())
-    u = np.linspace(0.0, 1.0, 201)[:, None]
-    for j in (k - 1, k):
-        if j < 0 or j + 1 >= len(times):
-            continue
-        dt = times[j + 1] - times[j]
-        pts = _hermite(pos[j], vel[j], pos[j + 1], vel[j + 1], dt, u)
-        dist = np.linalg.norm(pts - target, axis=1)
-        i = int(np.argmin(dist))
-        if dist[i] < best[0]:
-            best = (float(dist[i]), float(times[j] + u[i, 0] * dt), pts[i].copy())
-    return best
+    dist, t, point = kernels.closest_approach(
+        np.ascontiguousarray(times, dtype=float), np.ascontiguousarray(states, dtype=float),
+        np.asarray(target, dtype=float), kernels.APPROACH_POINTS)
+    return float(dist), float(t), point
 
 
 # --- solving ----------------------------------------------------------------
@@ -759,8 +785,9 @@ class _Aim:
             elev = _vacuum_elevation(speed, sh.distance, sh.height, sh.gravity, lofted)
             if elev is None:
                 elev = _lowest_speed_elevation(sh.distance, sh.height) + (5.0 if lofted else -5.0)
-            elif not lofted:
-                elev += 2.0  # drag: a little higher than in vacuum
+            elif not lofted and sh.base.model != 'paper':
+                elev += 2.0  # drag: a little higher than in vacuum (the paper's centre flies
+                # the vacuum parabola: there the vacuum elevation is the answer)
             guess = (speed, elev, math.degrees(sh.bearing))
         return self._fixed_speed(speed, guess[1], guess[2])
 
@@ -815,7 +842,7 @@ def _closest_reachable(sh: _Shooter, speed: float, elev_range) -> np.ndarray:
     best, best_d = None, math.inf
     for elev in np.linspace(max(elev_range[0], 0.0), elev_range[1], 15):
         y0 = sh.y0(speed, float(elev), math.degrees(sh.bearing))
-        times, states, _ = dyn.propagate(y0, sh.step, sh.params, sh.step, 30.0, 0.0)
+        times, states, _ = kernels.fly(y0, sh.step, sh.params, 30.0, 0.0, sh.target, sh.d, -1)
         sh.flights += 1
         dist, _, point = closest_approach(times, states, sh.target)
         if dist < best_d:
@@ -956,9 +983,8 @@ def plan(
             f'the plan needs elevation {elev:.2f} deg outside elevation_range '
             f'[{lo_e:g}, {hi_e:g}] deg', 'elevation_range',
             _closest_reachable(sh, speed, (lo_e, hi_e)))
-    linear = equilibrium_attitude(
-        sh.params, frames.direction(speed, math.radians(elev), math.radians(azim)), sh.h1, False
-    )
+    linear = _options(_direction(speed, elev, azim), *_equilibrium_axis(
+        sh.consts, sh.wind, _direction(speed, elev, azim), sh.h1, False))
     mode = attitude
     if attitude == 'refined':
         sh.offsets = _refine(sh, speed, elev, azim)
@@ -991,75 +1017,145 @@ def _reaim(aim: _Aim, sh: _Shooter, arc, speed, elev, azim, arrival_time, object
     return sol[0], sol[1], sol[2]
 
 
-def _refine(sh: _Shooter, speed: float, elev: float, azim: float) -> np.ndarray:
-    """Attitude offsets (deg, deg, deg/s, deg/s) minimising the nonlinear flight's wobble."""
-    from scipy.optimize import minimize
+REFINE_STEPS = np.array([0.05, 0.05, 0.5, 0.5])
+"""Finite-difference steps of the refinement's four attitude offsets (deg, deg, deg/s, deg/s)."""
 
+
+def _refine(sh: _Shooter, speed: float, elev: float, azim: float) -> np.ndarray:
+    """
+    Attitude offsets (deg, deg, deg/s, deg/s) minimising the nonlinear flight's wobble.
+
+    The deviation of the axis from the equilibrium axis, d(t) = s(t) - X_p(t), answers the
+    small offsets x of the release attitude linearly: d(t) = d0(t) + J(t) x, J by forward
+    differences (4 flights beside the equilibrium release's). The offsets minimising
+    max_t |d(t)| (the wobble amplitude, 2 sin(angle / 2)) on that model are found by SLSQP in
+    epigraph form, then flown: kept if the flown wobble is below the equilibrium release's.
+    """
     out = sh.cross(speed, elev, azim)
     until = out[2] if out is not None else sh.duration_guess(speed, elev)
 
-    def cost(offsets):
+    def deviation(offsets):
         sh.offsets = np.asarray(offsets, dtype=float)
         try:
             y0 = sh.y0(speed, elev, azim)
         except ReleaseError:
-            return 1e3
-        times, states, _ = dyn.propagate(y0, sh.step, sh.params, sh.step, until, -1e4)
+            return None
+        times, states, _ = kernels.fly(y0, sh.step, sh.params, until, -1e4, sh.target, sh.d, -1)
         sh.flights += 1
-        return wobble_of(times, states, sh.params)[0]
+        axis, eq = _axis_and_equilibrium(_wobble_samples(times, states), sh.params)
+        return axis - eq
 
     start = np.zeros(4)
-    simplex = np.array([start] + [start + np.eye(4)[i] * s for i, s in
-                                  enumerate((0.3, 0.3, 3.0, 3.0))])
-    res = minimize(cost, start, method='Nelder-Mead',
-                   options={'initial_simplex': simplex, 'maxfev': 80, 'xatol': 1e-3,
-                            'fatol': 1e-4})
-    best = res.x if res.fun <= cost(start) else start
+    base = deviation(start)
+    columns = [deviation(h * np.eye(4)[i]) for i, h in enumerate(REFINE_STEPS)]
+    if base is None or any(c is None for c in columns):
+        sh.offsets = start
+        return sh.offsets
+    jac = np.stack([c - base for c in columns], axis=-1)  # (N, 3, 4), per step of REFINE_STEPS
+    scale = float(np.max(np.linalg.norm(base, axis=-1)))
+    if scale <= 0.0:
+        sh.offsets = start
+        return sh.offsets
+    z = _minimax(base / scale, jac / scale)
+    best = start
+    if z is not None:
+        trial = z * REFINE_STEPS
+        flown = deviation(trial)
+        if flown is not None and np.max(np.linalg.norm(flown, axis=-1)) < scale:
+            best = trial
     sh.offsets = np.asarray(best, dtype=float)
     return sh.offsets
 
 
+def _minimax(d0: np.ndarray, jac: np.ndarray) -> np.ndarray | None:
+    """
+    Return the x minimising max_n |d0[n] + jac[n] @ x| (d0 (N, 3), jac (N, 3, k)), or None.
+
+    SLSQP in epigraph form (min s subject to s^2 >= |r_n|^2) on an active set: the largest
+    residuals and every tenth sample first, then the samples the answer violates, until none.
+    """
+    from scipy.optimize import minimize
+
+    n, k = jac.shape[0], jac.shape[2]
+    norms = np.linalg.norm(d0, axis=-1)
+    active = np.union1d(np.argsort(norms)[-20:], np.arange(0, n, 10))
+    z = np.append(np.zeros(k), float(np.max(norms)))
+    for _ in range(6):
+        d, j = d0[active], jac[active]
+
+        def constraint(z, d=d, j=j):
+            r = d + j @ z[:k]
+            return z[k] * z[k] - np.sum(r * r, axis=-1)
+
+        def constraint_jac(z, d=d, j=j):
+            r = d + j @ z[:k]
+            return np.column_stack([-2.0 * np.einsum('nc,nck->nk', r, j),
+                                    np.full(len(r), 2.0 * z[k])])
+
+        res = minimize(lambda z: z[k], z, jac=lambda z: np.eye(k + 1)[k], method='SLSQP',
+                       constraints=[{'type': 'ineq', 'fun': constraint, 'jac': constraint_jac}],
+                       options={'maxiter': 100, 'ftol': 1e-12})
+        if not np.all(np.isfinite(res.x)):
+            return None
+        z = res.x
+        worst = np.linalg.norm(d0 + jac @ z[:k], axis=-1)
+        over = np.nonzero(worst > abs(z[k]) * (1.0 + 1e-6))[0]
+        if over.size == 0:
+            break
+        active = np.union1d(active, over[np.argsort(worst[over])[-20:]])
+    return z[:k]
+
+
+PAST_PLANE_STEPS = 2
+"""Steps the checking flight goes on after it crosses the target plane (the closest approach
+is within a step of the crossing; its interpolant needs the step after the closest sample)."""
+
+
 def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear, tolerance,
                   with_wobble=True):
-    """Build the Release, fly it by :class:`Flight` and check the miss (module docstring)."""
-    att = sh.attitude(speed, elev, azim)
+    """
+    Build the Release, fly it as :class:`Flight` flies it and check the miss (module docstring).
+
+    The checking flight starts from the Release's own state (:meth:`Release.initial_state`),
+    passes the step rules of :func:`football_ros.physics.limits.check_flyable` and is flown by
+    :func:`kernels.fly` (the real-time kernel's steps) to ``PAST_PLANE_STEPS`` past the target
+    plane, or to its landing on z = 0, or 30 s.
+    """
+    att, note = sh.attitude_note(speed, elev, azim)
     try:
         release = sh.base.replace(speed=speed, elevation_deg=elev,
                                   azimuth_deg=_wrap(azim), **att)
+        initial = release.initial_state()
+        check_flyable(sh.params, initial, sh.step)
     except ReleaseError as exc:
         raise PlanError(f'the planned release is outside the release limits: {exc}',
                         'release') from None
-    flight = Flight.from_release(release, sh.step)
-    guess = sh.duration_guess(speed, elev)
-    traj = flight.simulate(rate=1.0 / sh.step, duration=guess)
-    miss, t_arr, point = closest_approach(traj.times, traj.states, sh.target)
-    if miss > tolerance and not traj.landed and traj.times[-1] < 30.0:
-        traj = flight.simulate(rate=1.0 / sh.step, duration=30.0)
-        miss, t_arr, point = closest_approach(traj.times, traj.states, sh.target)
+    times, states, _ = kernels.fly(_state_vector(initial, sh.ball.inertia_ratio), sh.step,
+                                   sh.params, 30.0, 0.0, sh.target, sh.d, PAST_PLANE_STEPS)
     sh.flights += 1
+    miss, t_arr, point = closest_approach(times, states, sh.target)
     if not miss <= tolerance:
         raise PlanError(
             f'the checking flight misses the target by {miss:.3f} m > tolerance '
             f'{tolerance:g} m', 'tolerance', point)
-    keep = traj.times <= t_arr + 1e-12
+    keep = slice(0, int(np.searchsorted(times, t_arr + 1e-12, 'right')))  # times increase
     wobble = delta = aligned_wobble = aligned_delta = math.nan
-    if with_wobble:
-        wobble, delta = wobble_of(traj.times[keep], traj.states[keep], flight.params)
-    warnings = []
-    note = sh.axis_rate(speed, elev, azim)[3]
-    if note and mode != 'aligned':
-        warnings.append(note)
-    if not flight.modes.stable:
-        warnings.append('gyroscopically unstable at release: the equilibrium is not an '
-                        'attractor and the wobble grows')
     if with_wobble:
         saved = sh.mode
         sh.mode = 'aligned'
         y0 = sh.y0(speed, elev, azim)
         sh.mode = saved
-        times, states, _ = dyn.propagate(y0, sh.step, sh.params, sh.step, t_arr, 0.0)
+        a_times, a_states, _ = kernels.fly(y0, sh.step, sh.params, t_arr, 0.0, sh.target, sh.d,
+                                           -1)
         sh.flights += 1
-        aligned_wobble, aligned_delta = wobble_of(times, states, sh.params)
+        (wobble, delta), (aligned_wobble, aligned_delta) = _wobbles(
+            ((times[keep], states[keep]), (a_times, a_states)), sh.params)
+    warnings = []
+    if note and mode != 'aligned':
+        warnings.append(note)
+    if not _gyroscopically_stable(sh, initial):
+        warnings.append('gyroscopically unstable at release: the equilibrium is not an '
+                        'attractor and the wobble grows')
     return Plan(
         release=release,
         objective=objective,
@@ -1075,10 +1171,34 @@ def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear,
         attitude=mode,
         linear_release={k: float(v) for k, v in linear.items()},
         flights=sh.flights,
-        path_times=np.append(traj.times[keep], t_arr),
-        path_positions=np.vstack([traj.positions[keep], point]),
+        path_times=np.append(times[keep], t_arr),
+        path_positions=np.vstack([states[keep, dyn.R:dyn.R + 3], point]),
         warnings=tuple(warnings),
     )
+
+
+def _state_vector(initial: InitialState, inertia_ratio: float) -> np.ndarray:
+    """Real-time state vector of a release state, as :class:`Flight` builds it."""
+    y0 = np.zeros(dyn.N_STATE)
+    y0[dyn.R:dyn.R + 3] = initial.position
+    y0[dyn.V:dyn.V + 3] = initial.velocity
+    y0[dyn.Q:dyn.Q + 4] = initial.attitude
+    y0[dyn.H:dyn.H + 3] = initial.transverse_rate + inertia_ratio * initial.spin * initial.axis
+    y0[dyn.H1] = inertia_ratio * initial.spin
+    return y0
+
+
+def _gyroscopically_stable(sh: _Shooter, initial: InitialState) -> bool:
+    """Return the frozen linear theory's criterion at release (``LinearModes.stable``)."""
+    air = _vec(initial.velocity)
+    air = (air[0] - sh.wind[0], air[1] - sh.wind[1], air[2] - sh.wind[2])
+    h1 = sh.ball.inertia_ratio * initial.spin
+    return h1 * h1 > 4.0 * moment_slope(sh.ball, math.sqrt(_dot(air, air)))
+
+
+def warm_up() -> None:
+    """Load (or, on a cold numba cache, compile) the planner's kernels: one short plan."""
+    plan([12.0, 0.0, 1.5], Release(position=(0.0, 0.0, 1.8), model='full'))
 
 
 def _wrap(azim: float) -> float:

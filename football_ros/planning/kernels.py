@@ -1,0 +1,251 @@
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The planner's compiled flights: the real-time kernel's RK4 steps, stopped at the target plane.
+
+:func:`fly` takes the steps of :func:`football_ros.physics.dynamics.propagate` sampled at every
+step (the same states: positions and velocities bit for bit, the attitude to round-off, as
+``propagate`` takes a zero-length projected step for each sample) without the per-sample
+partial step, and can stop a few steps after the path first crosses the target plane
+(p - T).d = 0 moving forward. :func:`plane_crossing` and :func:`closest_approach` locate the
+crossing and the closest approach to T on the cubic Hermite interpolant of the steps
+(:func:`football_ros.physics.batch.hermite`, the one interpolant).
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+import numpy as np
+
+from ..physics import dynamics as dyn
+from ..physics import linear_theory as lt
+from ..physics.batch import hermite
+
+APPROACH_POINTS = np.linspace(0.0, 1.0, 201)
+"""Fractions of a step at which :func:`closest_approach` evaluates the interpolant."""
+
+# The linear theory's plain-float functions, compiled as they stand (one source for each).
+_exponents = njit(cache=True, error_model='numpy')(lt.local_exponents_scalar)
+_drift_points = njit(cache=True, error_model='numpy')(lt.drift_points)
+_drift_of = njit(cache=True, error_model='numpy')(lt.drift_of)
+
+
+@njit(cache=True, nogil=True)
+def fly(y0, dt, params, duration, ground, target, d, past_plane):
+    """
+    RK4 steps of ``dt`` [s] from ``y0`` (real-time state vector); return (times, states, landed).
+
+    States at t = k dt for k = 0 .. floor(duration / dt) (as ``dynamics.propagate`` with
+    sample period dt), or to the landing on z = ``ground`` (the last state then the landing,
+    located as ``propagate`` locates it). ``past_plane`` >= 0: stop that many steps after the
+    first state with (p - target).d >= 0 (a forward crossing of the target plane; ``target``,
+    ``d`` (3,) in ``field``); < 0: never.
+    """
+    n_max = int(math.floor(duration / dt + 1e-9)) + 1
+    times = np.empty(n_max)
+    states = np.empty((n_max, y0.size))
+    y = y0.copy()
+    work = np.empty((5, y0.size))
+    times[0] = 0.0
+    states[0] = y0
+    dyn.project_invariants(states[0])  # propagate's first sample: a zero-length projected step
+    left = -1
+    if past_plane >= 0:
+        f = (y0[dyn.R] - target[0]) * d[0] + (y0[dyn.R + 1] - target[1]) * d[1] + (
+            y0[dyn.R + 2] - target[2]) * d[2]
+        if f >= 0.0:
+            left = past_plane
+    for k in range(1, n_max):
+        if left == 0:
+            return times[:k], states[:k], False
+        dyn.rk4_step_with(y, dt, params, states[k], work)
+        if dyn.crossed_ground(y, states[k], ground):
+            return dyn.finish_with_landing(times, states, k, y, (k - 1) * dt, dt, params,
+                                           ground)
+        y[:] = states[k]
+        times[k] = k * dt
+        if left > 0:
+            left -= 1
+        elif past_plane >= 0:
+            f = (y[dyn.R] - target[0]) * d[0] + (y[dyn.R + 1] - target[1]) * d[1] + (
+                y[dyn.R + 2] - target[2]) * d[2]
+            if f >= 0.0:
+                left = past_plane
+    return times, states, False
+
+
+@njit(cache=True)
+def _along(p0, v0, p1, v1, dt, u, target, d):
+    """(Hermite position at u - target).d."""
+    out = 0.0
+    for i in range(3):
+        out += (hermite(p0[i], v0[i], p1[i], v1[i], dt, u) - target[i]) * d[i]
+    return out
+
+
+@njit(cache=True)
+def plane_crossing(times, states, target, d):
+    """
+    First forward crossing of the plane (p - target).d = 0: (found, time [s], position (3,)).
+
+    Newton on the cubic Hermite interpolant of the along-plane coordinate inside the step
+    (8 iterations at most, forward-difference slope).
+    """
+    n = times.size
+    k = -1
+    for j in range(n):
+        f = 0.0
+        for i in range(3):
+            f += (states[j, dyn.R + i] - target[i]) * d[i]
+        if f >= 0.0:
+            k = j - 1
+            break
+    point = np.zeros(3)
+    if k < 0:
+        return False, 0.0, point
+    dt = times[k + 1] - times[k]
+    p0, p1 = states[k, dyn.R:dyn.R + 3], states[k + 1, dyn.R:dyn.R + 3]
+    v0, v1 = states[k, dyn.V:dyn.V + 3], states[k + 1, dyn.V:dyn.V + 3]
+    f0, f1 = 0.0, 0.0
+    for i in range(3):
+        f0 += (p0[i] - target[i]) * d[i]
+        f1 += (p1[i] - target[i]) * d[i]
+    u = f0 / (f0 - f1) if f1 != f0 else 0.0
+    for _ in range(8):
+        val = _along(p0, v0, p1, v1, dt, u, target, d)
+        du = 1e-6
+        slope = (_along(p0, v0, p1, v1, dt, u + du, target, d) - val) / du
+        if slope == 0.0:
+            break
+        step = val / slope
+        u = min(max(u - step, 0.0), 1.0)
+        if abs(step) < 1e-12:
+            break
+    for i in range(3):
+        point[i] = hermite(p0[i], v0[i], p1[i], v1[i], dt, u)
+    return True, times[k] + u * dt, point
+
+
+@njit(cache=True)
+def closest_approach(times, states, target, fractions):
+    """
+    Closest approach of sampled states to ``target``: (distance [m], time [s], point (3,)).
+
+    The closest sample, then the cubic Hermite interpolant at ``fractions`` of each of the two
+    steps beside it.
+    """
+    n = times.size
+    k = 0
+    best = math.inf
+    for j in range(n):
+        dist = 0.0
+        for i in range(3):
+            dist += (states[j, dyn.R + i] - target[i]) ** 2
+        dist = math.sqrt(dist)
+        if dist < best:
+            best, k = dist, j
+    point = states[k, dyn.R:dyn.R + 3].copy()
+    t_best = times[k]
+    trial = np.empty(3)
+    for j in (k - 1, k):
+        if j < 0 or j + 1 >= n:
+            continue
+        dt = times[j + 1] - times[j]
+        for u in fractions:
+            dist = 0.0
+            for i in range(3):
+                trial[i] = hermite(states[j, dyn.R + i], states[j, dyn.V + i],
+                                   states[j + 1, dyn.R + i], states[j + 1, dyn.V + i], dt, u)
+                dist += (trial[i] - target[i]) ** 2
+            dist = math.sqrt(dist)
+            if dist < best:
+                best, t_best = dist, times[j] + u * dt
+                point[:] = trial
+    return best, t_best, point
+
+
+@njit(cache=True, error_model='numpy')
+def equilibrium_axes(states, params, consts):
+    """
+    Return the spin axes and the equilibrium axes X_p (unit, (N, 3), ``field``) of state rows.
+
+    ``states`` (N, N_STATE) of the real-time kernel, ``params`` its parameters,
+    ``consts`` = :func:`football_ros.physics.linear_theory.scalar_constants` of them. X_p: the
+    drifting equilibrium x_p + B x_p' / C (:func:`~football_ros.physics.linear_theory.
+    drifting_equilibrium_scalar`, compiled) against the local air velocity v - wind, at the
+    row's h1, in the velocity frame of that air velocity (s1 = sqrt(1 - |X_p|^2)). NaN where
+    the theory has no equilibrium.
+    """
+    n = states.shape[0]
+    axes = np.empty((n, 3))
+    eqs = np.empty((n, 3))
+    for k in range(n):
+        axes[k, 0], axes[k, 1], axes[k, 2] = dyn.axis_of(states[k])
+        eqs[k, 0], eqs[k, 1], eqs[k, 2] = _equilibrium_axis(states[k], params, consts)
+    return axes, eqs
+
+
+@njit(cache=True, error_model='numpy')
+def wobble(states, rows, params, consts):
+    """
+    Return (wobble amplitude, delta at the last row) [rad] over the state rows ``rows``.
+
+    The largest angle between the spin axis and X_p (:func:`equilibrium_axes`; NaN if any is
+    NaN) and the angle between the axis and the air velocity at ``rows[-1]`` (delta of
+    :func:`football_ros.physics.dynamics.describe`); NaN, NaN without rows.
+    """
+    largest = 0.0 if rows.size else math.nan
+    for k in rows:
+        sx, sy, sz = dyn.axis_of(states[k])
+        qx, qy, qz = _equilibrium_axis(states[k], params, consts)
+        angle = math.acos(min(1.0, max(-1.0, sx * qx + sy * qy + sz * qz)))
+        if math.isnan(angle) or angle > largest:
+            largest = angle
+            if math.isnan(angle):
+                break
+    if not rows.size:
+        return largest, math.nan
+    y = states[rows[-1]]
+    air = (y[dyn.V] - params[dyn.P_WIND], y[dyn.V + 1] - params[dyn.P_WIND + 1],
+           y[dyn.V + 2] - params[dyn.P_WIND + 2])
+    s1 = dyn.velocity_frame_components(air, dyn.axis_of(y))[0]
+    return largest, math.acos(min(1.0, max(-1.0, s1)))
+
+
+@njit(cache=True, error_model='numpy')
+def _equilibrium_axis(y, params, consts):
+    """X_p of :func:`equilibrium_axes` for one state (a 3-tuple)."""
+    air = (y[dyn.V] - params[dyn.P_WIND], y[dyn.V + 1] - params[dyn.P_WIND + 1],
+           y[dyn.V + 2] - params[dyn.P_WIND + 2])
+    h1 = y[dyn.H1]
+    _, _, b, d_c, x_p = _exponents(consts, air, h1)
+    air_a, h1_a, air_b, h1_b = _drift_points(consts, air, h1)
+    x_eq = _drift_of(b, d_c, x_p, _exponents(consts, air_a, h1_a)[4],
+                     _exponents(consts, air_b, h1_b)[4])[0]
+    speed = math.sqrt(air[0] * air[0] + air[1] * air[1] + air[2] * air[2])
+    e1x, e1y, e1z = air[0] / speed, air[1] / speed, air[2] / speed
+    e2x, e2y, e2z = -e1z * e1x, -e1z * e1y, 1.0 - e1z * e1z
+    n2 = math.sqrt(e2x * e2x + e2y * e2y + e2z * e2z)
+    e2x, e2y, e2z = e2x / n2, e2y / n2, e2z / n2
+    e3x, e3y, e3z = e1y * e2z - e1z * e2y, e1z * e2x - e1x * e2z, e1x * e2y - e1y * e2x
+    size = abs(x_eq)
+    s1 = math.sqrt(max(0.0, 1.0 - size * size))
+    qx = s1 * e1x + x_eq.real * e2x + x_eq.imag * e3x
+    qy = s1 * e1y + x_eq.real * e2y + x_eq.imag * e3y
+    qz = s1 * e1z + x_eq.real * e2z + x_eq.imag * e3z
+    norm = math.sqrt(qx * qx + qy * qy + qz * qz)
+    return qx / norm, qy / norm, qz / norm
