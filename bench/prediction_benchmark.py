@@ -44,6 +44,7 @@ are in bench/RESULTS.md.
 from __future__ import annotations
 
 import argparse
+import collections
 from dataclasses import dataclass, field
 import math
 import time
@@ -55,6 +56,7 @@ from football_ros.estimation import (
     Observation,
     TrackerSettings,
 )
+from football_ros.estimation.multi import MultiTracker
 from football_ros.physics import Flight, Release
 from football_ros.physics.aero import AeroModel
 from numba import njit
@@ -257,6 +259,13 @@ def with_clutter(obs: list, rate: float, seed: int) -> list:
     return sorted(obs + fake, key=lambda o: o.delivery)
 
 
+SECOND_BALL = Release(
+    model='full', speed=20.0, elevation_deg=40.0, spin_rpm=-500.0, azimuth_deg=30.0,
+    position=(10.0, 5.0, 1.5),
+)
+"""The other ball of ``--two-balls``: released 0.3 s after each benchmark throw, seen too."""
+
+
 def run_flight(
     release: Release,
     seed: int,
@@ -264,17 +273,31 @@ def run_flight(
     wind_sigma: float = 0.0,
     oracle: bool = True,
     clutter: float = 0.0,
+    two_balls: bool = False,
 ):
     """
     Replay one flight's fixes into the tracker (and the oracle) and the baselines.
 
+    ``two_balls``: the camera also sees :data:`SECOND_BALL` (released 0.3 s later, its own
+    noise) and the tracker is a :class:`MultiTracker`, judged on the track that took most of
+    this ball's fixes (the baselines are handed this ball's fixes alone; no oracle).
     Returns {lead: {method: (error [m], time error [s], NEES) or None}} and the flight time [s].
     """
     truth = Flight.from_release(release).simulate(rate=100.0, duration=20.0)
     t_land = float(truth.times[-1])
     xy_land = truth.positions[-1, :2]
-    obs = with_clutter(camera_fixes(release, seed, t_land, case), clutter, seed)
-    tracker = FlightTracker(tracker_settings(case, wind_sigma))
+    obs = [(o, True) for o in camera_fixes(release, seed, t_land, case)]
+    if two_balls:
+        t2 = float(Flight.from_release(SECOND_BALL).simulate(rate=100.0).times[-1])
+        other = camera_fixes(SECOND_BALL, seed + 50021, t2, case)
+        obs += [(Observation(o.stamp + 0.3, o.position, o.delivery + 0.3), False) for o in other]
+        oracle = False
+    flat = with_clutter([o for o, _ in obs], clutter, seed)
+    mine = {id(o) for o, own in obs if own}
+    obs = sorted(flat, key=lambda o: o.delivery)
+    settings = tracker_settings(case, wind_sigma)
+    tracker = MultiTracker(settings) if two_balls else FlightTracker(settings)
+    routed = collections.Counter()  # track id -> this ball's fixes it took
     known = FlightTracker(
         TrackerSettings(
             noise=case.noise,
@@ -292,14 +315,23 @@ def run_flight(
         t_eval = t_land - lead
         while i < len(obs) and obs[i].delivery <= t_eval:
             o = obs[i]
-            tracker.update(o.stamp, o.position)
+            i += 1
+            got = tracker.update(o.stamp, o.position)
+            if id(o) not in mine:
+                continue
+            if two_balls and got[0] is not None:
+                routed[got[0]] += 1
             if oracle:
                 known.update(o.stamp, o.position)
             delivered_t.append(o.stamp)
             delivered_z.append(o.position)
-            i += 1
         row = {}
-        pred = tracker.predict_landing()
+        if two_balls:
+            best = routed.most_common(1)[0][0] if routed else None
+            track = tracker.tracks.get(best)
+            pred = track.predict_landing() if track is not None else None
+        else:
+            pred = tracker.predict_landing()
         row['tracker'] = None if pred is None else (pred.time, pred.position[:2], pred.covariance)
         pred = known.predict_landing() if oracle else None
         row['oracle'] = None if pred is None else (pred.time, pred.position[:2], pred.covariance)
@@ -396,6 +428,9 @@ def main() -> None:
     ap.add_argument(
         '--clutter', type=float, default=0.0, help='false detections per second [Hz] added'
     )
+    ap.add_argument(
+        '--two-balls', action='store_true', help='a second ball in the air (SECOND_BALL)'
+    )
     args = ap.parse_args()
     unknown = sorted(set(args.cases) - set(CASES))
     if unknown:
@@ -407,7 +442,8 @@ def main() -> None:
         f'camera {RATE:g} Hz, noise {NOISE * 100:g} cm, latency {LATENCY * 1000:g} ms unless the '
         f'case says; {args.flights} flights per case x {args.draws} draws, seeds {args.seed}..'
         f'{args.seed + args.draws - 1}, tracker wind_sigma {args.wind_sigma:g} m/s, '
-        f'clutter {args.clutter:g} Hz. NEES: 2 and 0.95 in the 95 % ellipse when honest.'
+        f'clutter {args.clutter:g} Hz' + (', a second ball' if args.two_balls else '')
+        + '. NEES: 2 and 0.95 in the 95 % ellipse when honest.'
     )
     summary = []
     for case_name in args.cases:
@@ -417,7 +453,8 @@ def main() -> None:
             rng = np.random.default_rng(seed * 1000 + ci)
             for k, r in enumerate(random_releases(rng, args.flights, case)):
                 res, t_land = run_flight(
-                    r, seed * 100000 + ci * 1000 + k, case, args.wind_sigma, clutter=args.clutter
+                    r, seed * 100000 + ci * 1000 + k, case, args.wind_sigma,
+                    clutter=args.clutter, two_balls=args.two_balls,
                 )
                 per.append(res)
                 t_flights.append(t_land)
@@ -482,9 +519,10 @@ if __name__ == '__main__':
     pre = argparse.ArgumentParser(add_help=False)
     pre.add_argument('--wind-sigma', type=float, default=0.0)
     pre.add_argument('--clutter', type=float, default=0.0)
+    pre.add_argument('--two-balls', action='store_true')
     flags, _ = pre.parse_known_args()
     section = 'prediction' + ''.join(
         f', {name} {value:g}' for name, value in
         (('wind_sigma', flags.wind_sigma), ('clutter Hz', flags.clutter)) if value > 0.0
-    )
+    ) + (', two balls' if flags.two_balls else '')
     raise SystemExit(results.recorded(section, main))
