@@ -351,3 +351,17 @@ def test_lock_step_lanes_bit_for_bit_and_a_broken_lane_alone():
     flight = Flight.from_release(lob)
     for name in ('b0', 'b1', 'b3', 'b4', 'b5'):
         assert _exact(out[name], flight, 1.334)
+
+
+def test_rest_pose_due_at_once_then_at_the_hold_rate_until_thrown():
+    world = wd.World()
+    entity = world.spawn('r', 'football_ros://american', [1.0, 2.0, 0.5], UPRIGHT)
+    assert entity.rest_due(10, 2.0) and not entity.rest_due(10 + 499_999_999, 2.0)
+    assert entity.rest_due(10 + 500_000_000, 2.0)
+    assert not entity.rest_due(10**12, 0.0)  # hold_rate 0: only once
+    world.place(entity, [3.0, 0.0, 0.0], UPRIGHT)  # placed elsewhere: due at once again
+    assert entity.rest_due(10**12, 0.0) and entity.state()[0].tolist() == [3.0, 0.0, 0.0]
+    world.throw(entity, run_of(Release(), 'r'))
+    assert not entity.rest_due(10**13, 2.0)  # flying: its flight is published instead
+    world.reset(state=True, spawned=False)
+    assert entity.rest_due(10**13, 0.0) and entity.state()[0].tolist() == [1.0, 2.0, 0.5]

@@ -327,3 +327,54 @@ def to_plain(msg):
     if isinstance(msg, (list, tuple)):
         return [to_plain(v) for v in msg]
     return msg
+
+
+class EntityMessages:
+    """
+    A spawned entity's pose, odometry and transform, built once and refilled in place.
+
+    pose and odom pose in ``frame_id``; odom twist in the body frame ``child_frame_id`` (zero at
+    rest); the transform ``frame_id`` -> ``child_frame_id`` (None without tf2_msgs).
+    """
+
+    def __init__(self, frame_id: str, child_frame_id: str) -> None:
+        self.pose = PoseStamped()
+        self.odom = Odometry()
+        self.transform = None if TFMessage is None else TransformStamped()
+        self.tf_ns = -1  # stamp of the last transform its user sent [ns] (tf2: no repeats)
+        self.frame_ids = ('', '')
+        self.frames(frame_id, child_frame_id)
+
+    def frames(self, frame_id: str, child_frame_id: str) -> None:
+        """Set the frame ids (the parameters may change them); ``frame_ids`` holds them."""
+        self.frame_ids = (frame_id, child_frame_id)
+        self.pose.header.frame_id = self.odom.header.frame_id = frame_id
+        self.odom.child_frame_id = child_frame_id
+        if self.transform is not None:
+            self.transform.header.frame_id = frame_id
+            self.transform.child_frame_id = child_frame_id
+
+    def fill(
+        self,
+        stamp: Time,
+        position: Sequence[float],
+        orientation: Sequence[float],
+        velocity: Sequence[float],
+        angular_velocity: Sequence[float],
+    ) -> None:
+        """Set every field: position [m], orientation (x, y, z, w), velocities in the world."""
+        px, py, pz = (float(v) for v in position)
+        qx, qy, qz, qw = q = [float(v) for v in orientation]
+        for msg, pose in ((self.pose, self.pose.pose), (self.odom, self.odom.pose.pose)):
+            msg.header.stamp = stamp
+            pose.position.x, pose.position.y, pose.position.z = px, py, pz
+            o = pose.orientation
+            o.x, o.y, o.z, o.w = qx, qy, qz, qw
+        twist = self.odom.twist.twist
+        twist.linear.x, twist.linear.y, twist.linear.z = to_body_frame(q, velocity)
+        twist.angular.x, twist.angular.y, twist.angular.z = to_body_frame(q, angular_velocity)
+        if self.transform is not None:
+            self.transform.header.stamp = stamp
+            t = self.transform.transform
+            t.translation.x, t.translation.y, t.translation.z = px, py, pz
+            t.rotation.x, t.rotation.y, t.rotation.z, t.rotation.w = qx, qy, qz, qw
