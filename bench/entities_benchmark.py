@@ -18,8 +18,8 @@ Many balls through simulation_interfaces: real-time pacing and lock-step speed (
     .venv/bin/python bench/entities_benchmark.py [--seconds 4] [--repeats 5]
 
 Real time: for each (balls, publish_rate) the simulator (a subprocess) spawns the balls with
-SpawnEntity, throws them with SetEntityState (lobs of 40 m/s at 75 deg: 7.9 s in the air,
-each on football/<name>/pose and .../odom and one /tf per tick), and its CPU time
+SpawnEntities, throws them while paused with SetEntityState (lobs of 60 m/s at 80 deg: 12 s in
+the air, each on football/<name>/pose and .../odom and one /tf per tick), plays, and its CPU time
 (/proc/<pid>/stat) and late or skipped ticks (its /diagnostics) are measured over
 ``--seconds`` while every ball flies: first with nobody subscribed to the entity topics (the
 simulator skips those), then with this client subscribed (raw) to every pose, odom and /tf.
@@ -67,13 +67,19 @@ from nav_msgs.msg import Odometry  # noqa: E402
 import rclpy  # noqa: E402
 from rclpy.action import ActionClient  # noqa: E402
 from simulation_interfaces.action import SimulateSteps  # noqa: E402
-from simulation_interfaces.msg import EntityState, Result, SimulationState  # noqa: E402
+from simulation_interfaces.msg import (  # noqa: E402
+    EntityState,
+    Resource,
+    Result,
+    SimulationState,
+    SpawnEntity as SpawnEntityMsg,
+)
 from simulation_interfaces.srv import (  # noqa: E402
     GetSimulationState,
     ResetSimulation,
     SetEntityState,
     SetSimulationState,
-    SpawnEntity,
+    SpawnEntities,
     StepSimulation,
 )
 from std_msgs.msg import String  # noqa: E402
@@ -168,9 +174,12 @@ class Bench:
 
     def spawn_and_throw(self, n: int, release: Release = LOB) -> None:
         st = release.initial_state()
+        spawns = [
+            SpawnEntityMsg(name=f'b{k}', entity_resource=Resource(uri='football_ros://american'))
+            for k in range(n)
+        ]
+        self.call(SpawnEntities, 'spawn_entities', SpawnEntities.Request(spawn_requests=spawns))
         for k in range(n):
-            spawn = SpawnEntity.Request(name=f'b{k}', uri='football_ros://american')
-            self.call(SpawnEntity, 'spawn_entity', spawn)
             state = EntityState()
             p, o = state.pose.position, state.pose.orientation
             p.x, p.y, p.z = 0.0, 0.5 * k, 0.0
@@ -220,10 +229,15 @@ def real_time(bench: Bench, pid: int, balls: int, seconds: float) -> dict:
     bench.spin(0.5)
     out['single'] = window(bench, pid, seconds)
     bench.reset()
+    # Thrown while paused (SpawnEntities, then SetEntityState each), all fly from PLAYING on:
+    # 12 s lobs, in the air through both windows.
+    bench.set_state(SimulationState.STATE_PAUSED)
     start = time.monotonic()
-    bench.spawn_and_throw(balls)
+    bench.spawn_and_throw(balls, LOCK_STEP_LOB)
     throw_s = time.monotonic() - start
-    bench.spin(0.3)
+    bench.spin(1.0)  # the new publishers' discovery traffic settles
+    bench.set_state(SimulationState.STATE_PLAYING)
+    bench.spin(0.5)
     out['many'] = window(bench, pid, seconds)
     # The same with a subscriber on every entity topic and /tf (raw: the client only counts).
     received = [0]

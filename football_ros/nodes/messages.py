@@ -361,19 +361,33 @@ class EntityMessages:
         orientation: Sequence[float],
         velocity: Sequence[float],
         angular_velocity: Sequence[float],
+        parts: tuple[bool, bool, bool] = (True, True, True),
     ) -> None:
-        """Set every field: position [m], orientation (x, y, z, w), velocities in the world."""
+        """
+        Set the fields of the messages ``parts`` = (pose, odom, transform) names.
+
+        Position [m], orientation (x, y, z, w), velocity [m/s] and angular velocity [rad/s]
+        in the world frame (odom carries them in the body frame).
+        """
         px, py, pz = (float(v) for v in position)
         qx, qy, qz, qw = q = [float(v) for v in orientation]
-        for msg, pose in ((self.pose, self.pose.pose), (self.odom, self.odom.pose.pose)):
-            msg.header.stamp = stamp
-            pose.position.x, pose.position.y, pose.position.z = px, py, pz
-            o = pose.orientation
+        want_pose, want_odom, want_transform = parts
+        if want_pose:
+            self.pose.header.stamp = stamp
+            p, o = self.pose.pose.position, self.pose.pose.orientation
+            p.x, p.y, p.z = px, py, pz
             o.x, o.y, o.z, o.w = qx, qy, qz, qw
-        twist = self.odom.twist.twist
-        twist.linear.x, twist.linear.y, twist.linear.z = to_body_frame(q, velocity)
-        twist.angular.x, twist.angular.y, twist.angular.z = to_body_frame(q, angular_velocity)
-        if self.transform is not None:
+        if want_odom:
+            self.odom.header.stamp = stamp
+            p, o = self.odom.pose.pose.position, self.odom.pose.pose.orientation
+            p.x, p.y, p.z = px, py, pz
+            o.x, o.y, o.z, o.w = qx, qy, qz, qw
+            twist = self.odom.twist.twist
+            twist.linear.x, twist.linear.y, twist.linear.z = to_body_frame(q, velocity)
+            twist.angular.x, twist.angular.y, twist.angular.z = to_body_frame(
+                q, angular_velocity
+            )
+        if want_transform and self.transform is not None:
             self.transform.header.stamp = stamp
             t = self.transform.transform
             t.translation.x, t.translation.y, t.translation.z = px, py, pz

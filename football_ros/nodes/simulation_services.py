@@ -600,7 +600,8 @@ class SimulationServices:
 
     def _in_worker(self, fn, *args) -> Future:
         """Run ``fn(*args)`` on the stepping thread; an rclpy Future the executor wakes on."""
-        future = Future(executor=self._node.executor)
+        executor = self._node.executor
+        future = Future(executor=executor)
 
         def finished(job) -> None:
             error = job.exception()
@@ -608,6 +609,8 @@ class SimulationServices:
                 future.set_exception(error)
             else:
                 future.set_result(job.result())
+            if executor is not None:
+                executor.wake()  # the awaiting goal resumes now, not at the next other event
 
         self._stepper.submit(fn, *args).add_done_callback(finished)
         return future

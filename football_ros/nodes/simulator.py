@@ -662,16 +662,23 @@ class SimulatorNode(Node):
             frames = (self.frame_id, f'{self.child_frame_id}/{entity.name}')
             if msgs.frame_ids != frames:
                 msgs.frames(*frames)
+            parts = (
+                pose_pub.get_subscription_count() > 0,
+                odom_pub.get_subscription_count() > 0,
+                with_tf and msgs.transform is not None and ns > msgs.tf_ns,  # tf2: no repeats
+            )
+            if not any(parts):
+                continue
             position, orientation, velocity, omega = entity.state()
             if at_rest:
                 velocity = omega = (0.0, 0.0, 0.0)
-            msgs.fill(stamp, position, orientation, velocity, omega)
-            if pose_pub.get_subscription_count():
+            msgs.fill(stamp, position, orientation, velocity, omega, parts)
+            if parts[0]:
                 pose_pub.publish(msgs.pose)
-            if odom_pub.get_subscription_count():
+            if parts[1]:
                 odom_pub.publish(msgs.odom)
-            if with_tf and msgs.transform is not None and ns > msgs.tf_ns:
-                msgs.tf_ns = ns  # tf2 refuses a repeated stamp for a frame
+            if parts[2]:
+                msgs.tf_ns = ns
                 transforms.append(msgs.transform)
         if transforms:
             self._entity_tf.transforms = transforms
