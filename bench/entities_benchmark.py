@@ -115,6 +115,17 @@ class Simulator:
             self.proc.kill()
 
 
+def cpu_ns(pid: int) -> int:
+    """CPU time [ns] of every thread of process ``pid`` so far (schedstat: ns resolution)."""
+    total = 0
+    for task in Path(f'/proc/{pid}/task').iterdir():
+        try:
+            total += int((task / 'schedstat').read_text().split()[0])
+        except (OSError, ValueError, IndexError):  # a thread that just ended
+            pass
+    return total
+
+
 def cpu_seconds(pid: int) -> float:
     """CPU seconds (user + system) of process ``pid`` so far."""
     fields = Path(f'/proc/{pid}/stat').read_text().rsplit(')', 1)[1].split()
@@ -264,7 +275,7 @@ def real_time(bench: Bench, pid: int, balls: int, seconds: float) -> dict:
     return out
 
 
-def lock_step(bench: Bench, balls: int, repeats: int) -> dict:
+def lock_step(bench: Bench, pid: int, balls: int, repeats: int) -> dict:
     """
     Median wall time of 1 s of flight (1000 steps) with ``balls`` in the air, paused.
 
@@ -274,8 +285,13 @@ def lock_step(bench: Bench, balls: int, repeats: int) -> dict:
     bench.set_state(SimulationState.STATE_PAUSED)
     bench.reset()
     bench.spawn_and_throw(balls, LOCK_STEP_LOB)
+    bench.step(1)  # the client's discovery, outside the timings
+    cpu = cpu_ns(pid)
     service = [bench.step(1000) for _ in range(repeats)]
+    service_cpu = (cpu_ns(pid) - cpu) * 1e-9 / repeats
+    cpu = cpu_ns(pid)
     action = [bench.simulate_steps(1000) for _ in range(repeats)]
+    action_cpu = (cpu_ns(pid) - cpu) * 1e-9 / repeats
     singles = None
     if balls == 1:  # per call: the first and the last 50 of 200 (the client slows down)
         calls = [bench.step(1) for _ in range(200)]
@@ -285,6 +301,8 @@ def lock_step(bench: Bench, balls: int, repeats: int) -> dict:
     return {
         'service': statistics.median(service),
         'action': statistics.median(action),
+        'service_cpu': service_cpu,
+        'action_cpu': action_cpu,
         'singles': singles,
     }
 
@@ -311,7 +329,7 @@ def phase(args) -> dict:
         if args.phase == 'realtime':
             return real_time(bench, args.pid, args.balls, args.seconds)
         if args.phase == 'lockstep':
-            return lock_step(bench, args.balls, args.repeats)
+            return lock_step(bench, args.pid, args.balls, args.repeats)
         request = GetSimulationState.Request()
         bench.call(GetSimulationState, 'get_simulation_state', request)  # discovery
         bench.set_state(SimulationState.STATE_PAUSED)
@@ -363,7 +381,8 @@ def main(argv=None) -> int:
                 if rate == 100.0:
                     trips = run_phase('round_trip')
                     steps = {
-                        n: run_phase('lockstep', balls=n, repeats=args.repeats) for n in (1, 100)
+                        n: run_phase('lockstep', pid=sim.proc.pid, balls=n, repeats=args.repeats)
+                        for n in (1, 100)
                     }
             finally:
                 sim.stop()
@@ -371,9 +390,9 @@ def main(argv=None) -> int:
 
     print(f'Real time ({seconds:g} s windows; CPU = simulator process user + system; late = '
           'published after its deadline, skipped = never published)')
-    print('| case | rate Hz | balls | CPU s/s | late ticks | skipped ticks '
-          '| CPU ms per ball-second | vs single-ball path |')
-    print('|---|---|---|---|---|---|---|---|')
+    print('| case | rate Hz | balls | CPU s/s | CPU ms per tick (budget: the period) '
+          '| late ticks | skipped ticks | CPU ms per ball-second | vs single-ball path |')
+    print('|---|---|---|---|---|---|---|---|---|')
     for balls, rate, r in rows:
         idle_cpu = r['idle'][0]
         single = (r['single'][0] - idle_cpu) / seconds
@@ -386,30 +405,36 @@ def main(argv=None) -> int:
             per = (cpu - idle_cpu) / (max(n, 1) * seconds)
             ratio = '' if n == 0 else f'{per / single:.3f}'
             per_text = '' if n == 0 else f'{1e3 * per:.2f}'
-            print(f'| {name} | {rate:g} | {n} | {cpu / seconds:.3f} | {late} | {skipped} '
+            print(f'| {name} | {rate:g} | {n} | {cpu / seconds:.3f} '
+                  f'| {1e3 * cpu / (seconds * rate):.3f} (of {1e3 / rate:g}) | {late} | {skipped} '
                   f'| {per_text} | {ratio} |')
         print(f'| (throwing the {balls} balls through the services: {r["throw_s"]:.2f} s; '
-              f'messages the subscribed window delivered: {r["received"]}) | | | | | | | |')
+              f'messages the subscribed window delivered: {r["received"]}) | | | | | | | | |')
     print()
     print('Lock-step: 1 s of flight (1000 steps of 1 ms), paused, end to end (median)')
-    print('| case | wall ms | x real time |')
-    print('|---|---|---|')
+    print('(simulator CPU = the CPU time of its threads per call, /proc schedstat: the work, '
+          'without the waits for a core)')
+    print('| case | wall ms | x real time | simulator CPU ms per call | x real time on its CPU |')
+    print('|---|---|---|---|---|')
     print(f'| offline Flight.state_at, 1 ball, in process (baseline) | {1e3 * offline:.2f} '
-          f'| {1.0 / offline:.0f} |')
-    print(f'| GetSimulationState round trip (baseline) | {1e3 * trips["round_trip"]:.2f} | |')
+          f'| {1.0 / offline:.0f} | | |')
+    print(f'| GetSimulationState round trip (baseline) | {1e3 * trips["round_trip"]:.2f} '
+          '| | | |')
     print(f'| StepSimulation(0) round trip (baseline: the call, no step) '
-          f'| {1e3 * trips["step0"]:.2f} | |')
+          f'| {1e3 * trips["step0"]:.2f} | | | |')
     for n, r in steps.items():
-        print(f'| StepSimulation(1000), {n} ball(s) | {1e3 * r["service"]:.2f} '
-              f'| {1.0 / r["service"]:.0f} |')
-        print(f'| SimulateSteps(1000), {n} ball(s) | {1e3 * r["action"]:.2f} '
-              f'| {1.0 / r["action"]:.0f} |')
+        for name, wall, cpu in (
+            ('StepSimulation(1000)', r['service'], r['service_cpu']),
+            ('SimulateSteps(1000)', r['action'], r['action_cpu']),
+        ):
+            print(f'| {name}, {n} ball(s) | {1e3 * wall:.2f} | {1.0 / wall:.0f} '
+                  f'| {1e3 * cpu:.2f} | {1.0 / cpu:.0f} |')
         if r['singles'] is not None:
             first, last = r['singles']
             print(f'| StepSimulation(1), {n} ball, per call: first 50 of 200 calls '
-                  f'| {1e3 * first:.2f} | {1e-3 / first:.2f} |')
+                  f'| {1e3 * first:.2f} | {1e-3 / first:.2f} | | |')
             print(f'| StepSimulation(1), {n} ball, per call: last 50 of 200 calls (same client) '
-                  f'| {1e3 * last:.2f} | {1e-3 / last:.2f} |')
+                  f'| {1e3 * last:.2f} | {1e-3 / last:.2f} | | |')
     return 0
 
 

@@ -536,7 +536,7 @@ class SimulationServices:
         """
         Step ``steps`` in chunks (at most MAX_FEEDBACK, one feedback each), cancelable.
 
-        Each chunk runs on a worker thread, so that the executor serves cancel requests (and
+        The chunks run on the stepping thread, so that the executor serves cancel requests (and
         every other request) meanwhile; a cancel or a change to PLAYING stops the run at the
         next chunk boundary (a step boundary), the states after the steps done are published
         and the result says how many ran. The states are published once, at the end.
@@ -556,29 +556,12 @@ class SimulationServices:
             out.result = result(refusal.code, str(refusal))
             goal_handle.abort()
             return out
-        chunk = max(1, -(-steps // MAX_FEEDBACK))
-        done, stop, publish = 0, None, None
         try:
-            while done < steps:
-                if goal_handle.is_cancel_requested:
-                    stop = 'canceled'
-                    break
-                if node.simulation_state() == SimulationState.STATE_PLAYING:
-                    stop = 'playing'
-                    break
-                n = min(chunk, steps - done)
-                publish = await self._in_worker(node.step_world, n, False)
-                done += n
-                goal_handle.publish_feedback(
-                    SimulateSteps.Feedback(completed_steps=done, remaining_steps=steps - done)
-                )
-            if publish is not None:
-                publish()  # the states after the last chunk, once
+            done, stop = await self._in_worker(self._run_steps, goal_handle, steps)
         except Exception as exc:
             node.get_logger().error(f'simulate_steps: {traceback.format_exc()}')
             out.result = result(
-                Result.RESULT_OPERATION_FAILED,
-                f'internal error ({type(exc).__name__}) after {done} of {steps} steps',
+                Result.RESULT_OPERATION_FAILED, f'internal error ({type(exc).__name__})'
             )
             goal_handle.abort()
             return out
@@ -597,6 +580,35 @@ class SimulationServices:
             out.result = result()
             goal_handle.succeed()
         return out
+
+    def _run_steps(self, goal_handle, steps: int) -> tuple[int, str | None]:
+        """
+        Step a goal's chunks (stepping thread); return the steps done and why it stopped early.
+
+        Feedback after each chunk (rclpy's goal handle publishes from any thread); the states
+        after the last chunk are published once.
+        """
+        node = self._node
+        chunk = max(1, -(-steps // MAX_FEEDBACK))
+        done, stop, publish = 0, None, None
+        try:
+            while done < steps:
+                if goal_handle.is_cancel_requested:
+                    stop = 'canceled'
+                    break
+                if node.simulation_state() == SimulationState.STATE_PLAYING:
+                    stop = 'playing'
+                    break
+                n = min(chunk, steps - done)
+                publish = node.step_world(n, False)
+                done += n
+                goal_handle.publish_feedback(
+                    SimulateSteps.Feedback(completed_steps=done, remaining_steps=steps - done)
+                )
+        finally:
+            if publish is not None:
+                publish()  # the states after the last chunk, once
+        return done, stop
 
     def _in_worker(self, fn, *args) -> Future:
         """Run ``fn(*args)`` on the stepping thread; an rclpy Future the executor wakes on."""
