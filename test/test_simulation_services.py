@@ -183,3 +183,40 @@ def test_simulate_steps_cancel_stops_at_a_step_boundary(start_node, collector):
     collector.wait_for(done.done, 20.0, 'goal result')
     assert done.result().status == GoalStatus.STATUS_SUCCEEDED
     assert done.result().result.result.result == OK
+
+
+@pytest.mark.parametrize('frame_id', ['field', 'f', 'abc', 'abcdefgh', 'x' * 13])
+def test_entity_messages_bytes_decode_to_the_messages(frame_id):
+    """The hand-made CDR of pose, odom and TF decodes (rclpy) to the messages it stands for."""
+    from football_ros.nodes import messages as mb
+    from geometry_msgs.msg import TransformStamped
+    from nav_msgs.msg import Odometry
+    from rclpy.serialization import deserialize_message, serialize_message
+    from tf2_msgs.msg import TFMessage
+
+    rng = np.random.default_rng(len(frame_id))
+    expected_tf, items = TFMessage(), []
+    for child in ('football/a', 'football/bb', 'football/ccc', 'football/dddd', 'football/é'):
+        msgs = mb.EntityMessages(frame_id, child)
+        stamp = mb.time_msg(int(rng.integers(0, 2**60)))
+        p, q = rng.uniform(-1e3, 1e3, 3).tolist(), rng.uniform(-1.0, 1.0, 4).tolist()
+        v, w = rng.uniform(-50.0, 50.0, 3).tolist(), rng.uniform(-1e3, 1e3, 3).tolist()
+        pose = PoseStamped()
+        pose.header.stamp, pose.header.frame_id = stamp, frame_id
+        pose.pose = mb.pose_of(p, q)
+        mine = msgs.pose(stamp, p, q)
+        assert deserialize_message(mine, PoseStamped) == pose
+        assert len(mine) == len(serialize_message(pose))
+        odom = Odometry(child_frame_id=child)
+        odom.header = pose.header
+        odom.pose.pose = pose.pose
+        odom.twist.twist = mb.twist_of(mb.to_body_frame(q, v), mb.to_body_frame(q, w))
+        assert deserialize_message(msgs.odom(stamp, p, q, v, w), Odometry) == odom
+        transform = TransformStamped(header=pose.header, child_frame_id=child)
+        transform.transform.translation = mb.vector3(p)
+        transform.transform.rotation = mb.quaternion(q)
+        expected_tf.transforms.append(transform)
+        items.append((msgs, stamp, p, q))
+        mine = mb.tf_message_bytes(items)  # 1 to 5 transforms, every alignment
+        assert deserialize_message(mine, TFMessage) == expected_tf
+        assert len(mine) == len(serialize_message(expected_tf))

@@ -274,7 +274,6 @@ class SimulatorNode(Node):
         self._world_lock = threading.RLock()
         self._stopped = False  # SetSimulationState STOPPED (paused and reset)
         self._entity_pubs: dict[str, tuple] = {}  # pose and odom publishers, EntityMessages
-        self._entity_tf = None if mb.TFMessage is None else mb.TFMessage()
         self._last_order: FlightOrder | None = None
         self._paused = False
         self._ahead = None  # (run, t, sample): the next tick's sample, integrated ahead
@@ -647,9 +646,9 @@ class SimulatorNode(Node):
         """
         Publish (entity, at_rest) on football/<name>/pose and .../odom, and one /tf for all.
 
-        Each entity's messages are built once and refilled (mb.EntityMessages); a topic
-        nobody subscribes to is skipped (volatile QoS: nobody could see the difference), /tf
-        carries every entity's transform in one TFMessage.
+        The messages go out serialized (mb.EntityMessages: CDR encoded by hand, the frame
+        strings once); a topic nobody subscribes to is skipped (volatile QoS: nobody could see
+        the difference); /tf carries every entity's transform in one TFMessage.
         """
         transforms = []
         with_tf = self._tf_pub is not None and self.publish_tf
@@ -662,27 +661,24 @@ class SimulatorNode(Node):
             frames = (self.frame_id, f'{self.child_frame_id}/{entity.name}')
             if msgs.frame_ids != frames:
                 msgs.frames(*frames)
-            parts = (
-                pose_pub.get_subscription_count() > 0,
-                odom_pub.get_subscription_count() > 0,
-                with_tf and msgs.transform is not None and ns > msgs.tf_ns,  # tf2: no repeats
-            )
-            if not any(parts):
+            pose_out = pose_pub.get_subscription_count() > 0
+            odom_out = odom_pub.get_subscription_count() > 0
+            tf_out = with_tf and ns > msgs.tf_ns  # tf2 refuses a repeated stamp for a frame
+            if not (pose_out or odom_out or tf_out):
                 continue
             position, orientation, velocity, omega = entity.state()
-            if at_rest:
-                velocity = omega = (0.0, 0.0, 0.0)
-            msgs.fill(stamp, position, orientation, velocity, omega, parts)
-            if parts[0]:
-                pose_pub.publish(msgs.pose)
-            if parts[1]:
-                odom_pub.publish(msgs.odom)
-            if parts[2]:
+            position, orientation = position.tolist(), orientation.tolist()
+            if pose_out:
+                pose_pub.publish(msgs.pose(stamp, position, orientation))
+            if odom_out:
+                if at_rest:
+                    velocity = omega = (0.0, 0.0, 0.0)
+                odom_pub.publish(msgs.odom(stamp, position, orientation, velocity, omega))
+            if tf_out:
                 msgs.tf_ns = ns
-                transforms.append(msgs.transform)
+                transforms.append((msgs, stamp, position, orientation))
         if transforms:
-            self._entity_tf.transforms = transforms
-            self._tf_pub.publish(self._entity_tf)
+            self._tf_pub.publish(mb.tf_message_bytes(transforms))
 
     # --- simulation_interfaces (simulation_services.py calls these, executor thread) ---------
     def add_entity_publishers(self, entity: Entity) -> None:
