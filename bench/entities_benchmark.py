@@ -18,21 +18,24 @@ Many balls through simulation_interfaces: real-time pacing and lock-step speed (
     .venv/bin/python bench/entities_benchmark.py [--seconds 4] [--repeats 5]
 
 Real time: for each (balls, publish_rate) the simulator (a subprocess) spawns the balls with
-SpawnEntity, throws them with SetEntityState (lobs of 40 m/s at 75 deg: 7.9 s in the air,
-each on football/<name>/pose and .../odom and one /tf per tick), and its CPU time
+SpawnEntities, throws them while paused with SetEntityState (lobs of 60 m/s at 80 deg: 12 s in
+the air, each on football/<name>/pose and .../odom and one /tf per tick), plays, and its CPU time
 (/proc/<pid>/stat) and late or skipped ticks (its /diagnostics) are measured over
-``--seconds`` while every ball flies. Baselines from the same run and the same process:
-the idle simulator (no flight) at that rate and the single-ball path (the default entity
-flown by a flight order, as the release node does: today's six state topics, /tf, markers).
+``--seconds`` while every ball flies: first with nobody subscribed to the entity topics (the
+simulator skips those), then with this client subscribed (raw) to every pose, odom and /tf.
+Baselines from the same run and the same process: the idle simulator (no flight) at that
+rate and the single-ball path (the default entity flown by a flight order, as the release
+node does: today's six state topics, /tf, markers).
 CPU per ball-second = (CPU - idle CPU) / (balls x seconds).
 
 Lock-step: paused, StepSimulation(steps=1000) of 1 ms steps (1 s of flight) for 1 and 100
 balls in the air, timed end to end through the service (median of ``--repeats``); the same
-through the SimulateSteps action; 1000 calls of StepSimulation(steps=1); baselines: the
-offline Flight.state_at of one ball for 1 s in this process and a GetSimulationState round
-trip. Each measurement runs in a fresh client process: an rclpy client process that has seen
-many of the simulator's endpoints come and go, or made many calls, gets its answers ever
-later while the simulator's handler takes the same (< 1 ms for one step), and a new process
+through the SimulateSteps action; 200 calls of StepSimulation(steps=1) (medians of the first
+and the last 50); baselines: the offline Flight.state_at of one ball for 1 s in this process,
+a GetSimulationState and a StepSimulation(steps=0) round trip (the call without a step).
+Each measurement runs in a fresh client process: an rclpy client process that has made many
+calls gets its answers ever later (its executor creates more tasks per call, measured in
+the rclpy client's profile) while the simulator's handler takes the same, and a new process
 does not: the client's cost, not the simulator's. Targets: real time with 0 missed ticks;
 lock-step >= 500x real time for 1 ball, >= 50x for 100.
 """
@@ -59,19 +62,28 @@ from diagnostic_msgs.msg import DiagnosticArray  # noqa: E402
 from football_ros.nodes import qos  # noqa: E402
 from football_ros.physics import Flight, Release  # noqa: E402
 from football_ros.requests import FlightOrder  # noqa: E402
+from geometry_msgs.msg import PoseStamped  # noqa: E402
+from nav_msgs.msg import Odometry  # noqa: E402
 import rclpy  # noqa: E402
 from rclpy.action import ActionClient  # noqa: E402
 from simulation_interfaces.action import SimulateSteps  # noqa: E402
-from simulation_interfaces.msg import EntityState, Result, SimulationState  # noqa: E402
+from simulation_interfaces.msg import (  # noqa: E402
+    EntityState,
+    Resource,
+    Result,
+    SimulationState,
+    SpawnEntity as SpawnEntityMsg,
+)
 from simulation_interfaces.srv import (  # noqa: E402
     GetSimulationState,
     ResetSimulation,
     SetEntityState,
     SetSimulationState,
-    SpawnEntity,
+    SpawnEntities,
     StepSimulation,
 )
 from std_msgs.msg import String  # noqa: E402
+from tf2_msgs.msg import TFMessage  # noqa: E402
 
 NODE = '/football_simulator'
 LOB = Release(speed=40.0, elevation_deg=75.0)
@@ -101,6 +113,17 @@ class Simulator:
             self.proc.wait(timeout=10)
         except subprocess.TimeoutExpired:
             self.proc.kill()
+
+
+def cpu_ns(pid: int) -> int:
+    """CPU time [ns] of every thread of process ``pid`` so far (schedstat: ns resolution)."""
+    total = 0
+    for task in Path(f'/proc/{pid}/task').iterdir():
+        try:
+            total += int((task / 'schedstat').read_text().split()[0])
+        except (OSError, ValueError, IndexError):  # a thread that just ended
+            pass
+    return total
 
 
 def cpu_seconds(pid: int) -> float:
@@ -162,9 +185,12 @@ class Bench:
 
     def spawn_and_throw(self, n: int, release: Release = LOB) -> None:
         st = release.initial_state()
+        spawns = [
+            SpawnEntityMsg(name=f'b{k}', entity_resource=Resource(uri='football_ros://american'))
+            for k in range(n)
+        ]
+        self.call(SpawnEntities, 'spawn_entities', SpawnEntities.Request(spawn_requests=spawns))
         for k in range(n):
-            spawn = SpawnEntity.Request(name=f'b{k}', uri='football_ros://american')
-            self.call(SpawnEntity, 'spawn_entity', spawn)
             state = EntityState()
             p, o = state.pose.position, state.pose.orientation
             p.x, p.y, p.z = 0.0, 0.5 * k, 0.0
@@ -214,17 +240,42 @@ def real_time(bench: Bench, pid: int, balls: int, seconds: float) -> dict:
     bench.spin(0.5)
     out['single'] = window(bench, pid, seconds)
     bench.reset()
+    # Thrown while paused (SpawnEntities, then SetEntityState each), all fly from PLAYING on:
+    # 12 s lobs, in the air through both windows.
+    bench.set_state(SimulationState.STATE_PAUSED)
     start = time.monotonic()
-    bench.spawn_and_throw(balls)
+    bench.spawn_and_throw(balls, LOCK_STEP_LOB)
     throw_s = time.monotonic() - start
-    bench.spin(0.3)
+    bench.spin(1.0)  # the new publishers' discovery traffic settles
+    bench.set_state(SimulationState.STATE_PLAYING)
+    bench.spin(0.5)
     out['many'] = window(bench, pid, seconds)
+    # The same with a subscriber on every entity topic and /tf (raw: the client only counts).
+    received = [0]
+
+    def count(_msg) -> None:
+        received[0] += 1
+
+    subs = [
+        bench.node.create_subscription(msg_type, topic, count, qos_profile, raw=True)
+        for k in range(balls)
+        for msg_type, topic, qos_profile in (
+            (PoseStamped, qos.entity_topic(f'b{k}', 'pose'), qos.STATE),
+            (Odometry, qos.entity_topic(f'b{k}', 'odom'), qos.STATE),
+        )
+    ] + [bench.node.create_subscription(TFMessage, qos.TF, count, qos.TF_QOS, raw=True)]
+    bench.spin(1.0)  # discovery
+    received[0] = 0
+    out['subscribed'] = window(bench, pid, seconds)
+    out['received'] = received[0]
+    for sub in subs:
+        bench.node.destroy_subscription(sub)
     out['throw_s'] = throw_s
     bench.reset()
     return out
 
 
-def lock_step(bench: Bench, balls: int, repeats: int) -> dict:
+def lock_step(bench: Bench, pid: int, balls: int, repeats: int) -> dict:
     """
     Median wall time of 1 s of flight (1000 steps) with ``balls`` in the air, paused.
 
@@ -234,19 +285,24 @@ def lock_step(bench: Bench, balls: int, repeats: int) -> dict:
     bench.set_state(SimulationState.STATE_PAUSED)
     bench.reset()
     bench.spawn_and_throw(balls, LOCK_STEP_LOB)
+    bench.step(1)  # the client's discovery, outside the timings
+    cpu = cpu_ns(pid)
     service = [bench.step(1000) for _ in range(repeats)]
+    service_cpu = (cpu_ns(pid) - cpu) * 1e-9 / repeats
+    cpu = cpu_ns(pid)
     action = [bench.simulate_steps(1000) for _ in range(repeats)]
+    action_cpu = (cpu_ns(pid) - cpu) * 1e-9 / repeats
     singles = None
-    if balls == 1:
-        start = time.perf_counter()
-        for _ in range(1000):
-            bench.step(1)
-        singles = time.perf_counter() - start
+    if balls == 1:  # per call: the first and the last 50 of 200 (the client slows down)
+        calls = [bench.step(1) for _ in range(200)]
+        singles = (statistics.median(calls[:50]), statistics.median(calls[-50:]))
     bench.reset()
     bench.set_state(SimulationState.STATE_PLAYING)
     return {
         'service': statistics.median(service),
         'action': statistics.median(action),
+        'service_cpu': service_cpu,
+        'action_cpu': action_cpu,
         'singles': singles,
     }
 
@@ -273,18 +329,26 @@ def phase(args) -> dict:
         if args.phase == 'realtime':
             return real_time(bench, args.pid, args.balls, args.seconds)
         if args.phase == 'lockstep':
-            return lock_step(bench, args.balls, args.repeats)
-        started = time.perf_counter()
+            return lock_step(bench, args.pid, args.balls, args.repeats)
+        request = GetSimulationState.Request()
+        bench.call(GetSimulationState, 'get_simulation_state', request)  # discovery
+        bench.set_state(SimulationState.STATE_PAUSED)
+        bench.step(0)
+        times, steps0 = [], []
         for _ in range(20):
-            bench.call(GetSimulationState, 'get_simulation_state', GetSimulationState.Request())
-        return {'round_trip': (time.perf_counter() - started) / 20}
+            start = time.perf_counter()
+            bench.call(GetSimulationState, 'get_simulation_state', request)
+            times.append(time.perf_counter() - start)
+            steps0.append(bench.step(0))
+        bench.set_state(SimulationState.STATE_PLAYING)
+        return {'round_trip': statistics.median(times), 'step0': statistics.median(steps0)}
     finally:
         bench.node.destroy_node()
         rclpy.shutdown()
 
 
 def run_phase(name: str, **options) -> dict:
-    argv = [sys.executable, __file__, '--phase', name]
+    argv = [sys.executable, __file__, '--phase', name, '--no-record']  # the parent records
     for key, value in options.items():
         argv += [f'--{key}', str(value)]
     out = subprocess.run(argv, capture_output=True, text=True, timeout=600)
@@ -315,9 +379,10 @@ def main(argv=None) -> int:
                 rows.append((balls, rate, run_phase(
                     'realtime', pid=sim.proc.pid, balls=balls, seconds=seconds)))
                 if rate == 100.0:
-                    round_trip = run_phase('round_trip')['round_trip']
+                    trips = run_phase('round_trip')
                     steps = {
-                        n: run_phase('lockstep', balls=n, repeats=args.repeats) for n in (1, 100)
+                        n: run_phase('lockstep', pid=sim.proc.pid, balls=n, repeats=args.repeats)
+                        for n in (1, 100)
                     }
             finally:
                 sim.stop()
@@ -325,39 +390,51 @@ def main(argv=None) -> int:
 
     print(f'Real time ({seconds:g} s windows; CPU = simulator process user + system; late = '
           'published after its deadline, skipped = never published)')
-    print('| case | rate Hz | balls | CPU s/s | late ticks | skipped ticks '
-          '| CPU ms per ball-second | vs single-ball path |')
-    print('|---|---|---|---|---|---|---|---|')
+    print('| case | rate Hz | balls | CPU s/s | CPU ms per tick (budget: the period) '
+          '| late ticks | skipped ticks | CPU ms per ball-second | vs single-ball path |')
+    print('|---|---|---|---|---|---|---|---|---|')
     for balls, rate, r in rows:
         idle_cpu = r['idle'][0]
         single = (r['single'][0] - idle_cpu) / seconds
         for name, n, (cpu, late, skipped) in (
             ('idle (baseline)', 0, r['idle']),
             ('single-ball path (baseline)', 1, r['single']),
-            ('spawned balls', balls, r['many']),
+            ('spawned balls (no subscriber on their topics)', balls, r['many']),
+            ('spawned balls, every pose/odom and /tf subscribed', balls, r['subscribed']),
         ):
             per = (cpu - idle_cpu) / (max(n, 1) * seconds)
             ratio = '' if n == 0 else f'{per / single:.3f}'
             per_text = '' if n == 0 else f'{1e3 * per:.2f}'
-            print(f'| {name} | {rate:g} | {n} | {cpu / seconds:.3f} | {late} | {skipped} '
+            print(f'| {name} | {rate:g} | {n} | {cpu / seconds:.3f} '
+                  f'| {1e3 * cpu / (seconds * rate):.3f} (of {1e3 / rate:g}) | {late} | {skipped} '
                   f'| {per_text} | {ratio} |')
-        print(f'| (throwing the {balls} balls through the services: {r["throw_s"]:.2f} s) '
-              '| | | | | | | |')
+        print(f'| (throwing the {balls} balls through the services: {r["throw_s"]:.2f} s; '
+              f'messages the subscribed window delivered: {r["received"]}) | | | | | | | | |')
     print()
     print('Lock-step: 1 s of flight (1000 steps of 1 ms), paused, end to end (median)')
-    print('| case | wall ms | x real time |')
-    print('|---|---|---|')
+    print('(simulator CPU = the CPU time of its threads per call, /proc schedstat: the work, '
+          'without the waits for a core)')
+    print('| case | wall ms | x real time | simulator CPU ms per call | x real time on its CPU |')
+    print('|---|---|---|---|---|')
     print(f'| offline Flight.state_at, 1 ball, in process (baseline) | {1e3 * offline:.2f} '
-          f'| {1.0 / offline:.0f} |')
-    print(f'| GetSimulationState round trip (baseline) | {1e3 * round_trip:.2f} | |')
+          f'| {1.0 / offline:.0f} | | |')
+    print(f'| GetSimulationState round trip (baseline) | {1e3 * trips["round_trip"]:.2f} '
+          '| | | |')
+    print(f'| StepSimulation(0) round trip (baseline: the call, no step) '
+          f'| {1e3 * trips["step0"]:.2f} | | | |')
     for n, r in steps.items():
-        print(f'| StepSimulation(1000), {n} ball(s) | {1e3 * r["service"]:.2f} '
-              f'| {1.0 / r["service"]:.0f} |')
-        print(f'| SimulateSteps(1000), {n} ball(s) | {1e3 * r["action"]:.2f} '
-              f'| {1.0 / r["action"]:.0f} |')
+        for name, wall, cpu in (
+            ('StepSimulation(1000)', r['service'], r['service_cpu']),
+            ('SimulateSteps(1000)', r['action'], r['action_cpu']),
+        ):
+            print(f'| {name}, {n} ball(s) | {1e3 * wall:.2f} | {1.0 / wall:.0f} '
+                  f'| {1e3 * cpu:.2f} | {1.0 / cpu:.0f} |')
         if r['singles'] is not None:
-            print(f'| 1000 x StepSimulation(1), {n} ball | {1e3 * r["singles"]:.1f} '
-                  f'| {1.0 / r["singles"]:.1f} |')
+            first, last = r['singles']
+            print(f'| StepSimulation(1), {n} ball, per call: first 50 of 200 calls '
+                  f'| {1e3 * first:.2f} | {1e-3 / first:.2f} | | |')
+            print(f'| StepSimulation(1), {n} ball, per call: last 50 of 200 calls (same client) '
+                  f'| {1e3 * last:.2f} | {1e-3 / last:.2f} | | |')
     return 0
 
 

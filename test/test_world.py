@@ -287,3 +287,81 @@ def test_batch_guard_clears_fine_balls_and_ends_a_broken_one():
     b.run.y[0] = 2e5  # finite but far away: the batch guard defers to runaway()
     world.step(1, 0.001, 0)
     assert 'from the release point' in b.run.ended
+
+
+def _exact(sample, flight: Flight, t: float) -> bool:
+    """Tell whether the world's sample is bit for bit Flight.state_at(t) and its describe()."""
+    from football_ros.physics import dynamics as dyn
+
+    state = flight.state_at(t)
+    d = dyn.describe(state[None, :], flight.params)[0]
+    landed = flight.landing_time is not None
+    return (
+        sample.landed == landed
+        and sample.t == (flight.landing_time if landed else t)
+        and np.array_equal(sample.position, state[dyn.R:dyn.R + 3])
+        and np.array_equal(sample.velocity, state[dyn.V:dyn.V + 3])
+        and np.array_equal(sample.orientation, d[dyn.D_ORIENT:dyn.D_ORIENT + 4])
+        and np.array_equal(sample.angular_velocity, d[dyn.D_OMEGA:dyn.D_OMEGA + 3])
+    )
+
+
+def test_lanes_bit_for_bit_flight_with_groups_singles_and_landings_mid_call():
+    from football_ros.simulation import kernel
+
+    # 20 lobs with equal parameters (more than one set of lanes, balls taking freed lanes),
+    # three of them released at other heights and speeds (landing at other steps, mid-call);
+    # a group of MIN_LANED full-model rugby balls; two single balls (one by one).
+    lob = Release(speed=25.0, elevation_deg=60.0)
+    releases = [lob] * 17 + [
+        Release(speed=25.0, elevation_deg=60.0, position=(0.0, 0.0, h)) for h in (0.5, 3.0, 9.0)
+    ]
+    releases += [Release(model='full', ball='rugby', spin_rpm=-250.0)] * kernel.MIN_LANED
+    releases += [Release(speed=15.0), Release(ball='rugby', spin_rpm=-300.0)]
+    world = wd.World(max_entities=len(releases) + 1)
+    runs, offline = [], []
+    for k, release in enumerate(releases):
+        entity = world.spawn(f'b{k}', f'football_ros://{release.ball}', [0, 0, 0], UPRIGHT)
+        run = run_of(release, entity.name)
+        world.throw(entity, run)
+        runs.append(run)
+        offline.append(Flight.from_release(release))
+    # Different times per ball in one call (partial steps), through every landing.
+    for t in np.arange(0.0, 6.0, 0.0937):
+        times = [float(t) + 0.00037 * k for k in range(len(runs))]
+        samples = world.sample(list(zip(runs, times)))
+        for sample, flight, tk in zip(samples, offline, times, strict=True):
+            assert _exact(sample, flight, tk)
+    assert all(run.landing is not None for run in runs)
+    assert len({flight.landing_time for flight in offline}) > 5  # lands at many steps
+
+
+def test_lock_step_lanes_bit_for_bit_and_a_broken_lane_alone():
+    lob = Release(speed=30.0, elevation_deg=70.0)
+    world = wd.World()
+    entities = []
+    for k in range(6):
+        entity = world.spawn(f'b{k}', 'football_ros://american', [0, 0, 0], UPRIGHT)
+        world.throw(entity, run_of(lob, entity.name))
+        entities.append(entity)
+    world.step(100, 0.001, 0)
+    entities[2].run.y[3] = np.nan  # one lane goes bad: the others fly on unchanged
+    out = {e.name: s for e, s in world.step(1234, 0.001, 0)}
+    assert 'b2' not in out and 'non-finite' in entities[2].run.ended
+    flight = Flight.from_release(lob)
+    for name in ('b0', 'b1', 'b3', 'b4', 'b5'):
+        assert _exact(out[name], flight, 1.334)
+
+
+def test_rest_pose_due_at_once_then_at_the_hold_rate_until_thrown():
+    world = wd.World()
+    entity = world.spawn('r', 'football_ros://american', [1.0, 2.0, 0.5], UPRIGHT)
+    assert entity.rest_due(10, 2.0) and not entity.rest_due(10 + 499_999_999, 2.0)
+    assert entity.rest_due(10 + 500_000_000, 2.0)
+    assert not entity.rest_due(10**12, 0.0)  # hold_rate 0: only once
+    world.place(entity, [3.0, 0.0, 0.0], UPRIGHT)  # placed elsewhere: due at once again
+    assert entity.rest_due(10**12, 0.0) and entity.state()[0].tolist() == [3.0, 0.0, 0.0]
+    world.throw(entity, run_of(Release(), 'r'))
+    assert not entity.rest_due(10**13, 2.0)  # flying: its flight is published instead
+    world.reset(state=True, spawned=False)
+    assert entity.rest_due(10**13, 0.0) and entity.state()[0].tolist() == [1.0, 2.0, 0.5]

@@ -23,6 +23,7 @@ the body frame (``football``). The aero angles are not a vector: their header.fr
 from __future__ import annotations
 
 import math
+import struct
 from typing import Iterable, Mapping, Sequence, TYPE_CHECKING
 
 from builtin_interfaces.msg import Time
@@ -327,3 +328,102 @@ def to_plain(msg):
     if isinstance(msg, (list, tuple)):
         return [to_plain(v) for v in msg]
     return msg
+
+
+_CDR_HEADER = b'\x00\x01\x00\x00'  # encapsulation: plain CDR, little endian
+_STAMP = struct.Struct('<iI')
+_COUNT = struct.Struct('<I')
+_POSE = struct.Struct('<7d')
+_TWIST = struct.Struct('<6d')
+_COVARIANCE = bytes(8 * 36)  # 36 zero doubles (exact model)
+
+
+def _cdr_string(text: str, offset: int) -> tuple[bytes, int]:
+    """CDR string at ``offset``: padding to 4, uint32 length with the NUL, UTF-8, NUL."""
+    data = text.encode()
+    out = bytes(-offset % 4) + _COUNT.pack(len(data) + 1) + data + b'\0'
+    return out, offset + len(out)
+
+
+def _frames_part(names: tuple[str, ...], offset: int) -> bytes:
+    """Encode the frame strings from ``offset`` on, then pad to the doubles that follow."""
+    out = b''
+    for name in names:
+        part, offset = _cdr_string(name, offset)
+        out += part
+    return out + bytes(-offset % 8)
+
+
+class EntityMessages:
+    """
+    A spawned entity's PoseStamped, Odometry and TransformStamped as serialized bytes.
+
+    Encoded by hand in the CDR that rclpy's ``serialize_message`` writes (bit for bit, tested),
+    with the frame strings and their padding encoded once: a publisher sends them as they
+    are (about half the cost of publishing the message objects), and /tf gets one TFMessage
+    of :meth:`tf_message`. pose and odom pose in ``frame_id``, odom twist in the body frame
+    ``child_frame_id``, the transform ``frame_id`` -> ``child_frame_id``.
+    """
+
+    def __init__(self, frame_id: str, child_frame_id: str) -> None:
+        self.tf_ns = -1  # stamp of the last transform its user sent [ns] (tf2: no repeats)
+        self.frames(frame_id, child_frame_id)
+
+    def frames(self, frame_id: str, child_frame_id: str) -> None:
+        """Set the frame ids (the parameters may change them); ``frame_ids`` holds them."""
+        self.frame_ids = (frame_id, child_frame_id)
+        self._pose_frames = _frames_part((frame_id,), 8)  # after the stamp
+        self._odom_frames = _frames_part((frame_id, child_frame_id), 8)
+        # A transform of a TFMessage starts 4-aligned: at 4 mod 8 (the first) or 0 mod 8.
+        self._tf_frames = {
+            start: _frames_part((frame_id, child_frame_id), start + 8) for start in (0, 4)
+        }
+
+    def pose(self, stamp: Time, position, orientation) -> bytes:
+        """geometry_msgs/PoseStamped: position [m], orientation (x, y, z, w) in frame_id."""
+        return b''.join(
+            (
+                _CDR_HEADER,
+                _STAMP.pack(stamp.sec, stamp.nanosec),
+                self._pose_frames,
+                _POSE.pack(*position, *orientation),
+            )
+        )
+
+    def odom(self, stamp: Time, position, orientation, velocity, angular_velocity) -> bytes:
+        """nav_msgs/Odometry: the pose, the world-frame velocities [m/s, rad/s] in body axes."""
+        return b''.join(
+            (
+                _CDR_HEADER,
+                _STAMP.pack(stamp.sec, stamp.nanosec),
+                self._odom_frames,
+                _POSE.pack(*position, *orientation),
+                _COVARIANCE,
+                _TWIST.pack(
+                    *to_body_frame(orientation, velocity),
+                    *to_body_frame(orientation, angular_velocity),
+                ),
+                _COVARIANCE,
+            )
+        )
+
+    def transform(self, offset: int, stamp: Time, position, orientation) -> bytes:
+        """Encode the TransformStamped element of a TFMessage that starts at CDR ``offset``."""
+        return b''.join(
+            (
+                _STAMP.pack(stamp.sec, stamp.nanosec),
+                self._tf_frames[offset % 8],
+                _POSE.pack(*position, *orientation),
+            )
+        )
+
+
+def tf_message_bytes(items) -> bytes:
+    """tf2_msgs/TFMessage of (EntityMessages, stamp, position, orientation) items, serialized."""
+    parts = [_CDR_HEADER, _COUNT.pack(len(items))]
+    offset = 4
+    for msgs, stamp, position, orientation in items:
+        part = msgs.transform(offset, stamp, position, orientation)
+        parts.append(part)
+        offset += len(part)
+    return b''.join(parts)

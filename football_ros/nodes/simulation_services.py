@@ -24,12 +24,14 @@ msg_docs/simulation_interfaces.md describes them.
 
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor
 import math
 import traceback
 
 from geometry_msgs.msg import Vector3
 import numpy as np
-from rclpy.action import ActionServer, GoalResponse
+from rclpy.action import ActionServer, CancelResponse, GoalResponse
+from rclpy.task import Future
 from simulation_interfaces.action import SimulateSteps
 from simulation_interfaces.msg import (
     Bounds,
@@ -39,12 +41,14 @@ from simulation_interfaces.msg import (
     SimulationState,
     SimulatorFeatures,
     Spawnable,
+    SpawnResult,
     TagsFilter,
 )
 from simulation_interfaces.srv import (
     DeleteEntity,
     GetEntities,
     GetEntitiesStates,
+    GetEntityBounds,
     GetEntityInfo,
     GetEntityState,
     GetSimulationState,
@@ -53,6 +57,7 @@ from simulation_interfaces.srv import (
     ResetSimulation,
     SetEntityState,
     SetSimulationState,
+    SpawnEntities,
     SpawnEntity,
     StepSimulation,
 )
@@ -66,7 +71,9 @@ from ..simulation.world import check_pose, EntityError, MAX_FLIGHT_S, URI_SCHEME
 
 FEATURES = (
     SimulatorFeatures.SPAWNING,
+    SimulatorFeatures.SPAWNING_ENTITIES,
     SimulatorFeatures.DELETING,
+    SimulatorFeatures.ENTITY_BOUNDS,
     SimulatorFeatures.ENTITY_TAGS,
     SimulatorFeatures.ENTITY_BOUNDS_BOX,
     SimulatorFeatures.ENTITY_CATEGORIES,
@@ -86,6 +93,8 @@ FEATURES = (
     SimulatorFeatures.STEP_SIMULATION_ACTION,
 )
 """Exactly what works (GetSimulatorFeatures)."""
+MAX_SPAWN_REQUESTS = 1000
+"""Most spawn requests of one SpawnEntities call (the largest max_entities)."""
 MAX_FEEDBACK = 20
 """Most feedback messages of one SimulateSteps goal (one per chunk of steps)."""
 RESET_SCOPES = ResetSimulation.Request.SCOPE_TIME | ResetSimulation.Request.SCOPE_STATE | (
@@ -136,9 +145,11 @@ class SimulationServices:
             (GetSimulatorFeatures, qos.GET_SIMULATOR_FEATURES, self._features),
             (GetSpawnables, qos.GET_SPAWNABLES, self._spawnables),
             (SpawnEntity, qos.SPAWN_ENTITY, self._spawn),
+            (SpawnEntities, qos.SPAWN_ENTITIES, self._spawn_entities),
             (DeleteEntity, qos.DELETE_ENTITY, self._delete),
             (GetEntities, qos.GET_ENTITIES, self._entities),
             (GetEntityInfo, qos.GET_ENTITY_INFO, self._info),
+            (GetEntityBounds, qos.GET_ENTITY_BOUNDS, self._bounds),
             (GetEntityState, qos.GET_ENTITY_STATE, self._state),
             (GetEntitiesStates, qos.GET_ENTITIES_STATES, self._states),
             (SetEntityState, qos.SET_ENTITY_STATE, self._set_state),
@@ -148,12 +159,15 @@ class SimulationServices:
             (StepSimulation, qos.STEP_SIMULATION, self._step),
         ):
             node.create_service(srv_type, name, self._answering(handler))
+        self._goal_running = False  # one SimulateSteps goal at a time (executor thread)
+        self._stepper = ThreadPoolExecutor(1, thread_name_prefix='simulate-steps')
         self._action = ActionServer(
             node,
             SimulateSteps,
             qos.SIMULATE_STEPS,
             execute_callback=self._simulate_steps,
-            goal_callback=lambda _goal: GoalResponse.ACCEPT,
+            goal_callback=self._accept_goal,
+            cancel_callback=lambda _goal: CancelResponse.ACCEPT,
         )
 
     def _answering(self, handler):
@@ -222,38 +236,77 @@ class SimulationServices:
             )
 
     def _spawn(self, request, response) -> None:
+        response.entity_name = self._spawn_one(
+            request.name,
+            request.allow_renaming,
+            request.uri,
+            request.resource_string,
+            request.entity_namespace,
+            request.initial_pose,
+        )
+
+    def _spawn_entities(self, request, response) -> None:
+        """SpawnEntities: each request as SpawnEntity, one SpawnResult each, in order."""
+        spawns = request.spawn_requests
+        if len(spawns) > MAX_SPAWN_REQUESTS:
+            raise Refusal(
+                Result.RESULT_OPERATION_FAILED,
+                f'spawn_requests has {len(spawns)} entries, more than the '
+                f'{MAX_SPAWN_REQUESTS} one call may take',
+            )
+        failed = 0
+        for spawn in spawns:
+            item = SpawnResult(result=result())
+            try:
+                item.entity_name = self._spawn_one(
+                    spawn.name,
+                    spawn.allow_renaming,
+                    spawn.entity_resource.uri,
+                    spawn.entity_resource.resource_string,
+                    spawn.entity_namespace,
+                    spawn.initial_pose,
+                )
+            except Refusal as refusal:
+                item.result = result(refusal.code, str(refusal))
+                failed += 1
+            response.results.append(item)
+        if failed:
+            response.result = result(
+                SpawnEntities.Response.ENTITIES_SPAWN_FAILED,
+                f'{failed} of {len(spawns)} spawn requests failed (see results)',
+            )
+
+    def _spawn_one(self, name, allow_renaming, uri, resource_string, namespace, pose) -> str:
+        """Spawn one ball at rest; return its name (Refusal with SpawnEntity's codes)."""
         node = self._node
-        if not request.uri and request.resource_string:
+        if not uri and resource_string:
             raise Refusal(
                 SpawnEntity.Response.UNSUPPORTED_FORMAT,
                 'resource_string is not supported: give a uri from GetSpawnables',
             )
-        if request.entity_namespace:
+        if namespace:
             raise Refusal(
                 SpawnEntity.Response.NAMESPACE_INVALID,
                 'entity_namespace is not supported (topics are football/<name>/...): leave it '
                 'empty',
             )
-        self._check_frame(request.initial_pose.header.frame_id, SpawnEntity.Response.INVALID_POSE)
-        pose = request.initial_pose.pose
-        q = pose.orientation
+        self._check_frame(pose.header.frame_id, SpawnEntity.Response.INVALID_POSE)
+        q = pose.pose.orientation
         with node._world_lock:
             try:
                 with node._lock:
                     entity = node._world.spawn(
-                        request.name,
-                        request.uri,
-                        _xyz(pose.position),
-                        [q.x, q.y, q.z, q.w],
-                        request.allow_renaming,
+                        name, uri, _xyz(pose.pose.position), [q.x, q.y, q.z, q.w], allow_renaming
                     )
             except EntityError as exc:
                 raise Refusal(
                     _SPAWN_CODES.get(exc.reason, Result.RESULT_OPERATION_FAILED), str(exc)
                 ) from None
             node.add_entity_publishers(entity)
-        response.entity_name = entity.name
-        node.get_logger().info(f"spawned '{entity.name}' ({entity.uri})")
+        node.get_logger().info(
+            f"spawned '{entity.name}' ({entity.uri})", throttle_duration_sec=0.1
+        )
+        return entity.name
 
     def _delete(self, request, response) -> None:
         node = self._node
@@ -329,6 +382,20 @@ class SimulationServices:
                 f'{entity.ball_name} ball ({entity.uri}), {entity.condition}'
             )
             response.info.tags = self._node._world.tags(entity)
+
+    def _bounds(self, request, response) -> None:
+        """GetEntityBounds: the ball's axis-aligned box in its body frame (x = long axis)."""
+        with self._node._lock:
+            entity = self._get(request.entity)
+        preset = PRESETS[entity.ball_name]
+        half_length, radius = 0.5 * preset.length, 0.5 * preset.diameter
+        response.bounds = Bounds(
+            type=Bounds.TYPE_BOX,
+            points=[
+                Vector3(x=-half_length, y=-radius, z=-radius),
+                Vector3(x=half_length, y=radius, z=radius),
+            ],
+        )
 
     def entity_state(self, entity) -> EntityState:
         """Return an entity's EntityState now: pose and twist in the world frame (lock held)."""
@@ -455,7 +522,32 @@ class SimulationServices:
         self._check_steps(int(request.steps))
         self._node.step_world(int(request.steps))
 
-    def _simulate_steps(self, goal_handle):
+    def _accept_goal(self, _goal) -> GoalResponse:
+        """Accept a SimulateSteps goal unless one is running (its steps are checked later)."""
+        if self._goal_running:
+            self._node.get_logger().warning(
+                'simulate_steps: goal rejected, another goal is running', throttle_duration_sec=1.0
+            )
+            return GoalResponse.REJECT
+        self._goal_running = True
+        return GoalResponse.ACCEPT
+
+    async def _simulate_steps(self, goal_handle):
+        """
+        Step ``steps`` in chunks (at most MAX_FEEDBACK, one feedback each), cancelable.
+
+        The chunks run on the stepping thread, so that the executor serves cancel requests (and
+        every other request) meanwhile; a cancel or a change to PLAYING stops the run at the
+        next chunk boundary (a step boundary), the states after the steps done are published
+        and the result says how many ran. The states are published once, at the end.
+        """
+        try:
+            return await self._run_goal(goal_handle)
+        finally:
+            self._goal_running = False
+
+    async def _run_goal(self, goal_handle):
+        node = self._node
         steps = int(goal_handle.request.steps)
         out = SimulateSteps.Result()
         try:
@@ -465,22 +557,76 @@ class SimulationServices:
             goal_handle.abort()
             return out
         try:
-            chunk = max(1, -(-steps // MAX_FEEDBACK))
-            done = 0
-            while done < steps:
-                n = min(chunk, steps - done)
-                done += n
-                self._node.step_world(n, publish=done == steps)  # the states once, at the end
-                goal_handle.publish_feedback(
-                    SimulateSteps.Feedback(completed_steps=done, remaining_steps=steps - done)
-                )
+            done, stop = await self._in_worker(self._run_steps, goal_handle, steps)
         except Exception as exc:
-            self._node.get_logger().error(f'simulate_steps: {traceback.format_exc()}')
+            node.get_logger().error(f'simulate_steps: {traceback.format_exc()}')
             out.result = result(
                 Result.RESULT_OPERATION_FAILED, f'internal error ({type(exc).__name__})'
             )
             goal_handle.abort()
             return out
-        out.result = result()
-        goal_handle.succeed()
+        if stop == 'canceled':
+            out.result = result(
+                Result.RESULT_OPERATION_FAILED, f'canceled after {done} of {steps} steps'
+            )
+            goal_handle.canceled()
+        elif stop == 'playing':
+            out.result = result(
+                Result.RESULT_OPERATION_FAILED,
+                f'the simulation was set playing after {done} of {steps} steps: stopped',
+            )
+            goal_handle.abort()
+        else:
+            out.result = result()
+            goal_handle.succeed()
         return out
+
+    def _run_steps(self, goal_handle, steps: int) -> tuple[int, str | None]:
+        """
+        Step a goal's chunks (stepping thread); return the steps done and why it stopped early.
+
+        Feedback after each chunk (rclpy's goal handle publishes from any thread); the states
+        after the last chunk are published once.
+        """
+        node = self._node
+        chunk = max(1, -(-steps // MAX_FEEDBACK))
+        done, stop, publish = 0, None, None
+        try:
+            while done < steps:
+                if goal_handle.is_cancel_requested:
+                    stop = 'canceled'
+                    break
+                if node.simulation_state() == SimulationState.STATE_PLAYING:
+                    stop = 'playing'
+                    break
+                n = min(chunk, steps - done)
+                publish = node.step_world(n, False)
+                done += n
+                goal_handle.publish_feedback(
+                    SimulateSteps.Feedback(completed_steps=done, remaining_steps=steps - done)
+                )
+        finally:
+            if publish is not None:
+                publish()  # the states after the last chunk, once
+        return done, stop
+
+    def _in_worker(self, fn, *args) -> Future:
+        """Run ``fn(*args)`` on the stepping thread; an rclpy Future the executor wakes on."""
+        executor = self._node.executor
+        future = Future(executor=executor)
+
+        def finished(job) -> None:
+            error = job.exception()
+            if error is not None:
+                future.set_exception(error)
+            else:
+                future.set_result(job.result())
+            if executor is not None:
+                executor.wake()  # the awaiting goal resumes now, not at the next other event
+
+        self._stepper.submit(fn, *args).add_done_callback(finished)
+        return future
+
+    def close(self) -> None:
+        """Stop the stepping thread (a running chunk ends first)."""
+        self._stepper.shutdown(wait=True, cancel_futures=True)

@@ -273,7 +273,7 @@ class SimulatorNode(Node):
         # change entities or step: taken before self._lock, never inside it.
         self._world_lock = threading.RLock()
         self._stopped = False  # SetSimulationState STOPPED (paused and reset)
-        self._entity_pubs: dict[str, tuple] = {}
+        self._entity_pubs: dict[str, tuple] = {}  # pose and odom publishers, EntityMessages
         self._last_order: FlightOrder | None = None
         self._paused = False
         self._ahead = None  # (run, t, sample): the next tick's sample, integrated ahead
@@ -562,7 +562,7 @@ class SimulatorNode(Node):
                 self._clock_msg.clock = stamp
                 self._clock_pub.publish(self._clock_msg)
             self._tick_default(run_t, stamp, wall_stamp_ns)
-            if items:
+            if items[0] or items[1]:
                 self._tick_entities(items, stamp, wall_stamp_ns)
 
     def _tick_default(self, run_t, stamp, wall_stamp_ns: int) -> None:
@@ -602,50 +602,83 @@ class SimulatorNode(Node):
         self._maybe_publish_markers(run, sample, stamp, wall_stamp_ns, force=landed_now)
         self._integrate_ahead(run)
 
-    def _select_entities(self, wall_stamp_ns: int) -> list[tuple[Entity, FlightRun, float]]:
-        """Return the spawned entities' runs this tick publishes, with their times (locked)."""
-        if self._paused:
-            return []
-        items = []
+    def _select_entities(self, wall_stamp_ns: int) -> tuple[list, list[Entity]]:
+        """
+        Return the spawned entities this tick publishes (lock held by the caller).
+
+        The flights (entity, run, time [s]) unless paused; the entities at rest (their spawn
+        or placed pose) at once after a spawn, place or reset, then at ``hold_rate``, paused
+        or not.
+        """
+        flights, rest = [], []
         for entity in self._world.entities.values():
+            if not entity.spawned:
+                continue
             run = entity.run
-            if entity.spawned and run is not None:
+            if run is None:
+                if entity.rest_due(wall_stamp_ns, self.hold_rate):
+                    rest.append(entity)
+            elif not self._paused:
                 t = run.select(wall_stamp_ns, self.hold_rate)
                 if t is not None:
-                    items.append((entity, run, t))
-        return items
+                    flights.append((entity, run, t))
+        return flights, rest
 
     def _tick_entities(self, items, stamp, wall_stamp_ns: int) -> None:
         """
-        Tick the spawned entities: one kernel call for all, then their pose, odom and TF.
+        Tick the spawned entities: one kernel call for all flights, then pose, odom and one TF.
 
-        World lock held: no entity is deleted or thrown meanwhile.
+        ``items``: :meth:`_select_entities`. World lock held: no entity is deleted or thrown
+        meanwhile.
         """
-        held = [run.landed_reported for _entity, run, _t in items]
-        samples = self._world.sample([(run, t) for _entity, run, t in items])
+        flights, rest = items
+        held = [run.landed_reported for _entity, run, _t in flights]
+        samples = self._world.sample([(run, t) for _entity, run, t in flights])
         publish = []
         with self._lock:
-            for (entity, run, _t), sample, at_rest in zip(items, samples, held):
+            for (entity, run, _t), sample, at_rest in zip(flights, samples, held):
                 if self._world.judge(entity, run, sample, wall_stamp_ns):
-                    publish.append((entity, sample, at_rest))
+                    publish.append((entity, at_rest))
+        publish.extend((entity, True) for entity in rest)
         self._publish_entities(publish, stamp)
 
     def _publish_entities(self, items, stamp) -> None:
-        """Publish (entity, sample, at_rest) on football/<name>/pose, .../odom and one /tf."""
+        """
+        Publish (entity, at_rest) on football/<name>/pose and .../odom, and one /tf for all.
+
+        The messages go out serialized (mb.EntityMessages: CDR encoded by hand, the frame
+        strings once); a topic nobody subscribes to is skipped (volatile QoS: nobody could see
+        the difference); /tf carries every entity's transform in one TFMessage.
+        """
         transforms = []
-        for entity, sample, at_rest in items:
+        with_tf = self._tf_pub is not None and self.publish_tf
+        ns = stamp.sec * 1_000_000_000 + stamp.nanosec
+        for entity, at_rest in items:
             pubs = self._entity_pubs.get(entity.name)
             if pubs is None:
                 continue
-            child = f'{self.child_frame_id}/{entity.name}'
-            pubs[0].publish(mb.pose_stamped(sample, stamp, self.frame_id))
-            odom = mb.odometry(sample, stamp, self.frame_id, child)
-            if at_rest or sample.landed:
-                odom.twist.twist = mb.twist_of((0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
-            pubs[1].publish(odom)
-            transforms.append(mb.tf_message(sample, stamp, self.frame_id, child).transforms[0])
-        if transforms and self._tf_pub is not None and self.publish_tf:
-            self._tf_pub.publish(mb.TFMessage(transforms=transforms))
+            pose_pub, odom_pub, msgs = pubs
+            frames = (self.frame_id, f'{self.child_frame_id}/{entity.name}')
+            if msgs.frame_ids != frames:
+                msgs.frames(*frames)
+            pose_out = pose_pub.get_subscription_count() > 0
+            odom_out = odom_pub.get_subscription_count() > 0
+            tf_out = with_tf and ns > msgs.tf_ns  # tf2 refuses a repeated stamp for a frame
+            if not (pose_out or odom_out or tf_out):
+                continue
+            position, orientation, velocity, omega = entity.state()
+            position, orientation = position.tolist(), orientation.tolist()
+            if pose_out:
+                pose_pub.publish(msgs.pose(stamp, position, orientation))
+            if odom_out:
+                if at_rest:
+                    velocity = omega = (0.0, 0.0, 0.0)
+                odom_pub.publish(msgs.odom(stamp, position, orientation, velocity, omega))
+            if tf_out:
+                msgs.tf_ns = ns
+                transforms.append((msgs, stamp, position, orientation))
+        if transforms:
+            self._tf_pub.publish(mb.tf_message_bytes(transforms))
 
     # --- simulation_interfaces (simulation_services.py calls these, executor thread) ---------
     def add_entity_publishers(self, entity: Entity) -> None:
@@ -657,16 +690,18 @@ class SimulatorNode(Node):
         entities made every service answer take over 100 ms).
         """
         quiet = PublisherEventCallbacks(use_default_callbacks=False)
-        self._entity_pubs[entity.name] = tuple(
+        pubs = tuple(
             self.create_publisher(
                 msg_type, qos.entity_topic(entity.name, leaf), qos.STATE, event_callbacks=quiet
             )
             for msg_type, leaf in ((PoseStamped, 'pose'), (Odometry, 'odom'))
         )
+        msgs = mb.EntityMessages(self.frame_id, f'{self.child_frame_id}/{entity.name}')
+        self._entity_pubs[entity.name] = pubs + (msgs,)
 
     def remove_entity_publishers(self, entity: Entity) -> None:
         """Destroy a deleted entity's publishers (world lock held)."""
-        for pub in self._entity_pubs.pop(entity.name, ()):
+        for pub in self._entity_pubs.pop(entity.name, ())[:2]:
             self.destroy_publisher(pub)
 
     def stamp_now(self):
@@ -729,15 +764,16 @@ class SimulatorNode(Node):
             throttle_duration_sec=LOG_THROTTLE_S,
         )
 
-    def step_world(self, n_steps: int, publish: bool = True) -> None:
+    def step_world(self, n_steps: int, publish: bool = True):
         """
         Lock-step: advance every flight by exactly ``n_steps`` integration steps (paused).
 
         The simulated clock advances by the same; with ``publish`` the new states are
-        published stamped with it (publish_clock) and /clock with it.
+        published stamped with it (publish_clock) and /clock with it. Without, returns a
+        function that publishes them (SimulateSteps publishes its last chunk's states).
         """
         if n_steps <= 0:
-            return
+            return None
         wall_ns = time.time_ns()
         with self._world_lock:
             with self._lock:
@@ -748,16 +784,24 @@ class SimulatorNode(Node):
                 self._sim_clock_ns += int(round(n_steps * self.integration_step * 1e9))
                 self._stopped = False
                 stamp = mb.time_msg(self._stamp_ns(wall_ns))
-            if not publish:
-                return
+        if not publish:
+            return lambda: self._publish_step(out, held, stamp)
+        self._publish_step(out, held, stamp)
+        return None
+
+    def _publish_step(self, out, held: set, stamp) -> None:
+        """Publish a lock-step's states (and /clock with publish_clock), under the world lock."""
+        with self._world_lock:
             if self.publish_clock:
                 self._clock_msg.clock = stamp
                 self._clock_pub.publish(self._clock_msg)
             extras = []
             for entity, sample in out:
+                if self._world.entities.get(entity.name) is not entity:
+                    continue  # deleted (or reset) since the step
                 if entity.spawned:
-                    extras.append((entity, sample, entity.name in held))
-                else:
+                    extras.append((entity, entity.name in held))
+                elif entity.run is not None:
                     self._publish_state(entity.run, sample, stamp, entity.name in held)
             self._publish_entities(extras, stamp)
 
@@ -957,9 +1001,11 @@ class SimulatorNode(Node):
         self._diag_pub.publish(DiagnosticArray(header=mb.header(stamp, ''), status=statuses))
 
     def close(self) -> None:
-        """Stop the pacing thread (called before the node is destroyed)."""
+        """Stop the pacing and stepping threads (called before the node is destroyed)."""
         self._stop.set()
         self._thread.join(timeout=2.0)
+        if self._sim_services is not None:
+            self._sim_services.close()
 
 
 def _qualified(namespace: str, name: str) -> str:

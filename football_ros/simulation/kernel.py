@@ -16,14 +16,19 @@
 Many balls' fixed-step RK4 in one compiled call: the world's lock-step and real-time kernel.
 
 Each ball is advanced exactly as :meth:`football_ros.physics.flight.Flight.state_at` advances
-one (the same :func:`~football_ros.physics.dynamics.rk4_step`, ground test and landing finder
-of :mod:`football_ros.physics.dynamics`): whole steps are committed, the rest of the way to
-the asked time is a partial step, a step that crosses the ground ends the flight at the
-landing. Only the loop over the balls and their steps is compiled here, so that a world of
-many balls costs one call per tick instead of a Python loop over balls and steps.
+one (the same RK4 step, projection, ground test and landing finder of
+:mod:`football_ros.physics.dynamics`): whole steps are committed, the rest of the way to the
+asked time is a partial step, a step that crosses the ground ends the flight at the landing.
 
-The steps are :func:`~football_ros.physics.dynamics.rk4_step_with` on one set of scratch rows
-(allocating them per step was most of a step's cost).
+The whole steps of the balls with equal parameter rows run together, ``LANES`` balls at a
+time in SIMD lanes (:func:`_lanes_step`: the ball index innermost, so that LLVM vectorises over
+the balls); a ball leaves its lane at its last whole step or before the step that crosses the
+ground, and the next ball of the group takes the lane. Groups of fewer than ``MIN_LANED``
+balls step one by one. The lanes compute the same IEEE operations in the same order as
+:func:`~football_ros.physics.dynamics.rk4_step` (no fast-math: no reassociation, no FMA), so
+the results are bit for bit those of ``Flight`` (test/test_world.py compares them with ==).
+The partial step, the landing and :func:`~football_ros.physics.dynamics.describe` are then
+done per ball with the scalar functions of :mod:`football_ros.physics.dynamics`.
 """
 
 from __future__ import annotations
@@ -34,6 +39,148 @@ from numba import njit
 import numpy as np
 
 from ..physics import dynamics as dyn
+
+LANES = 16
+"""Balls stepped together (two AVX-512 registers of doubles per state component)."""
+MIN_LANED = 3
+"""Groups of fewer balls step one by one (idle lanes would cost more than they save)."""
+_N = dyn.N_STATE
+# The lanes' work array is (planes, N_STATE * LANES): component c of lane j at c * LANES + j.
+# One array with constant strides: LLVM sees that the planes do not overlap and vectorises
+# over the lanes without run-time alias checks (separate arrays need too many such checks).
+_Y, _NXT, _K1, _K2, _K3, _K4, _TMP, _DT = range(8)
+_RX, _RY, _RZ = ((dyn.R + i) * LANES for i in range(3))
+_VX, _VY, _VZ = ((dyn.V + i) * LANES for i in range(3))
+_QX, _QY, _QZ, _QW = ((dyn.Q + i) * LANES for i in range(4))
+_HX, _HY, _HZ = ((dyn.H + i) * LANES for i in range(3))
+_H1, _PHI = dyn.H1 * LANES, dyn.PHI * LANES
+
+
+@njit(cache=True, inline='always')
+def _lanes_derivative(w, src, dst, p):
+    """:func:`dynamics.derivative` of plane ``src`` of ``w`` into plane ``dst``, params ``p``."""
+    for j in range(LANES):
+        qx, qy, qz, qw = w[src, _QX + j], w[src, _QY + j], w[src, _QZ + j], w[src, _QW + j]
+        sx = 1.0 - 2.0 * (qy * qy + qz * qz)  # dynamics.axis_of
+        sy = 2.0 * (qx * qy + qw * qz)
+        sz = 2.0 * (qx * qz - qw * qy)
+        hx, hy, hz = w[src, _HX + j], w[src, _HY + j], w[src, _HZ + j]
+        vx, vy, vz = w[src, _VX + j], w[src, _VY + j], w[src, _VZ + j]
+        ax, ay, az, dhx, dhy, dhz, dh1 = dyn.loads(
+            (vx, vy, vz), (sx, sy, sz), (hx, hy, hz), w[src, _H1 + j], p
+        )
+        hs = hx * sx + hy * sy + hz * sz
+        wx, wy, wz = hx - hs * sx, hy - hs * sy, hz - hs * sz
+        w[dst, _RX + j], w[dst, _RY + j], w[dst, _RZ + j] = vx, vy, vz
+        w[dst, _VX + j], w[dst, _VY + j], w[dst, _VZ + j] = ax, ay, az
+        w[dst, _QX + j] = 0.5 * (wx * qw + wy * qz - wz * qy)
+        w[dst, _QY + j] = 0.5 * (-wx * qz + wy * qw + wz * qx)
+        w[dst, _QZ + j] = 0.5 * (wx * qy - wy * qx + wz * qw)
+        w[dst, _QW + j] = 0.5 * (-wx * qx - wy * qy - wz * qz)
+        w[dst, _HX + j], w[dst, _HY + j], w[dst, _HZ + j] = dhx, dhy, dhz
+        w[dst, _H1 + j] = dh1
+        w[dst, _PHI + j] = p[dyn.P_SPIN_RATIO] * w[src, _H1 + j]
+
+
+@njit(cache=True, inline='always')
+def _lanes_step(w, p):
+    """:func:`dynamics.rk4_step_with` of every lane (plane _Y, steps in _DT) into _NXT."""
+    _lanes_derivative(w, _Y, _K1, p)
+    for k in range(_N * LANES):
+        w[_TMP, k] = w[_Y, k] + 0.5 * w[_DT, k] * w[_K1, k]
+    _lanes_derivative(w, _TMP, _K2, p)
+    for k in range(_N * LANES):
+        w[_TMP, k] = w[_Y, k] + 0.5 * w[_DT, k] * w[_K2, k]
+    _lanes_derivative(w, _TMP, _K3, p)
+    for k in range(_N * LANES):
+        w[_TMP, k] = w[_Y, k] + w[_DT, k] * w[_K3, k]
+    _lanes_derivative(w, _TMP, _K4, p)
+    for k in range(_N * LANES):
+        w[_NXT, k] = w[_Y, k] + w[_DT, k] / 6.0 * (
+            w[_K1, k] + 2.0 * w[_K2, k] + 2.0 * w[_K3, k] + w[_K4, k]
+        )
+    for j in range(LANES):  # dynamics._project
+        qx, qy, qz, qw = w[_NXT, _QX + j], w[_NXT, _QY + j], w[_NXT, _QZ + j], w[_NXT, _QW + j]
+        norm = math.sqrt(qx ** 2 + qy ** 2 + qz ** 2 + qw ** 2)
+        qx, qy, qz, qw = qx / norm, qy / norm, qz / norm, qw / norm
+        w[_NXT, _QX + j], w[_NXT, _QY + j], w[_NXT, _QZ + j], w[_NXT, _QW + j] = qx, qy, qz, qw
+        sx = 1.0 - 2.0 * (qy * qy + qz * qz)
+        sy = 2.0 * (qx * qy + qw * qz)
+        sz = 2.0 * (qx * qz - qw * qy)
+        hx, hy, hz = w[_NXT, _HX + j], w[_NXT, _HY + j], w[_NXT, _HZ + j]
+        err = w[_NXT, _H1 + j] - (hx * sx + hy * sy + hz * sz)
+        w[_NXT, _HX + j] = hx + err * sx
+        w[_NXT, _HY + j] = hy + err * sy
+        w[_NXT, _HZ + j] = hz + err * sz
+
+
+@njit(cache=True, nogil=True, error_model='numpy')
+def _whole_steps(states, done, steps, params, targets, members, ground, crossed):
+    """
+    Take the whole steps of the balls ``members`` (one parameter row ``params``) in lanes.
+
+    Ball b goes from ``done[b]`` to ``targets[b]`` whole steps of ``steps[b]`` [s], or stops
+    before the step that crosses ``ground`` (``crossed[b]`` = True); ``states`` and ``done``
+    are updated in place. A lane that a ball leaves takes the next waiting ball; idle lanes
+    step a copy of a state and are not read.
+    """
+    w = np.zeros((_DT + 1, _N * LANES))
+    lane = np.full(LANES, -1, dtype=np.int64)
+    rem = np.zeros(LANES, dtype=np.int64)
+    hit = np.zeros(LANES, dtype=np.bool_)
+    waiting = 0  # members[waiting:] have not had a lane yet
+    while True:
+        busy = 0
+        for j in range(LANES):  # fill the idle lanes
+            while lane[j] < 0 and waiting < members.size:
+                b = members[waiting]
+                waiting += 1
+                if done[b] < targets[b]:
+                    lane[j], rem[j] = b, targets[b] - done[b]
+                    for i in range(_N):
+                        w[_Y, i * LANES + j] = states[b, i]
+                        w[_DT, i * LANES + j] = steps[b]
+            busy += lane[j] >= 0
+        if busy == 0:
+            return
+        for j in range(LANES):  # idle lanes step a copy of a busy one (never read back)
+            if lane[j] < 0:
+                first = 0
+                while lane[first] < 0:
+                    first += 1
+                for i in range(_N):
+                    w[_Y, i * LANES + j] = w[_Y, i * LANES + first]
+                    w[_DT, i * LANES + j] = w[_DT, i * LANES + first]
+        leaving = False
+        while not leaving:  # step every lane until a ball leaves its lane
+            _lanes_step(w, params)
+            for j in range(LANES):
+                hit[j] = lane[j] >= 0 and (
+                    w[_Y, _RZ + j] >= ground
+                    and w[_NXT, _RZ + j] <= ground
+                    and w[_NXT, _VZ + j] < 0.0
+                )
+                leaving |= hit[j] or (lane[j] >= 0 and rem[j] == 1)
+            for j in range(LANES):
+                if not hit[j]:
+                    rem[j] -= 1
+            if not leaving:
+                for k in range(_N * LANES):
+                    w[_Y, k] = w[_NXT, k]
+                continue
+            for j in range(LANES):  # commit each lane, or let its ball leave
+                b = lane[j]
+                if b < 0:
+                    continue
+                if not hit[j]:
+                    for i in range(_N):
+                        w[_Y, i * LANES + j] = w[_NXT, i * LANES + j]
+                if hit[j] or rem[j] == 0:
+                    for i in range(_N):
+                        states[b, i] = w[_Y, i * LANES + j]
+                    done[b] = targets[b] - rem[j]
+                    crossed[b] = hit[j]
+                    lane[j] = -1
 
 
 @njit(cache=True, nogil=True)
@@ -57,22 +204,51 @@ def advance_many(
     :func:`~football_ros.physics.dynamics.describe` row, and ``landing_times[b]`` the landing
     time [s] if the ball landed on the way (else NaN; a ball already landed is not passed).
     """
+    n_balls = states.shape[0]
+    targets = np.empty(n_balls, dtype=np.int64)
+    for b in range(n_balls):
+        targets[b] = int(math.floor(times[b] / steps[b] + 1e-9))
+    crossed = np.zeros(n_balls, dtype=np.bool_)
     nxt = np.empty(states.shape[1])
     scratch = np.empty((5, states.shape[1]))
-    for b in range(states.shape[0]):
+    # Groups of balls with equal parameter rows (the lanes share one row).
+    group = np.full(n_balls, -1, dtype=np.int64)
+    members = np.empty(n_balls, dtype=np.int64)
+    for first in range(n_balls):
+        if group[first] >= 0:
+            continue
+        group[first], members[0], count = first, first, 1  # (NaN parameters: a group of 1)
+        for b in range(first + 1, n_balls):
+            if group[b] < 0:
+                same = True
+                for k in range(params.shape[1]):
+                    if params[b, k] != params[first, k]:
+                        same = False
+                        break
+                if same:
+                    group[b] = first
+                    members[count] = b
+                    count += 1
+        if count >= MIN_LANED:
+            _whole_steps(
+                states, done, steps, params[first], targets, members[:count], ground, crossed
+            )
+            continue
+        for b in members[:count]:  # as Flight.state_at
+            y = states[b]
+            while done[b] < targets[b]:
+                dyn.rk4_step_with(y, steps[b], params[b], nxt, scratch)
+                if dyn.crossed_ground(y, nxt, ground):
+                    crossed[b] = True
+                    break
+                y[:] = nxt
+                done[b] += 1
+    for b in range(n_balls):  # the partial step, or the landing, per ball (as Flight.state_at)
         y = states[b]
         p = params[b]
         dt = steps[b]
         landing_times[b] = np.nan
-        target = int(math.floor(times[b] / dt + 1e-9))
-        landed = False
-        while done[b] < target:
-            dyn.rk4_step_with(y, dt, p, nxt, scratch)
-            if dyn.crossed_ground(y, nxt, ground):
-                landed = True
-                break
-            y[:] = nxt
-            done[b] += 1
+        landed = crossed[b]
         rest = dt if landed else times[b] - done[b] * dt
         dyn.rk4_step_with(y, rest, p, nxt, scratch)
         if landed or dyn.crossed_ground(y, nxt, ground):

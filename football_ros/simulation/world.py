@@ -290,10 +290,26 @@ class Entity:
     run: FlightRun | None = None
     last: BallSample | None = None
     spawn_pose: tuple[np.ndarray, np.ndarray] | None = None
+    rest_shown_ns: int | None = None  # wall time its rest pose was last published; None: due
 
     @property
     def uri(self) -> str:
         return URI_SCHEME + self.ball_name
+
+    def rest_due(self, wall_ns: int, hold_rate: float) -> bool:
+        """
+        Tell whether this tick publishes the rest pose (and count it as published).
+
+        At rest only: at once after a spawn, place or reset, then every 1 / ``hold_rate`` [s]
+        of wall time ``wall_ns`` (0 = only once), as a landed ball is held.
+        """
+        if self.run is not None:
+            return False
+        last = self.rest_shown_ns
+        if last is not None and (hold_rate <= 0 or wall_ns - last < 1e9 / hold_rate):
+            return False
+        self.rest_shown_ns = wall_ns
+        return True
 
     def state(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Position [m], orientation (x, y, z, w), velocity [m/s], angular velocity [rad/s]."""
@@ -513,7 +529,7 @@ class World:
     def place(self, entity: Entity, position, orientation) -> None:
         """Put ``entity`` at rest at a pose (its flight, if any, is dropped)."""
         entity.rest_pose = check_pose(position, orientation)
-        entity.run, entity.last = None, None
+        entity.run, entity.last, entity.rest_shown_ns = None, None, None
 
     def throw(self, entity: Entity, run: FlightRun) -> None:
         """
@@ -640,7 +656,7 @@ class World:
         if state:
             for entity in self.entities.values():
                 entity.rest_pose = entity.spawn_pose
-                entity.run, entity.last = None, None
+                entity.run, entity.last, entity.rest_shown_ns = None, None, None
 
 
 def _brief(value, limit: int = 64) -> str:
