@@ -374,7 +374,8 @@ class FlightTracker:
 
         None without a throw or if it does not land within ``horizon``. While both hands
         are alive the prediction is their mixture, weighted by likelihood. Model error adds
-        accel_noise^2 T^3 / 3 to the x and y variances.
+        q T^3 / 3 to the x and y variances (q: accel_noise^2, and the tumbling term while the
+        estimate is gyroscopically unstable).
         """
         return self.predict_planes(-math.inf)[0]
 
