@@ -210,20 +210,69 @@ def wobble(states, rows, params, consts):
     """
     largest = 0.0 if rows.size else math.nan
     for k in rows:
-        sx, sy, sz = dyn.axis_of(states[k])
-        qx, qy, qz = _equilibrium_axis(states[k], params, consts)
-        angle = math.acos(min(1.0, max(-1.0, sx * qx + sy * qy + sz * qz)))
+        angle = _wobble_angle(states[k], params, consts)
         if math.isnan(angle) or angle > largest:
             largest = angle
             if math.isnan(angle):
                 break
     if not rows.size:
         return largest, math.nan
-    y = states[rows[-1]]
+    return largest, _delta(states[rows[-1]], params)
+
+
+@njit(cache=True, error_model='numpy')
+def wobble_every(states, n, stride, params, consts):
+    """
+    Return :func:`wobble` over the rows 0, ``stride``, 2 ``stride``, ... < ``n`` and n - 1.
+
+    The rows of :func:`football_ros.planning.planner._wobble_rows`, without their array.
+    """
+    if n <= 0:
+        return math.nan, math.nan
+    largest = 0.0
+    k = 0
+    while True:
+        angle = _wobble_angle(states[k], params, consts)
+        if math.isnan(angle) or angle > largest:
+            largest = angle
+            if math.isnan(angle):
+                break
+        if k == n - 1:
+            break
+        k = min(k + stride, n - 1)
+    return largest, _delta(states[n - 1], params)
+
+
+@njit(cache=True, error_model='numpy')
+def compare_wobbles(states, n, y0_aligned, dt, params, consts, until, stride, target, d):
+    """
+    Return the wobble comparison of a checked plan [rad]: (wobble, delta, aligned ones).
+
+    :func:`wobble_every` of the first ``n`` rows of the checking flight's ``states``, and of
+    the aligned release ``y0_aligned`` flown by :func:`fly` (step ``dt`` [s], to ``until``
+    [s], ground z = 0).
+    """
+    wob, delta = wobble_every(states, n, stride, params, consts)
+    a_states = fly(y0_aligned, dt, params, until, 0.0, target, d, -1)[1]
+    a_wob, a_delta = wobble_every(a_states, a_states.shape[0], stride, params, consts)
+    return wob, delta, a_wob, a_delta
+
+
+@njit(cache=True, error_model='numpy')
+def _wobble_angle(y, params, consts):
+    """Angle [rad] between the spin axis and X_p of one state (NaN without X_p)."""
+    sx, sy, sz = dyn.axis_of(y)
+    qx, qy, qz = _equilibrium_axis(y, params, consts)
+    return math.acos(min(1.0, max(-1.0, sx * qx + sy * qy + sz * qz)))
+
+
+@njit(cache=True, error_model='numpy')
+def _delta(y, params):
+    """Angle [rad] between the spin axis and the air velocity of one state."""
     air = (y[dyn.V] - params[dyn.P_WIND], y[dyn.V + 1] - params[dyn.P_WIND + 1],
            y[dyn.V + 2] - params[dyn.P_WIND + 2])
     s1 = dyn.velocity_frame_components(air, dyn.axis_of(y))[0]
-    return largest, math.acos(min(1.0, max(-1.0, s1)))
+    return math.acos(min(1.0, max(-1.0, s1)))
 
 
 @njit(cache=True, error_model='numpy')

@@ -359,9 +359,14 @@ def _wobble_rows(times: np.ndarray, until: float | None = None) -> np.ndarray:
     n = int(np.searchsorted(times, (times[-1] if until is None else until) + 1e-12, 'right'))
     if n <= 2:  # times increase: the samples with t <= until are the first n
         return np.arange(n)
-    stride = max(1, int(round(WOBBLE_SAMPLE / max(times[1] - times[0], 1e-9))))
+    stride = _wobble_stride(times[1] - times[0])
     every = np.arange(0, n, stride)
     return every if every[-1] == n - 1 else np.append(every, n - 1)
+
+
+def _wobble_stride(step: float) -> int:
+    """Return the rows between wobble samples of a flight sampled every ``step`` [s]."""
+    return max(1, int(round(WOBBLE_SAMPLE / max(step, 1e-9))))
 
 
 def _wobble_samples(times: np.ndarray, states: np.ndarray, until: float | None = None):
@@ -1138,18 +1143,20 @@ def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear,
         raise PlanError(
             f'the checking flight misses the target by {miss:.3f} m > tolerance '
             f'{tolerance:g} m', 'tolerance', point)
-    keep = slice(0, int(np.searchsorted(times, t_arr + 1e-12, 'right')))  # times increase
+    n_keep = int(np.searchsorted(times, t_arr + 1e-12, 'right'))  # times increase
+    keep = slice(0, n_keep)
     wobble = delta = aligned_wobble = aligned_delta = math.nan
     if with_wobble:
         saved = sh.mode
         sh.mode = 'aligned'
         y0 = sh.y0(speed, elev, azim)
         sh.mode = saved
-        a_times, a_states, _ = kernels.fly(y0, sh.step, sh.params, t_arr, 0.0, sh.target, sh.d,
-                                           -1)
+        # The aligned release flown to the arrival and both wobbles (:func:`wobble_of` of the
+        # checking flight to the arrival and of the aligned one): one compiled call.
+        wobble, delta, aligned_wobble, aligned_delta = (math.degrees(v) for v in (
+            kernels.compare_wobbles(states, n_keep, y0, sh.step, sh.params, sh.consts, t_arr,
+                                    _wobble_stride(sh.step), sh.target, sh.d)))
         sh.flights += 1
-        (wobble, delta), (aligned_wobble, aligned_delta) = _wobbles(
-            ((times[keep], states[keep]), (a_times, a_states)), sh.params)
     warnings = []
     if note and mode != 'aligned':
         warnings.append(note)
