@@ -298,3 +298,70 @@ def _equilibrium_axis(y, params, consts):
     qz = s1 * e1z + x_eq.real * e2z + x_eq.imag * e3z
     norm = math.sqrt(qx * qx + qy * qy + qz * qz)
     return qx / norm, qy / norm, qz / norm
+
+
+@njit(cache=True, error_model='numpy')
+def release_axis(consts, wind, velocity, h1, drift):
+    """
+    Return the least-wobble release axis (unit) and its rate [1/s] in ``field`` (3-tuples).
+
+    :func:`football_ros.planning.planner.equilibrium_axis` in plain floats: ``consts`` =
+    :func:`~football_ros.physics.linear_theory.scalar_constants`, ``wind`` and ``velocity``
+    [m/s] 3-tuples in ``field``, ``h1`` [rad/s]; ``drift``: with the equilibrium's drift
+    x_p + B x_p' / C and x_p' (:func:`~football_ros.physics.linear_theory.
+    drifting_equilibrium_scalar`, compiled), else the frozen x_p = -F/C not turning with it.
+    """
+    air = (velocity[0] - wind[0], velocity[1] - wind[1], velocity[2] - wind[2])
+    _, _, b, d_c, x_p = _exponents(consts, air, h1)
+    x_p_dot = 0j
+    if drift:
+        air_a, h1_a, air_b, h1_b = _drift_points(consts, air, h1)
+        x_p, x_p_dot = _drift_of(b, d_c, x_p, _exponents(consts, air_a, h1_a)[4],
+                                 _exponents(consts, air_b, h1_b)[4])
+    speed = math.sqrt(air[0] * air[0] + air[1] * air[1] + air[2] * air[2])
+    e1x, e1y, e1z = air[0] / speed, air[1] / speed, air[2] / speed
+    horizontal = math.hypot(air[0], air[1])
+    e2x, e2y, e2z = -e1z * air[0] / horizontal, -e1z * air[1] / horizontal, horizontal / speed
+    e3x, e3y, e3z = e1y * e2z - e1z * e2y, e1z * e2x - e1x * e2z, e1x * e2y - e1y * e2x
+    s1 = math.sqrt(max(0.0, 1.0 - abs(x_p) ** 2))
+    ax = s1 * e1x + x_p.real * e2x + x_p.imag * e3x
+    ay = s1 * e1y + x_p.real * e2y + x_p.imag * e3y
+    az = s1 * e1z + x_p.real * e2z + x_p.imag * e3z
+    norm = math.sqrt(ax * ax + ay * ay + az * az)
+    ax, ay, az = ax / norm, ay / norm, az / norm
+    omega_v = -consts[9] * horizontal / speed / speed
+    tx, ty, tz = e3y * az - e3z * ay, e3z * ax - e3x * az, e3x * ay - e3y * ax
+    rx = omega_v * tx + x_p_dot.real * e2x + x_p_dot.imag * e3x
+    ry = omega_v * ty + x_p_dot.real * e2y + x_p_dot.imag * e3y
+    rz = omega_v * tz + x_p_dot.real * e2z + x_p_dot.imag * e3z
+    along = rx * ax + ry * ay + rz * az
+    return (ax, ay, az), (rx - along * ax, ry - along * ay, rz - along * az)
+
+
+@njit(cache=True)
+def release_options(velocity, axis, rate):
+    """
+    Return the release options (alpha0, beta0 [deg], their rates [deg/s]) of an axis.
+
+    :func:`football_ros.planning.planner._options` in plain floats: ``axis`` (unit) and its
+    ``rate`` [1/s] in ``field``, angles against ``velocity`` [m/s] (its velocity frame); all
+    3-tuples.
+    """
+    norm = math.sqrt(velocity[0] * velocity[0] + velocity[1] * velocity[1]
+                     + velocity[2] * velocity[2])
+    e1x, e1y, e1z = velocity[0] / norm, velocity[1] / norm, velocity[2] / norm
+    ux, uy, uz = -e1z * e1x, -e1z * e1y, 1.0 - e1z * e1z  # UP - (UP.e1) e1
+    norm = math.sqrt(ux * ux + uy * uy + uz * uz)
+    e2x, e2y, e2z = ux / norm, uy / norm, uz / norm
+    e3x, e3y, e3z = e1y * e2z - e1z * e2y, e1z * e2x - e1x * e2z, e1x * e2y - e1y * e2x
+    alpha = math.atan2(axis[0] * e2x + axis[1] * e2y + axis[2] * e2z,
+                       axis[0] * e1x + axis[1] * e1y + axis[2] * e1z)
+    beta = math.asin(min(1.0, max(-1.0, axis[0] * e3x + axis[1] * e3y + axis[2] * e3z)))
+    c1 = rate[0] * e1x + rate[1] * e1y + rate[2] * e1z
+    c2 = rate[0] * e2x + rate[1] * e2y + rate[2] * e2z
+    c3 = rate[0] * e3x + rate[1] * e3y + rate[2] * e3z
+    ca, sa, cb, sb = math.cos(alpha), math.sin(alpha), math.cos(beta), math.sin(beta)
+    d_alpha = c1 * (-cb * sa) + c2 * (cb * ca) + c3 * 0.0
+    d_beta = c1 * (-sb * ca) + c2 * (-sb * sa) + c3 * cb
+    return (math.degrees(alpha), math.degrees(beta), math.degrees(d_alpha / (cb * cb)),
+            math.degrees(d_beta))

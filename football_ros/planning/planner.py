@@ -64,12 +64,7 @@ from ..physics import frames
 from ..physics.aero import resolve
 from ..physics.flight import DEFAULT_STEP
 from ..physics.limits import check_flyable
-from ..physics.linear_theory import (
-    drifting_equilibrium_scalar,
-    local_exponents_scalar,
-    moment_slope,
-    scalar_constants,
-)
+from ..physics.linear_theory import moment_slope, scalar_constants
 from ..physics.release import (
     attitude_with_axis_scalar,
     initial_state_of,
@@ -259,29 +254,10 @@ def _equilibrium_axis(consts: tuple, wind: tuple, velocity: tuple, h1: float, dr
     """
     Return :func:`equilibrium_axis` in plain floats: (axis, rate) 3-tuples.
 
-    ``consts`` and ``wind`` from the kernel parameters (:func:`scalar_constants`, P_WIND).
+    ``consts`` and ``wind`` from the kernel parameters (:func:`scalar_constants`, P_WIND);
+    compiled (:func:`kernels.release_axis`).
     """
-    air = (velocity[0] - wind[0], velocity[1] - wind[1], velocity[2] - wind[2])
-    _, _, b, d_c, x_p = local_exponents_scalar(consts, air, h1)
-    x_p_dot = 0.0
-    if drift:
-        x_p, x_p_dot = drifting_equilibrium_scalar(consts, air, h1, b, d_c, x_p)
-    x_p, x_p_dot = complex(x_p), complex(x_p_dot)
-    speed = math.sqrt(_dot(air, air))
-    e1 = (air[0] / speed, air[1] / speed, air[2] / speed)
-    horizontal = math.hypot(air[0], air[1])
-    e2 = (-e1[2] * air[0] / horizontal, -e1[2] * air[1] / horizontal, horizontal / speed)
-    e3 = _cross(e1, e2)
-    s1 = math.sqrt(max(0.0, 1.0 - abs(x_p) ** 2))
-    axis = tuple(s1 * e1[i] + x_p.real * e2[i] + x_p.imag * e3[i] for i in range(3))
-    norm = math.sqrt(_dot(axis, axis))
-    axis = (axis[0] / norm, axis[1] / norm, axis[2] / norm)
-    omega_v = -consts[9] * horizontal / speed / speed
-    turn = _cross(e3, axis)
-    rate = tuple(omega_v * turn[i] + x_p_dot.real * e2[i] + x_p_dot.imag * e3[i]
-                 for i in range(3))
-    along = _dot(rate, axis)
-    return axis, (rate[0] - along * axis[0], rate[1] - along * axis[1], rate[2] - along * axis[2])
+    return kernels.release_axis(consts, wind, velocity, h1, drift)
 
 
 def equilibrium_attitude(
@@ -306,24 +282,13 @@ def _options(velocity, axis, rate) -> dict[str, float]:
     Angles against ``velocity`` (its frame, :func:`football_ros.physics.frames.velocity_frame`);
     3-sequences of floats.
     """
-    velocity, axis, rate = _vec(velocity), _vec(axis), _vec(rate)
-    norm = math.sqrt(_dot(velocity, velocity))
-    e1 = (velocity[0] / norm, velocity[1] / norm, velocity[2] / norm)
-    up = (-e1[2] * e1[0], -e1[2] * e1[1], 1.0 - e1[2] * e1[2])  # UP - (UP.e1) e1
-    norm = math.sqrt(_dot(up, up))
-    e2 = (up[0] / norm, up[1] / norm, up[2] / norm)
-    e3 = _cross(e1, e2)
-    alpha = math.atan2(_dot(axis, e2), _dot(axis, e1))
-    beta = math.asin(min(1.0, max(-1.0, _dot(axis, e3))))
-    comps = (_dot(rate, e1), _dot(rate, e2), _dot(rate, e3))
-    ca, sa, cb, sb = math.cos(alpha), math.sin(alpha), math.cos(beta), math.sin(beta)
-    d_alpha = (-cb * sa, cb * ca, 0.0)
-    d_beta = (-sb * ca, -sb * sa, cb)
+    alpha, beta, alpha_rate, beta_rate = kernels.release_options(_vec(velocity), _vec(axis),
+                                                                 _vec(rate))
     return {
-        'alpha0_deg': math.degrees(alpha),
-        'beta0_deg': math.degrees(beta),
-        'alpha_rate_deg_s': math.degrees(_dot(comps, d_alpha) / (cb * cb)),
-        'beta_rate_deg_s': math.degrees(_dot(comps, d_beta)),
+        'alpha0_deg': alpha,
+        'beta0_deg': beta,
+        'alpha_rate_deg_s': alpha_rate,
+        'beta_rate_deg_s': beta_rate,
     }
 
 
@@ -416,12 +381,14 @@ class _Shooter:
     def aim(self, target: np.ndarray) -> None:
         """Set the target T and the plane's axes (downrange d, left n)."""
         self.target = np.asarray(target, dtype=float)
-        flat = self.target[:2] - self.r0[:2]
-        self.distance = float(np.hypot(*flat))
-        self.bearing = math.atan2(flat[1], flat[0])
-        self.d = np.array([math.cos(self.bearing), math.sin(self.bearing), 0.0])
-        self.n = np.array([-self.d[1], self.d[0], 0.0])
-        self.height = float(self.target[2] - self.r0[2])
+        (tx, ty, tz), (rx, ry, rz) = self.target.tolist(), self.r0.tolist()
+        fx, fy = tx - rx, ty - ry
+        self.distance = float(np.hypot(fx, fy))
+        self.bearing = math.atan2(fy, fx)
+        c, s = math.cos(self.bearing), math.sin(self.bearing)
+        self.d = np.array([c, s, 0.0])
+        self.n = np.array([-s, c, 0.0])
+        self.height = tz - rz
         self.last_time = None
 
     def axis_rate(self, speed: float, elev: float, azim: float):
@@ -680,16 +647,17 @@ def _check_target(target, name: str = 'target') -> np.ndarray:
         raise PlanError(f"'{name}' must be 3 numbers [x, y, z] in field (m)", name) from None
     if arr.size != 3:
         raise PlanError(f"'{name}' must be 3 numbers [x, y, z] in field (m)", name)
-    if not np.all(np.isfinite(arr)):
+    x, y, z = arr.tolist()  # plain floats: cheaper to compare than numpy scalars
+    if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(z)):
         raise PlanError(f"'{name}' must be finite, got {list(arr)}", name)
-    if arr[2] < 0.0:
+    if z < 0.0:
         raise PlanError(
-            f"'{name}' is below the ground (z = {arr[2]:g} m < 0)",
+            f"'{name}' is below the ground (z = {z:g} m < 0)",
             'ground',
-            np.array([arr[0], arr[1], 0.0]),
+            np.array([x, y, 0.0]),
         )
     lo, hi = LIMITS['position_xy']
-    if not (lo <= arr[0] <= hi and lo <= arr[1] <= hi and arr[2] <= LIMITS['position_z'][1]):
+    if not (lo <= x <= hi and lo <= y <= hi and z <= LIMITS['position_z'][1]):
         raise PlanError(f"'{name}' = {list(arr)} is outside the field limits", name)
     return arr
 
