@@ -365,3 +365,29 @@ def release_options(velocity, axis, rate):
     d_beta = c1 * (-sb * ca) + c2 * (-sb * sa) + c3 * cb
     return (math.degrees(alpha), math.degrees(beta), math.degrees(d_alpha / (cb * cb)),
             math.degrees(d_beta))
+
+
+@njit(cache=True, nogil=True)
+def check_flight(y0, dt, params, target, d, past_plane, fractions):
+    """
+    Fly the checking flight of a plan and find its closest approach to ``target``.
+
+    :func:`fly` from ``y0`` (30 s at most, ground z = 0, stopped ``past_plane`` steps past the
+    target plane), then :func:`closest_approach` (``fractions``). Returns (times, states,
+    miss [m], arrival time [s], arrival point (3,), rows up to the arrival, path times and
+    positions (rows up to the arrival, then the arrival itself)).
+    """
+    times, states, _ = fly(y0, dt, params, 30.0, 0.0, target, d, past_plane)
+    miss, t_arr, point = closest_approach(times, states, target, fractions)
+    n = 0
+    while n < times.size and times[n] <= t_arr + 1e-12:  # times increase
+        n += 1
+    path_times = np.empty(n + 1)
+    path_positions = np.empty((n + 1, 3))
+    for k in range(n):
+        path_times[k] = times[k]
+        for i in range(3):
+            path_positions[k, i] = states[k, dyn.R + i]
+    path_times[n] = t_arr
+    path_positions[n] = point
+    return times, states, miss, t_arr, point, n, path_times, path_positions

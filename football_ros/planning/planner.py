@@ -433,14 +433,14 @@ class _Shooter:
         """Return (:meth:`attitude`, the note of :meth:`axis_rate`)."""
         vel, axis, rate, note = self.axis_rate(speed, elev, azim)
         att = _options(vel, axis, rate)
-        if self.offsets.any():
+        if any(self.offsets.tolist()):
             for key, off in zip(att, self.offsets):
                 att[key] += float(off)
         return att, note
 
     def y0(self, speed: float, elev: float, azim: float) -> np.ndarray:
         """State vector of the real-time kernel, built as :class:`Flight` builds it."""
-        if not self.offsets.any():
+        if not any(self.offsets.tolist()):
             # The release's axis and rate directly (what the release options give, to
             # round-off, without the detour through angles).
             vel, axis, rate, _ = self.axis_rate(speed, elev, azim)
@@ -566,7 +566,7 @@ def _newton(fun, x0: np.ndarray, steps: np.ndarray, lo, hi, budget: int, model=N
     iteration; the flown one replaces it when progress is slow. Returns (x, residual) of the
     best point, or (None, None) if no point could be flown.
     """
-    x = np.clip(np.asarray(x0, dtype=float), lo, hi)
+    x = np.minimum(np.maximum(np.asarray(x0, dtype=float), lo), hi)  # np.clip, cheaper
     r = fun(x)
     if r is None:
         return None, None
@@ -595,7 +595,7 @@ def _newton(fun, x0: np.ndarray, steps: np.ndarray, lo, hi, budget: int, model=N
         scale = 1.0
         improved = False
         for _ in range(6):
-            xn = np.clip(x + scale * dx, lo, hi)
+            xn = np.minimum(np.maximum(x + scale * dx, lo), hi)
             rn = fun(xn)
             evals += 1
             if rn is not None and np.linalg.norm(rn) < np.linalg.norm(r):
@@ -1092,7 +1092,8 @@ def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear,
     The checking flight starts from the Release's own state (:meth:`Release.initial_state`),
     passes the step rules of :func:`football_ros.physics.limits.check_flyable` and is flown by
     :func:`kernels.fly` (the real-time kernel's steps) to ``PAST_PLANE_STEPS`` past the target
-    plane, or to its landing on z = 0, or 30 s.
+    plane, or to its landing on z = 0, or 30 s (:func:`kernels.check_flight`, with its closest
+    approach).
     """
     att, note = sh.attitude_note(speed, elev, azim)
     try:
@@ -1103,16 +1104,14 @@ def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear,
     except ReleaseError as exc:
         raise PlanError(f'the planned release is outside the release limits: {exc}',
                         'release') from None
-    times, states, _ = kernels.fly(_state_vector(initial, sh.ball.inertia_ratio), sh.step,
-                                   sh.params, 30.0, 0.0, sh.target, sh.d, PAST_PLANE_STEPS)
+    times, states, miss, t_arr, point, n_keep, path_times, path_positions = (
+        kernels.check_flight(_state_vector(initial, sh.ball.inertia_ratio), sh.step, sh.params,
+                             sh.target, sh.d, PAST_PLANE_STEPS, kernels.APPROACH_POINTS))
     sh.flights += 1
-    miss, t_arr, point = closest_approach(times, states, sh.target)
     if not miss <= tolerance:
         raise PlanError(
             f'the checking flight misses the target by {miss:.3f} m > tolerance '
             f'{tolerance:g} m', 'tolerance', point)
-    n_keep = int(np.searchsorted(times, t_arr + 1e-12, 'right'))  # times increase
-    keep = slice(0, n_keep)
     wobble = delta = aligned_wobble = aligned_delta = math.nan
     if with_wobble:
         saved = sh.mode
@@ -1136,9 +1135,9 @@ def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear,
         objective=objective,
         arc=arc,
         target=sh.target.copy(),
-        arrival_time=float(t_arr),
+        arrival_time=t_arr,
         arrival_point=point,
-        miss_m=float(miss),
+        miss_m=miss,
         arrival_delta_deg=delta,
         wobble_deg=wobble,
         aligned_wobble_deg=aligned_wobble,
@@ -1146,8 +1145,8 @@ def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear,
         attitude=mode,
         linear_release={k: float(v) for k, v in linear.items()},
         flights=sh.flights,
-        path_times=np.append(times[keep], t_arr),
-        path_positions=np.vstack([states[keep, dyn.R:dyn.R + 3], point]),
+        path_times=path_times,
+        path_positions=path_positions,
         warnings=tuple(warnings),
     )
 
