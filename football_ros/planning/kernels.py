@@ -229,18 +229,18 @@ def wobble_every(states, n, stride, params, consts):
     """
     if n <= 0:
         return math.nan, math.nan
-    largest = 0.0
+    least = 1.0  # the smallest cosine: acos decreases, the largest angle is acos(least)
     k = 0
     while True:
-        angle = _wobble_angle(states[k], params, consts)
-        if math.isnan(angle) or angle > largest:
-            largest = angle
-            if math.isnan(angle):
+        cosine = _wobble_cosine(states[k], params, consts)
+        if math.isnan(cosine) or cosine < least:
+            least = cosine
+            if math.isnan(cosine):
                 break
         if k == n - 1:
             break
         k = min(k + stride, n - 1)
-    return largest, _delta(states[n - 1], params)
+    return math.acos(least), _delta(states[n - 1], params)
 
 
 @njit(cache=True, error_model='numpy')
@@ -259,11 +259,17 @@ def compare_wobbles(states, n, y0_aligned, dt, params, consts, until, stride, ta
 
 
 @njit(cache=True, error_model='numpy')
-def _wobble_angle(y, params, consts):
-    """Angle [rad] between the spin axis and X_p of one state (NaN without X_p)."""
+def _wobble_cosine(y, params, consts):
+    """Cosine of the angle between the spin axis and X_p of one state, in [-1, 1] (or NaN)."""
     sx, sy, sz = dyn.axis_of(y)
     qx, qy, qz = _equilibrium_axis(y, params, consts)
-    return math.acos(min(1.0, max(-1.0, sx * qx + sy * qy + sz * qz)))
+    return min(1.0, max(-1.0, sx * qx + sy * qy + sz * qz))
+
+
+@njit(cache=True, error_model='numpy')
+def _wobble_angle(y, params, consts):
+    """Angle [rad] between the spin axis and X_p of one state (NaN without X_p)."""
+    return math.acos(_wobble_cosine(y, params, consts))
 
 
 @njit(cache=True, error_model='numpy')
