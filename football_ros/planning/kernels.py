@@ -227,12 +227,37 @@ def wobble_every(states, n, stride, params, consts):
 
     The rows of :func:`football_ros.planning.planner._wobble_rows`, without their array.
     """
+    eqs = np.empty((0, 3))
+    return _wobble_every(states, n, stride, params, consts, eqs, False, states, 0)
+
+
+@njit(cache=True, error_model='numpy')
+def _wobble_every(states, n, stride, params, consts, eqs, reuse, other, n_other):
+    """
+    Return :func:`wobble_every`, keeping or reusing X_p of the rows j ``stride`` in ``eqs``.
+
+    ``reuse`` False: X_p of row j stride is written to ``eqs[j]`` (if it has that row). True:
+    ``eqs[j]`` holds X_p of row j stride of ``other`` (its first ``n_other`` rows) and is taken
+    where this row's velocity and h1 are those of other's row, bit for bit (X_p depends on
+    nothing else of a state: the same numbers).
+    """
     if n <= 0:
         return math.nan, math.nan
     least = 1.0  # the smallest cosine: acos decreases, the largest angle is acos(least)
     k = 0
     while True:
-        cosine = _wobble_cosine(states[k], params, consts)
+        y = states[k]
+        j = k // stride
+        on_grid = k == j * stride
+        if reuse and on_grid and k < n_other and y[dyn.H1] == other[k, dyn.H1] and (
+                y[dyn.V] == other[k, dyn.V] and y[dyn.V + 1] == other[k, dyn.V + 1]
+                and y[dyn.V + 2] == other[k, dyn.V + 2]):
+            q = (eqs[j, 0], eqs[j, 1], eqs[j, 2])
+        else:
+            q = _equilibrium_axis(y, params, consts)
+            if not reuse and on_grid and j < eqs.shape[0]:
+                eqs[j, 0], eqs[j, 1], eqs[j, 2] = q
+        cosine = _cosine(y, q)
         if math.isnan(cosine) or cosine < least:
             least = cosine
             if math.isnan(cosine):
@@ -250,26 +275,28 @@ def compare_wobbles(states, n, y0_aligned, dt, params, consts, until, stride, ta
 
     :func:`wobble_every` of the first ``n`` rows of the checking flight's ``states``, and of
     the aligned release ``y0_aligned`` flown by :func:`fly` (step ``dt`` [s], to ``until``
-    [s], ground z = 0).
+    [s], ground z = 0). Where the two flights share a row's velocity and spin (the paper's
+    centre flies the same parabola whatever the attitude) X_p is computed once.
     """
-    wob, delta = wobble_every(states, n, stride, params, consts)
+    eqs = np.empty((max(n, 0) // stride + 1, 3))
+    wob, delta = _wobble_every(states, n, stride, params, consts, eqs, False, states, 0)
     a_states = fly(y0_aligned, dt, params, until, 0.0, target, d, -1)[1]
-    a_wob, a_delta = wobble_every(a_states, a_states.shape[0], stride, params, consts)
+    a_wob, a_delta = _wobble_every(a_states, a_states.shape[0], stride, params, consts, eqs,
+                                   True, states, n)
     return wob, delta, a_wob, a_delta
 
 
 @njit(cache=True, error_model='numpy')
-def _wobble_cosine(y, params, consts):
-    """Cosine of the angle between the spin axis and X_p of one state, in [-1, 1] (or NaN)."""
+def _cosine(y, q):
+    """Cosine of the angle between the spin axis of a state and ``q`` (unit), in [-1, 1]."""
     sx, sy, sz = dyn.axis_of(y)
-    qx, qy, qz = _equilibrium_axis(y, params, consts)
-    return min(1.0, max(-1.0, sx * qx + sy * qy + sz * qz))
+    return min(1.0, max(-1.0, sx * q[0] + sy * q[1] + sz * q[2]))
 
 
 @njit(cache=True, error_model='numpy')
 def _wobble_angle(y, params, consts):
     """Angle [rad] between the spin axis and X_p of one state (NaN without X_p)."""
-    return math.acos(_wobble_cosine(y, params, consts))
+    return math.acos(_cosine(y, _equilibrium_axis(y, params, consts)))
 
 
 @njit(cache=True, error_model='numpy')

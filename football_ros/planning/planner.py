@@ -438,13 +438,18 @@ class _Shooter:
                 att[key] += float(off)
         return att, note
 
-    def y0(self, speed: float, elev: float, azim: float) -> np.ndarray:
-        """State vector of the real-time kernel, built as :class:`Flight` builds it."""
+    def y0(self, speed: float, elev: float, azim: float, h1: float | None = None) -> np.ndarray:
+        """
+        State vector of the real-time kernel, built as :class:`Flight` builds it.
+
+        ``h1`` [rad/s]: the modified spin (default: the base release's), without offsets only.
+        """
         if not any(self.offsets.tolist()):
             # The release's axis and rate directly (what the release options give, to
             # round-off, without the detour through angles).
             vel, axis, rate, _ = self.axis_rate(speed, elev, azim)
-            h1 = self.ball.inertia_ratio * self.base.spin_rpm * RPM
+            if h1 is None:
+                h1 = self.ball.inertia_ratio * self.base.spin_rpm * RPM
             turn = _cross(axis, rate)
             y0 = np.zeros(dyn.N_STATE)
             y0[dyn.R:dyn.R + 3] = self.r0
@@ -1104,9 +1109,10 @@ def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear,
     except ReleaseError as exc:
         raise PlanError(f'the planned release is outside the release limits: {exc}',
                         'release') from None
+    y_check = _state_vector(initial, sh.ball.inertia_ratio)
     times, states, miss, t_arr, point, n_keep, path_times, path_positions = (
-        kernels.check_flight(_state_vector(initial, sh.ball.inertia_ratio), sh.step, sh.params,
-                             sh.target, sh.d, PAST_PLANE_STEPS, kernels.APPROACH_POINTS))
+        kernels.check_flight(y_check, sh.step, sh.params, sh.target, sh.d, PAST_PLANE_STEPS,
+                             kernels.APPROACH_POINTS))
     sh.flights += 1
     if not miss <= tolerance:
         raise PlanError(
@@ -1116,7 +1122,7 @@ def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear,
     if with_wobble:
         saved = sh.mode
         sh.mode = 'aligned'
-        y0 = sh.y0(speed, elev, azim)
+        y0 = sh.y0(speed, elev, azim, float(y_check[dyn.H1]))  # the release's own spin
         sh.mode = saved
         # The aligned release flown to the arrival and both wobbles (:func:`wobble_of` of the
         # checking flight to the arrival and of the aligned one): one compiled call.
