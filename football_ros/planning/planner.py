@@ -562,6 +562,18 @@ def closest_approach(times, states, target) -> tuple[float, float, np.ndarray]:
 
 
 # --- solving ----------------------------------------------------------------
+def _largest(r: np.ndarray) -> float:
+    """Return ``float(np.max(np.abs(r)))`` of a short residual in plain floats (NaN wins)."""
+    out = 0.0
+    for v in r.tolist():
+        v = abs(v)
+        if v != v:
+            return math.nan
+        if v > out:
+            out = v
+    return out
+
+
 def _newton(fun, x0: np.ndarray, steps: np.ndarray, lo, hi, budget: int, model=None):
     """
     Solve fun(x) = 0 (fun: array or None) from ``x0`` inside [lo, hi].
@@ -578,7 +590,7 @@ def _newton(fun, x0: np.ndarray, steps: np.ndarray, lo, hi, budget: int, model=N
     jac = None
     evals = 1
     use_model = model is not None
-    while evals < budget and float(np.max(np.abs(r))) > SOLVE_TOLERANCE:
+    while evals < budget and _largest(r) > SOLVE_TOLERANCE:
         fresh = jac is None and not use_model
         if jac is None:
             f, r_ref = (model, model(x)) if use_model else (fun, r)
@@ -788,7 +800,7 @@ class _Aim:
                 speed0 = 20.0
             sol = self._fixed_elevation(elev, min(speed0, 60.0), best[2] if best else
                                         math.degrees(sh.bearing))
-            if sol is not None and float(np.max(np.abs(sol[3]))) <= SOLVE_TOLERANCE:
+            if sol is not None and _largest(sol[3]) <= SOLVE_TOLERANCE:
                 memo[elev] = sol
                 if best is None or sol[0] < best[0]:
                     best = sol
@@ -930,7 +942,7 @@ def plan(
             wanted = min(max(t_arr[2], arrival_window[0]), arrival_window[1])
             return plan(target, base, objective, max_speed, elevation_range, receiver, wanted,
                         None, attitude, step, tolerance, wobble)
-    ok = sol is not None and float(np.max(np.abs(sol[3]))) <= SOLVE_TOLERANCE
+    ok = sol is not None and _largest(sol[3]) <= SOLVE_TOLERANCE
     speed_used = max_speed if objective == 'fastest' else base.speed
     if not ok:
         fixed = arrival_time is None and objective in ('flat', 'lofted')
@@ -990,7 +1002,7 @@ def _reaim(aim: _Aim, sh: _Shooter, arc, speed, elev, azim, arrival_time, object
         sol = aim._fixed_elevation(elev, speed, azim)
     else:
         sol = aim._fixed_speed(speed, elev, azim)
-    if sol is None or float(np.max(np.abs(sol[3]))) > SOLVE_TOLERANCE:
+    if sol is None or _largest(sol[3]) > SOLVE_TOLERANCE:
         return None
     return sol[0], sol[1], sol[2]
 
