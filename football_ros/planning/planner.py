@@ -1134,7 +1134,8 @@ def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear,
     if with_wobble:
         saved = sh.mode
         sh.mode = 'aligned'
-        y0 = sh.y0(speed, elev, azim, float(y_check[dyn.H1]))  # the release's own spin
+        # The Release's own azimuth and spin: its velocity and h1 bit for bit.
+        y0 = sh.y0(speed, elev, _wrap(azim), float(y_check[dyn.H1]))
         sh.mode = saved
         # The aligned release flown to the arrival and both wobbles (:func:`wobble_of` of the
         # checking flight to the arrival and of the aligned one): one compiled call.
