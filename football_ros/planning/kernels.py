@@ -210,20 +210,102 @@ def wobble(states, rows, params, consts):
     """
     largest = 0.0 if rows.size else math.nan
     for k in rows:
-        sx, sy, sz = dyn.axis_of(states[k])
-        qx, qy, qz = _equilibrium_axis(states[k], params, consts)
-        angle = math.acos(min(1.0, max(-1.0, sx * qx + sy * qy + sz * qz)))
+        angle = _wobble_angle(states[k], params, consts)
         if math.isnan(angle) or angle > largest:
             largest = angle
             if math.isnan(angle):
                 break
     if not rows.size:
         return largest, math.nan
-    y = states[rows[-1]]
+    return largest, _delta(states[rows[-1]], params)
+
+
+@njit(cache=True, error_model='numpy')
+def wobble_every(states, n, stride, params, consts):
+    """
+    Return :func:`wobble` over the rows 0, ``stride``, 2 ``stride``, ... < ``n`` and n - 1.
+
+    The rows of :func:`football_ros.planning.planner._wobble_rows`, without their array.
+    """
+    eqs = np.empty((0, 3))
+    return _wobble_every(states, n, stride, params, consts, eqs, False, states, 0)
+
+
+@njit(cache=True, error_model='numpy')
+def _wobble_every(states, n, stride, params, consts, eqs, reuse, other, n_other):
+    """
+    Return :func:`wobble_every`, keeping or reusing X_p of the rows j ``stride`` in ``eqs``.
+
+    ``reuse`` False: X_p of row j stride is written to ``eqs[j]`` (if it has that row). True:
+    ``eqs[j]`` holds X_p of row j stride of ``other`` (its first ``n_other`` rows) and is taken
+    where this row's velocity and h1 are those of other's row, bit for bit (X_p depends on
+    nothing else of a state: the same numbers).
+    """
+    if n <= 0:
+        return math.nan, math.nan
+    least = 1.0  # the smallest cosine: acos decreases, the largest angle is acos(least)
+    k = 0
+    while True:
+        y = states[k]
+        j = k // stride
+        on_grid = k == j * stride
+        if reuse and on_grid and k < n_other and y[dyn.H1] == other[k, dyn.H1] and (
+                y[dyn.V] == other[k, dyn.V] and y[dyn.V + 1] == other[k, dyn.V + 1]
+                and y[dyn.V + 2] == other[k, dyn.V + 2]):
+            q = (eqs[j, 0], eqs[j, 1], eqs[j, 2])
+        else:
+            q = _equilibrium_axis(y, params, consts)
+            if not reuse and on_grid and j < eqs.shape[0]:
+                eqs[j, 0], eqs[j, 1], eqs[j, 2] = q
+        cosine = _cosine(y, q)
+        if math.isnan(cosine) or cosine < least:
+            least = cosine
+            if math.isnan(cosine):
+                break
+        if k == n - 1:
+            break
+        k = min(k + stride, n - 1)
+    return math.acos(least), _delta(states[n - 1], params)
+
+
+@njit(cache=True, error_model='numpy')
+def compare_wobbles(states, n, y0_aligned, dt, params, consts, until, stride, target, d):
+    """
+    Return the wobble comparison of a checked plan [rad]: (wobble, delta, aligned ones).
+
+    :func:`wobble_every` of the first ``n`` rows of the checking flight's ``states``, and of
+    the aligned release ``y0_aligned`` flown by :func:`fly` (step ``dt`` [s], to ``until``
+    [s], ground z = 0). Where the two flights share a row's velocity and spin (the paper's
+    centre flies the same parabola whatever the attitude) X_p is computed once.
+    """
+    eqs = np.empty((max(n, 0) // stride + 1, 3))
+    wob, delta = _wobble_every(states, n, stride, params, consts, eqs, False, states, 0)
+    a_states = fly(y0_aligned, dt, params, until, 0.0, target, d, -1)[1]
+    a_wob, a_delta = _wobble_every(a_states, a_states.shape[0], stride, params, consts, eqs,
+                                   True, states, n)
+    return wob, delta, a_wob, a_delta
+
+
+@njit(cache=True, error_model='numpy')
+def _cosine(y, q):
+    """Cosine of the angle between the spin axis of a state and ``q`` (unit), in [-1, 1]."""
+    sx, sy, sz = dyn.axis_of(y)
+    return min(1.0, max(-1.0, sx * q[0] + sy * q[1] + sz * q[2]))
+
+
+@njit(cache=True, error_model='numpy')
+def _wobble_angle(y, params, consts):
+    """Angle [rad] between the spin axis and X_p of one state (NaN without X_p)."""
+    return math.acos(_cosine(y, _equilibrium_axis(y, params, consts)))
+
+
+@njit(cache=True, error_model='numpy')
+def _delta(y, params):
+    """Angle [rad] between the spin axis and the air velocity of one state."""
     air = (y[dyn.V] - params[dyn.P_WIND], y[dyn.V + 1] - params[dyn.P_WIND + 1],
            y[dyn.V + 2] - params[dyn.P_WIND + 2])
     s1 = dyn.velocity_frame_components(air, dyn.axis_of(y))[0]
-    return largest, math.acos(min(1.0, max(-1.0, s1)))
+    return math.acos(min(1.0, max(-1.0, s1)))
 
 
 @njit(cache=True, error_model='numpy')
@@ -249,3 +331,96 @@ def _equilibrium_axis(y, params, consts):
     qz = s1 * e1z + x_eq.real * e2z + x_eq.imag * e3z
     norm = math.sqrt(qx * qx + qy * qy + qz * qz)
     return qx / norm, qy / norm, qz / norm
+
+
+@njit(cache=True, error_model='numpy')
+def release_axis(consts, wind, velocity, h1, drift):
+    """
+    Return the least-wobble release axis (unit) and its rate [1/s] in ``field`` (3-tuples).
+
+    :func:`football_ros.planning.planner.equilibrium_axis` in plain floats: ``consts`` =
+    :func:`~football_ros.physics.linear_theory.scalar_constants`, ``wind`` and ``velocity``
+    [m/s] 3-tuples in ``field``, ``h1`` [rad/s]; ``drift``: with the equilibrium's drift
+    x_p + B x_p' / C and x_p' (:func:`~football_ros.physics.linear_theory.
+    drifting_equilibrium_scalar`, compiled), else the frozen x_p = -F/C not turning with it.
+    """
+    air = (velocity[0] - wind[0], velocity[1] - wind[1], velocity[2] - wind[2])
+    _, _, b, d_c, x_p = _exponents(consts, air, h1)
+    x_p_dot = 0j
+    if drift:
+        air_a, h1_a, air_b, h1_b = _drift_points(consts, air, h1)
+        x_p, x_p_dot = _drift_of(b, d_c, x_p, _exponents(consts, air_a, h1_a)[4],
+                                 _exponents(consts, air_b, h1_b)[4])
+    speed = math.sqrt(air[0] * air[0] + air[1] * air[1] + air[2] * air[2])
+    e1x, e1y, e1z = air[0] / speed, air[1] / speed, air[2] / speed
+    horizontal = math.hypot(air[0], air[1])
+    e2x, e2y, e2z = -e1z * air[0] / horizontal, -e1z * air[1] / horizontal, horizontal / speed
+    e3x, e3y, e3z = e1y * e2z - e1z * e2y, e1z * e2x - e1x * e2z, e1x * e2y - e1y * e2x
+    s1 = math.sqrt(max(0.0, 1.0 - abs(x_p) ** 2))
+    ax = s1 * e1x + x_p.real * e2x + x_p.imag * e3x
+    ay = s1 * e1y + x_p.real * e2y + x_p.imag * e3y
+    az = s1 * e1z + x_p.real * e2z + x_p.imag * e3z
+    norm = math.sqrt(ax * ax + ay * ay + az * az)
+    ax, ay, az = ax / norm, ay / norm, az / norm
+    omega_v = -consts[9] * horizontal / speed / speed
+    tx, ty, tz = e3y * az - e3z * ay, e3z * ax - e3x * az, e3x * ay - e3y * ax
+    rx = omega_v * tx + x_p_dot.real * e2x + x_p_dot.imag * e3x
+    ry = omega_v * ty + x_p_dot.real * e2y + x_p_dot.imag * e3y
+    rz = omega_v * tz + x_p_dot.real * e2z + x_p_dot.imag * e3z
+    along = rx * ax + ry * ay + rz * az
+    return (ax, ay, az), (rx - along * ax, ry - along * ay, rz - along * az)
+
+
+@njit(cache=True)
+def release_options(velocity, axis, rate):
+    """
+    Return the release options (alpha0, beta0 [deg], their rates [deg/s]) of an axis.
+
+    :func:`football_ros.planning.planner._options` in plain floats: ``axis`` (unit) and its
+    ``rate`` [1/s] in ``field``, angles against ``velocity`` [m/s] (its velocity frame); all
+    3-tuples.
+    """
+    norm = math.sqrt(velocity[0] * velocity[0] + velocity[1] * velocity[1]
+                     + velocity[2] * velocity[2])
+    e1x, e1y, e1z = velocity[0] / norm, velocity[1] / norm, velocity[2] / norm
+    ux, uy, uz = -e1z * e1x, -e1z * e1y, 1.0 - e1z * e1z  # UP - (UP.e1) e1
+    norm = math.sqrt(ux * ux + uy * uy + uz * uz)
+    e2x, e2y, e2z = ux / norm, uy / norm, uz / norm
+    e3x, e3y, e3z = e1y * e2z - e1z * e2y, e1z * e2x - e1x * e2z, e1x * e2y - e1y * e2x
+    alpha = math.atan2(axis[0] * e2x + axis[1] * e2y + axis[2] * e2z,
+                       axis[0] * e1x + axis[1] * e1y + axis[2] * e1z)
+    beta = math.asin(min(1.0, max(-1.0, axis[0] * e3x + axis[1] * e3y + axis[2] * e3z)))
+    c1 = rate[0] * e1x + rate[1] * e1y + rate[2] * e1z
+    c2 = rate[0] * e2x + rate[1] * e2y + rate[2] * e2z
+    c3 = rate[0] * e3x + rate[1] * e3y + rate[2] * e3z
+    ca, sa, cb, sb = math.cos(alpha), math.sin(alpha), math.cos(beta), math.sin(beta)
+    d_alpha = c1 * (-cb * sa) + c2 * (cb * ca) + c3 * 0.0
+    d_beta = c1 * (-sb * ca) + c2 * (-sb * sa) + c3 * cb
+    return (math.degrees(alpha), math.degrees(beta), math.degrees(d_alpha / (cb * cb)),
+            math.degrees(d_beta))
+
+
+@njit(cache=True, nogil=True)
+def check_flight(y0, dt, params, target, d, past_plane, fractions):
+    """
+    Fly the checking flight of a plan and find its closest approach to ``target``.
+
+    :func:`fly` from ``y0`` (30 s at most, ground z = 0, stopped ``past_plane`` steps past the
+    target plane), then :func:`closest_approach` (``fractions``). Returns (times, states,
+    miss [m], arrival time [s], arrival point (3,), rows up to the arrival, path times and
+    positions (rows up to the arrival, then the arrival itself)).
+    """
+    times, states, _ = fly(y0, dt, params, 30.0, 0.0, target, d, past_plane)
+    miss, t_arr, point = closest_approach(times, states, target, fractions)
+    n = 0
+    while n < times.size and times[n] <= t_arr + 1e-12:  # times increase
+        n += 1
+    path_times = np.empty(n + 1)
+    path_positions = np.empty((n + 1, 3))
+    for k in range(n):
+        path_times[k] = times[k]
+        for i in range(3):
+            path_positions[k, i] = states[k, dyn.R + i]
+    path_times[n] = t_arr
+    path_positions[n] = point
+    return times, states, miss, t_arr, point, n, path_times, path_positions

@@ -64,12 +64,7 @@ from ..physics import frames
 from ..physics.aero import resolve
 from ..physics.flight import DEFAULT_STEP
 from ..physics.limits import check_flyable
-from ..physics.linear_theory import (
-    drifting_equilibrium_scalar,
-    local_exponents_scalar,
-    moment_slope,
-    scalar_constants,
-)
+from ..physics.linear_theory import moment_slope, scalar_constants
 from ..physics.release import (
     attitude_with_axis_scalar,
     initial_state_of,
@@ -259,29 +254,10 @@ def _equilibrium_axis(consts: tuple, wind: tuple, velocity: tuple, h1: float, dr
     """
     Return :func:`equilibrium_axis` in plain floats: (axis, rate) 3-tuples.
 
-    ``consts`` and ``wind`` from the kernel parameters (:func:`scalar_constants`, P_WIND).
+    ``consts`` and ``wind`` from the kernel parameters (:func:`scalar_constants`, P_WIND);
+    compiled (:func:`kernels.release_axis`).
     """
-    air = (velocity[0] - wind[0], velocity[1] - wind[1], velocity[2] - wind[2])
-    _, _, b, d_c, x_p = local_exponents_scalar(consts, air, h1)
-    x_p_dot = 0.0
-    if drift:
-        x_p, x_p_dot = drifting_equilibrium_scalar(consts, air, h1, b, d_c, x_p)
-    x_p, x_p_dot = complex(x_p), complex(x_p_dot)
-    speed = math.sqrt(_dot(air, air))
-    e1 = (air[0] / speed, air[1] / speed, air[2] / speed)
-    horizontal = math.hypot(air[0], air[1])
-    e2 = (-e1[2] * air[0] / horizontal, -e1[2] * air[1] / horizontal, horizontal / speed)
-    e3 = _cross(e1, e2)
-    s1 = math.sqrt(max(0.0, 1.0 - abs(x_p) ** 2))
-    axis = tuple(s1 * e1[i] + x_p.real * e2[i] + x_p.imag * e3[i] for i in range(3))
-    norm = math.sqrt(_dot(axis, axis))
-    axis = (axis[0] / norm, axis[1] / norm, axis[2] / norm)
-    omega_v = -consts[9] * horizontal / speed / speed
-    turn = _cross(e3, axis)
-    rate = tuple(omega_v * turn[i] + x_p_dot.real * e2[i] + x_p_dot.imag * e3[i]
-                 for i in range(3))
-    along = _dot(rate, axis)
-    return axis, (rate[0] - along * axis[0], rate[1] - along * axis[1], rate[2] - along * axis[2])
+    return kernels.release_axis(consts, wind, velocity, h1, drift)
 
 
 def equilibrium_attitude(
@@ -306,24 +282,13 @@ def _options(velocity, axis, rate) -> dict[str, float]:
     Angles against ``velocity`` (its frame, :func:`football_ros.physics.frames.velocity_frame`);
     3-sequences of floats.
     """
-    velocity, axis, rate = _vec(velocity), _vec(axis), _vec(rate)
-    norm = math.sqrt(_dot(velocity, velocity))
-    e1 = (velocity[0] / norm, velocity[1] / norm, velocity[2] / norm)
-    up = (-e1[2] * e1[0], -e1[2] * e1[1], 1.0 - e1[2] * e1[2])  # UP - (UP.e1) e1
-    norm = math.sqrt(_dot(up, up))
-    e2 = (up[0] / norm, up[1] / norm, up[2] / norm)
-    e3 = _cross(e1, e2)
-    alpha = math.atan2(_dot(axis, e2), _dot(axis, e1))
-    beta = math.asin(min(1.0, max(-1.0, _dot(axis, e3))))
-    comps = (_dot(rate, e1), _dot(rate, e2), _dot(rate, e3))
-    ca, sa, cb, sb = math.cos(alpha), math.sin(alpha), math.cos(beta), math.sin(beta)
-    d_alpha = (-cb * sa, cb * ca, 0.0)
-    d_beta = (-sb * ca, -sb * sa, cb)
+    alpha, beta, alpha_rate, beta_rate = kernels.release_options(_vec(velocity), _vec(axis),
+                                                                 _vec(rate))
     return {
-        'alpha0_deg': math.degrees(alpha),
-        'beta0_deg': math.degrees(beta),
-        'alpha_rate_deg_s': math.degrees(_dot(comps, d_alpha) / (cb * cb)),
-        'beta_rate_deg_s': math.degrees(_dot(comps, d_beta)),
+        'alpha0_deg': alpha,
+        'beta0_deg': beta,
+        'alpha_rate_deg_s': alpha_rate,
+        'beta_rate_deg_s': beta_rate,
     }
 
 
@@ -359,9 +324,14 @@ def _wobble_rows(times: np.ndarray, until: float | None = None) -> np.ndarray:
     n = int(np.searchsorted(times, (times[-1] if until is None else until) + 1e-12, 'right'))
     if n <= 2:  # times increase: the samples with t <= until are the first n
         return np.arange(n)
-    stride = max(1, int(round(WOBBLE_SAMPLE / max(times[1] - times[0], 1e-9))))
+    stride = _wobble_stride(times[1] - times[0])
     every = np.arange(0, n, stride)
     return every if every[-1] == n - 1 else np.append(every, n - 1)
+
+
+def _wobble_stride(step: float) -> int:
+    """Return the rows between wobble samples of a flight sampled every ``step`` [s]."""
+    return max(1, int(round(WOBBLE_SAMPLE / max(step, 1e-9))))
 
 
 def _wobble_samples(times: np.ndarray, states: np.ndarray, until: float | None = None):
@@ -411,12 +381,14 @@ class _Shooter:
     def aim(self, target: np.ndarray) -> None:
         """Set the target T and the plane's axes (downrange d, left n)."""
         self.target = np.asarray(target, dtype=float)
-        flat = self.target[:2] - self.r0[:2]
-        self.distance = float(np.hypot(*flat))
-        self.bearing = math.atan2(flat[1], flat[0])
-        self.d = np.array([math.cos(self.bearing), math.sin(self.bearing), 0.0])
-        self.n = np.array([-self.d[1], self.d[0], 0.0])
-        self.height = float(self.target[2] - self.r0[2])
+        (tx, ty, tz), (rx, ry, rz) = self.target.tolist(), self.r0.tolist()
+        fx, fy = tx - rx, ty - ry
+        self.distance = float(np.hypot(fx, fy))
+        self.bearing = math.atan2(fy, fx)
+        c, s = math.cos(self.bearing), math.sin(self.bearing)
+        self.d = np.array([c, s, 0.0])
+        self.n = np.array([-s, c, 0.0])
+        self.height = tz - rz
         self.last_time = None
 
     def axis_rate(self, speed: float, elev: float, azim: float):
@@ -461,18 +433,23 @@ class _Shooter:
         """Return (:meth:`attitude`, the note of :meth:`axis_rate`)."""
         vel, axis, rate, note = self.axis_rate(speed, elev, azim)
         att = _options(vel, axis, rate)
-        if self.offsets.any():
+        if any(self.offsets.tolist()):
             for key, off in zip(att, self.offsets):
                 att[key] += float(off)
         return att, note
 
-    def y0(self, speed: float, elev: float, azim: float) -> np.ndarray:
-        """State vector of the real-time kernel, built as :class:`Flight` builds it."""
-        if not self.offsets.any():
+    def y0(self, speed: float, elev: float, azim: float, h1: float | None = None) -> np.ndarray:
+        """
+        State vector of the real-time kernel, built as :class:`Flight` builds it.
+
+        ``h1`` [rad/s]: the modified spin (default: the base release's), without offsets only.
+        """
+        if not any(self.offsets.tolist()):
             # The release's axis and rate directly (what the release options give, to
             # round-off, without the detour through angles).
             vel, axis, rate, _ = self.axis_rate(speed, elev, azim)
-            h1 = self.ball.inertia_ratio * self.base.spin_rpm * RPM
+            if h1 is None:
+                h1 = self.ball.inertia_ratio * self.base.spin_rpm * RPM
             turn = _cross(axis, rate)
             y0 = np.zeros(dyn.N_STATE)
             y0[dyn.R:dyn.R + 3] = self.r0
@@ -585,6 +562,18 @@ def closest_approach(times, states, target) -> tuple[float, float, np.ndarray]:
 
 
 # --- solving ----------------------------------------------------------------
+def _largest(r: np.ndarray) -> float:
+    """Return ``float(np.max(np.abs(r)))`` of a short residual in plain floats (NaN wins)."""
+    out = 0.0
+    for v in r.tolist():
+        v = abs(v)
+        if v != v:
+            return math.nan
+        if v > out:
+            out = v
+    return out
+
+
 def _newton(fun, x0: np.ndarray, steps: np.ndarray, lo, hi, budget: int, model=None):
     """
     Solve fun(x) = 0 (fun: array or None) from ``x0`` inside [lo, hi].
@@ -594,14 +583,14 @@ def _newton(fun, x0: np.ndarray, steps: np.ndarray, lo, hi, budget: int, model=N
     iteration; the flown one replaces it when progress is slow. Returns (x, residual) of the
     best point, or (None, None) if no point could be flown.
     """
-    x = np.clip(np.asarray(x0, dtype=float), lo, hi)
+    x = np.minimum(np.maximum(np.asarray(x0, dtype=float), lo), hi)  # np.clip, cheaper
     r = fun(x)
     if r is None:
         return None, None
     jac = None
     evals = 1
     use_model = model is not None
-    while evals < budget and float(np.max(np.abs(r))) > SOLVE_TOLERANCE:
+    while evals < budget and _largest(r) > SOLVE_TOLERANCE:
         fresh = jac is None and not use_model
         if jac is None:
             f, r_ref = (model, model(x)) if use_model else (fun, r)
@@ -623,7 +612,7 @@ def _newton(fun, x0: np.ndarray, steps: np.ndarray, lo, hi, budget: int, model=N
         scale = 1.0
         improved = False
         for _ in range(6):
-            xn = np.clip(x + scale * dx, lo, hi)
+            xn = np.minimum(np.maximum(x + scale * dx, lo), hi)
             rn = fun(xn)
             evals += 1
             if rn is not None and np.linalg.norm(rn) < np.linalg.norm(r):
@@ -675,16 +664,17 @@ def _check_target(target, name: str = 'target') -> np.ndarray:
         raise PlanError(f"'{name}' must be 3 numbers [x, y, z] in field (m)", name) from None
     if arr.size != 3:
         raise PlanError(f"'{name}' must be 3 numbers [x, y, z] in field (m)", name)
-    if not np.all(np.isfinite(arr)):
+    x, y, z = arr.tolist()  # plain floats: cheaper to compare than numpy scalars
+    if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(z)):
         raise PlanError(f"'{name}' must be finite, got {list(arr)}", name)
-    if arr[2] < 0.0:
+    if z < 0.0:
         raise PlanError(
-            f"'{name}' is below the ground (z = {arr[2]:g} m < 0)",
+            f"'{name}' is below the ground (z = {z:g} m < 0)",
             'ground',
-            np.array([arr[0], arr[1], 0.0]),
+            np.array([x, y, 0.0]),
         )
     lo, hi = LIMITS['position_xy']
-    if not (lo <= arr[0] <= hi and lo <= arr[1] <= hi and arr[2] <= LIMITS['position_z'][1]):
+    if not (lo <= x <= hi and lo <= y <= hi and z <= LIMITS['position_z'][1]):
         raise PlanError(f"'{name}' = {list(arr)} is outside the field limits", name)
     return arr
 
@@ -810,7 +800,7 @@ class _Aim:
                 speed0 = 20.0
             sol = self._fixed_elevation(elev, min(speed0, 60.0), best[2] if best else
                                         math.degrees(sh.bearing))
-            if sol is not None and float(np.max(np.abs(sol[3]))) <= SOLVE_TOLERANCE:
+            if sol is not None and _largest(sol[3]) <= SOLVE_TOLERANCE:
                 memo[elev] = sol
                 if best is None or sol[0] < best[0]:
                     best = sol
@@ -952,7 +942,7 @@ def plan(
             wanted = min(max(t_arr[2], arrival_window[0]), arrival_window[1])
             return plan(target, base, objective, max_speed, elevation_range, receiver, wanted,
                         None, attitude, step, tolerance, wobble)
-    ok = sol is not None and float(np.max(np.abs(sol[3]))) <= SOLVE_TOLERANCE
+    ok = sol is not None and _largest(sol[3]) <= SOLVE_TOLERANCE
     speed_used = max_speed if objective == 'fastest' else base.speed
     if not ok:
         fixed = arrival_time is None and objective in ('flat', 'lofted')
@@ -1012,7 +1002,7 @@ def _reaim(aim: _Aim, sh: _Shooter, arc, speed, elev, azim, arrival_time, object
         sol = aim._fixed_elevation(elev, speed, azim)
     else:
         sol = aim._fixed_speed(speed, elev, azim)
-    if sol is None or float(np.max(np.abs(sol[3]))) > SOLVE_TOLERANCE:
+    if sol is None or _largest(sol[3]) > SOLVE_TOLERANCE:
         return None
     return sol[0], sol[1], sol[2]
 
@@ -1119,7 +1109,8 @@ def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear,
     The checking flight starts from the Release's own state (:meth:`Release.initial_state`),
     passes the step rules of :func:`football_ros.physics.limits.check_flyable` and is flown by
     :func:`kernels.fly` (the real-time kernel's steps) to ``PAST_PLANE_STEPS`` past the target
-    plane, or to its landing on z = 0, or 30 s.
+    plane, or to its landing on z = 0, or 30 s (:func:`kernels.check_flight`, with its closest
+    approach).
     """
     att, note = sh.attitude_note(speed, elev, azim)
     try:
@@ -1130,26 +1121,28 @@ def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear,
     except ReleaseError as exc:
         raise PlanError(f'the planned release is outside the release limits: {exc}',
                         'release') from None
-    times, states, _ = kernels.fly(_state_vector(initial, sh.ball.inertia_ratio), sh.step,
-                                   sh.params, 30.0, 0.0, sh.target, sh.d, PAST_PLANE_STEPS)
+    y_check = _state_vector(initial, sh.ball.inertia_ratio)
+    times, states, miss, t_arr, point, n_keep, path_times, path_positions = (
+        kernels.check_flight(y_check, sh.step, sh.params, sh.target, sh.d, PAST_PLANE_STEPS,
+                             kernels.APPROACH_POINTS))
     sh.flights += 1
-    miss, t_arr, point = closest_approach(times, states, sh.target)
     if not miss <= tolerance:
         raise PlanError(
             f'the checking flight misses the target by {miss:.3f} m > tolerance '
             f'{tolerance:g} m', 'tolerance', point)
-    keep = slice(0, int(np.searchsorted(times, t_arr + 1e-12, 'right')))  # times increase
     wobble = delta = aligned_wobble = aligned_delta = math.nan
     if with_wobble:
         saved = sh.mode
         sh.mode = 'aligned'
-        y0 = sh.y0(speed, elev, azim)
+        # The Release's own azimuth and spin: its velocity and h1 bit for bit.
+        y0 = sh.y0(speed, elev, _wrap(azim), float(y_check[dyn.H1]))
         sh.mode = saved
-        a_times, a_states, _ = kernels.fly(y0, sh.step, sh.params, t_arr, 0.0, sh.target, sh.d,
-                                           -1)
+        # The aligned release flown to the arrival and both wobbles (:func:`wobble_of` of the
+        # checking flight to the arrival and of the aligned one): one compiled call.
+        wobble, delta, aligned_wobble, aligned_delta = (math.degrees(v) for v in (
+            kernels.compare_wobbles(states, n_keep, y0, sh.step, sh.params, sh.consts, t_arr,
+                                    _wobble_stride(sh.step), sh.target, sh.d)))
         sh.flights += 1
-        (wobble, delta), (aligned_wobble, aligned_delta) = _wobbles(
-            ((times[keep], states[keep]), (a_times, a_states)), sh.params)
     warnings = []
     if note and mode != 'aligned':
         warnings.append(note)
@@ -1161,9 +1154,9 @@ def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear,
         objective=objective,
         arc=arc,
         target=sh.target.copy(),
-        arrival_time=float(t_arr),
+        arrival_time=t_arr,
         arrival_point=point,
-        miss_m=float(miss),
+        miss_m=miss,
         arrival_delta_deg=delta,
         wobble_deg=wobble,
         aligned_wobble_deg=aligned_wobble,
@@ -1171,8 +1164,8 @@ def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear,
         attitude=mode,
         linear_release={k: float(v) for k, v in linear.items()},
         flights=sh.flights,
-        path_times=np.append(times[keep], t_arr),
-        path_positions=np.vstack([states[keep, dyn.R:dyn.R + 3], point]),
+        path_times=path_times,
+        path_positions=path_positions,
         warnings=tuple(warnings),
     )
 
