@@ -37,6 +37,7 @@ full disk, the recorder keeps an 8 MiB reserve file in the bag folder while reco
 from __future__ import annotations
 
 import argparse
+import copy
 import datetime
 import os
 from pathlib import Path
@@ -44,6 +45,7 @@ import signal
 import sqlite3
 import sys
 import threading
+import time
 from typing import Sequence
 
 from diagnostic_msgs.msg import DiagnosticArray
@@ -74,6 +76,12 @@ DIAGNOSTIC_NAME = 'football_ros: recorder'
 RESERVE_NAME = '.football_ros_reserve'
 RESERVE_BYTES = 8 << 20  # > one mcap chunk (1 MiB + one message) + summary + metadata.yaml
 EXIT_WRITE_ERROR = 1
+DRAIN_S = 3.0
+"""After a stop signal, messages still queued are written for up to this long [s] (until the
+topics have been quiet for 0.2 s): a bag stopped right after a flight holds the flight's tail."""
+INBOX_DEPTH = 10000
+"""Depth of the recorder's readers: 10 s of a 1 kHz topic, so that a recorder starved of CPU
+for a while (a busy machine) catches up instead of losing messages; bounded."""
 STORAGES = ('mcap', 'sqlite3')
 
 
@@ -171,15 +179,19 @@ class RecorderNode(Node):
         except (OSError, sqlite3.Error) as exc:
             raise ValueError(f"cannot create the bag '{self.path}': {_reason(exc)}") from None
         self._connections: dict[str, object] = {}
+        self.drain_s = DRAIN_S  # the runner writes what the readers hold after Ctrl-C
+        self.last_activity = time.monotonic()
         self._diag_pub = self.create_publisher(
             DiagnosticArray, qos.DIAGNOSTICS, qos.DIAGNOSTICS_QOS
         )
         for topic, (cls, profile) in selected.items():
+            inbox = copy.copy(profile)
+            inbox.depth = max(profile.depth, INBOX_DEPTH)
             self.create_subscription(
                 cls,
                 topic,
                 lambda data, t=topic, c=cls, p=profile: self._write(t, c, p, data),
-                profile,
+                inbox,
                 raw=True,
             )
         self.get_logger().info(f'ready: recording {len(selected)} topics to {self.path} ({store})')
@@ -194,6 +206,7 @@ class RecorderNode(Node):
         return conn
 
     def _write(self, topic: str, cls, profile: QoSProfile, data: bytes) -> None:
+        self.last_activity = time.monotonic()
         stamp = self.get_clock().now().nanoseconds
         with self._lock:
             if self._closed:

@@ -206,7 +206,32 @@ def _start_and_spin(factory, argv, program: str, made: list, signals: _Signals) 
             node.get_logger().error(
                 f'a callback failed (the node goes on):\n{traceback.format_exc()}'
             )
+    if signals.stop and rclpy.ok():
+        _drain(executor, node)
     return 0
+
+
+def _drain(executor, node: Node) -> None:
+    """
+    Take what the node's readers still hold after a stop signal, if the node asks for it.
+
+    A node with ``drain_s`` > 0 and a ``last_activity`` (time.monotonic() of its last
+    callback) is spun on until its callbacks have been quiet for 0.2 s, at most ``drain_s``
+    [s]: a recorder stopped right after a flight still writes the flight's tail.
+    """
+    import time
+
+    limit = float(getattr(node, 'drain_s', 0.0))
+    if limit <= 0.0:
+        return
+    end = time.monotonic() + limit
+    while rclpy.ok() and time.monotonic() < end:
+        if time.monotonic() - getattr(node, 'last_activity', 0.0) > 0.2:
+            return
+        try:
+            executor.spin_once(timeout_sec=0.02)
+        except Exception:  # noqa: BLE001 - stopping anyway
+            return
 
 
 def _rcl_reason(exc: Exception) -> str:
