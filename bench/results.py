@@ -77,7 +77,8 @@ def write_section(name: str, body: str, command: str) -> None:
         f'## {name}\n\n`{command}` ({stamp}, commit {_commit()}, {os.cpu_count()} cores)\n\n'
         f'```\n{body.rstrip()}\n```\n'
     )
-    pattern = re.compile(rf'^## {re.escape(name)}\n.*?(?=^## |\Z)', re.S | re.M)
+    # Up to the section's closing fence: a benchmark's own output may hold '## ' lines.
+    pattern = re.compile(rf'^## {re.escape(name)}\n.*?^```\n.*?^```\n', re.S | re.M)
     if pattern.search(text):
         text = pattern.sub(lambda _m: section + '\n', text).rstrip() + '\n'
     else:
