@@ -88,9 +88,12 @@ class _Signals:
         ignore_further_signals()  # a second signal must not interrupt what follows
         if not self.cleaning_up:
             self.cleaning_up = True
+            self.stop = True  # also if the exception below is swallowed (a ctypes callback)
             if self.spinning:
-                self.stop = True  # the loop ends within SPIN_WAIT_S, after the callback
-                return
+                return  # the loop ends within SPIN_WAIT_S, after the callback
+            # numba's compiler calls Python back through ctypes, which ignores exceptions: a
+            # signal landing there is lost as an exception, and the stop flag ends the spin
+            # loop before it starts.
             raise _Shutdown(signum)
 
     def clean_up_begins(self) -> None:
