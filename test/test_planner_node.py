@@ -102,6 +102,15 @@ def test_planned_throw_through_planner_release_and_simulator(start_node, collect
     start_node('planner')
     pub = collector.publisher(String, qos.PLAN_REQUEST, qos.REQUEST)
     collector.wait_for_subscribers(pub)
+    # The planner throws only if it sees a release node (else 'not thrown'): on a busy machine
+    # discovery takes a while; wait until the graph shows both ends of the release requests.
+    collector.wait_for(
+        lambda: collector.node.count_publishers('/' + qos.RELEASE_REQUEST) >= 1
+        and collector.node.count_subscribers('/' + qos.RELEASE_REQUEST) >= 1,
+        20.0,
+        'the planner and the release node on the release requests',
+    )
+    time.sleep(1.0)  # and the planner's own view of the release node
     target = [31.0, -2.5, 0.0]  # on the ground: the simulator reports its landing point
     request = {'id': 'plan-1', 'target': target, 'model': 'full', 'aero': {'wind': [1, 3, 0]},
                'ball': 'rugby', 'spin_rpm': -300, 'objective': 'flat', 'speed': 24,
@@ -111,6 +120,7 @@ def test_planned_throw_through_planner_release_and_simulator(start_node, collect
     answer = _answers(collector, qos.PLAN_RESPONSE, 'plan-1')[0]
     values = _values(answer)
     assert answer.message.startswith('planned: 24.00 m/s'), answer.message
+    assert 'sent to the release node' in answer.message, answer.message
     assert float(values['miss_m']) < 0.01
     assert float(values['wobble_deg']) < float(values['aligned_wobble_deg'])
     assert 0.0 <= float(values['hit_probability']) <= 1.0
