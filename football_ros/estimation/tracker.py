@@ -90,6 +90,7 @@ from .motion import (
 from .sensor import check_numbers
 from ..physics import dynamics as dyn
 from ..physics.aero import AeroModel, resolve
+from ..physics.modes import gyroscopic_stability
 from ..physics.presets import get_preset
 from ..physics.release import RPM
 
@@ -303,12 +304,6 @@ class FlightTracker:
         self.params[dyn.P_WIND + 1] += s.wind[1]
         spin = abs(preset.spin_rpm if s.spin_rpm is None else s.spin_rpm) * RPM
         self.nominal_h1 = ball.inertia_ratio * spin  # [rad/s]
-        # McCoy's S_g = (h1 D / V)^2 / (4 M), M = rho S D^3 C_Malpha / (2 I_t): P = h1 D / V.
-        m_nd = (
-            ball.air_density * math.pi * ball.diameter**5 * ball.c_m_alpha
-            / (8.0 * ball.inertia_transverse)
-        )
-        self._sg_scale = ball.diameter**2 / (4.0 * m_nd) if m_nd > 0.0 else math.inf
         self.track: _Track | None = None
         self.throws = 0
         depth = max(64, 8 * s.min_points)  # candidate fixes kept (clutter, wild stamps too)
@@ -630,12 +625,14 @@ class FlightTracker:
 
     def gyroscopic_stability(self, x: np.ndarray) -> float:
         """Return McCoy's S_g of a filter state (air speed against the parameters' wind)."""
-        h1 = float(x[X_H:X_H + 3] @ x[X_S:X_S + 3])
+        h1 = float(x[X_H:X_H + 3] @ x[X_S:X_S + 3])  # = (I_s / I_t) p
         air = x[X_V:X_V + 3] - self.params[dyn.P_WIND:dyn.P_WIND + 3]
         if x.size == N_X_WIND:
             air[:2] -= x[X_W:X_W + 2]
-        speed2 = float(air @ air)
-        return self._sg_scale * h1 * h1 / speed2 if speed2 > 0.0 else math.inf
+        speed = math.sqrt(float(air @ air))
+        if speed == 0.0:
+            return math.inf
+        return gyroscopic_stability(self.ball, speed, h1 / self.ball.inertia_ratio)
 
     def _accel_variance(self, x: np.ndarray) -> float:
         """

@@ -107,6 +107,24 @@ class DynamicStability:
     mccoy_stable: bool = False
 
 
+def gyroscopic_stability(ball: BallPreset, speed: float, spin: float) -> float:
+    """
+    Return McCoy's gyroscopic stability factor S_g at air speed ``speed`` [m/s], ``spin`` [rad/s].
+
+    S_g = P^2 / (4M), P = (I_s/I_t) p D / V, M = rho S D^3 C_Malpha / (2 I_t) (the ball's air
+    density); inf without an overturning moment, 0 at zero spin; below 1 the ball may tumble.
+    """
+    diameter = ball.diameter
+    m_nd = (
+        ball.air_density * math.pi * diameter**5 * ball.c_m_alpha
+        / (8.0 * ball.inertia_transverse)
+    )
+    if not m_nd:
+        return math.inf
+    p_nd = (ball.inertia_spin / ball.inertia_transverse) * spin * diameter / speed
+    return p_nd**2 / (4.0 * m_nd)
+
+
 def dynamic_stability(
     ball: BallPreset,
     speed: float,
@@ -132,11 +150,9 @@ def dynamic_stability(
     football's spin barely changes: his criterion can call a ball whose both modes decay
     unstable (e.g. C_Mpalpha = 0.036).
     """
-    mass, diameter, density, c_m_alpha = ball.mass, ball.diameter, ball.air_density, ball.c_m_alpha
+    mass, diameter, density = ball.mass, ball.diameter, ball.air_density
     inertia_spin, inertia_transverse = ball.inertia_spin, ball.inertia_transverse
     area = math.pi * diameter**2 / 4.0
-    p_nd = (inertia_spin / inertia_transverse) * spin * diameter / speed
-    m_nd = density * area * diameter**3 / (2.0 * inertia_transverse) * c_m_alpha
     c_l = model.c_l_alpha if model.lift else 0.0
     c_d = model.c_d0 if model.drag else 0.0
     c_mpa = model.c_m_p_alpha if model.magnus else 0.0
@@ -144,7 +160,7 @@ def dynamic_stability(
     force_k = density * area * diameter / (2.0 * mass)
     t_nd = force_k * (c_l + mass * diameter**2 / inertia_spin * c_mpa)
     h_nd = force_k * (c_l - c_d - mass * diameter**2 / inertia_transverse * c_mq)
-    s_g = p_nd**2 / (4.0 * m_nd) if m_nd else math.inf
+    s_g = gyroscopic_stability(ball, speed, spin)
     s_d = 2.0 * t_nd / h_nd if h_nd else math.nan
     mccoy = bool(s_g > 1.0 and np.isfinite(s_d) and 1.0 / s_g < s_d * (2.0 - s_d))
     params = dyn.make_params(ball, 'linear', model)
