@@ -17,7 +17,7 @@
 import math
 
 from football_ros.estimation import Camera, CameraSettings, FlightTracker, TrackerSettings
-from football_ros.estimation.motion import land_points, N_X, path_of, propagate_points
+from football_ros.estimation.motion import fly_to_planes, N_X, path_of, propagate_points
 from football_ros.physics import Flight, Release
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -66,7 +66,7 @@ def test_kernels_fly_a_ball_at_rest_or_without_axis_instead_of_dividing_by_zero(
     tracker = FlightTracker()
     x = _at_rest(1.0, axis)
     # Dropped from 1 m: it falls in sqrt(2 h / g) (drag adds well under a millisecond).
-    land = land_points(x[None, :].copy(), tracker.params, 0.01, 0.0, 15.0)
+    land = fly_to_planes(x[None, :].copy(), tracker.params, 0.01, -math.inf, 0.0, 15.0)
     assert land[0, 3] == 1.0
     assert land[0, 0] == pytest.approx(math.sqrt(2.0 / G), abs=2e-3)
     assert np.allclose(land[0, 1:3], 0.0, atol=1e-3)  # a little lift, no more
@@ -87,7 +87,7 @@ def test_non_finite_points_come_out_as_nan_not_as_an_exception():
     assert np.all(np.isfinite(pts[0])) and np.all(np.isnan(pts[1]))
     pts = np.stack([_at_rest(1.0), _at_rest(1.0)])
     pts[1, 9] = math.inf
-    land = land_points(pts, tracker.params, 0.01, 0.0, 15.0)
+    land = fly_to_planes(pts, tracker.params, 0.01, -math.inf, 0.0, 15.0)
     assert land[0, 3] == 1.0 and land[1, 3] == 0.0
 
 

@@ -198,14 +198,6 @@ def fly_to_planes(
 
 
 @njit(cache=True)
-def land_points(
-    points: np.ndarray, params: np.ndarray, step: float, ground: float, horizon: float
-) -> np.ndarray:
-    """Landing of each row of ``points`` (m, N_X): the first 4 columns of :func:`fly_to_planes`."""
-    return fly_to_planes(points, params, step, -np.inf, ground, horizon)[:, :4].copy()
-
-
-@njit(cache=True)
 def _fly_path(
     y: np.ndarray,
     p: np.ndarray,
