@@ -14,6 +14,8 @@
 
 """QoS profiles and topic names: the one place for them (see msg_docs/ for each topic)."""
 
+import copy
+
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 # Topic names, relative so that a namespace (--ros-args -r __ns:=/ball2) applies.
@@ -104,16 +106,25 @@ REQUEST = QoSProfile(
     reliability=ReliabilityPolicy.RELIABLE,
     durability=DurabilityPolicy.VOLATILE,
 )
-# The nodes' own request readers (release and planner): 10 s of a 1000/s flood fit in DDS while
-# the node reads them (what its worker cannot take is answered 'busy'); a 1000-deep history
-# dropped the oldest without a word when the reader lagged. Only the readers: deep writers
-# slowed the matching of new endpoints.
-REQUEST_INBOX = QoSProfile(
-    history=HistoryPolicy.KEEP_LAST,
-    depth=10000,
-    reliability=ReliabilityPolicy.RELIABLE,
-    durability=DurabilityPolicy.VOLATILE,
-)
+INBOX_DEPTH = 10000
+
+
+def inbox(profile: QoSProfile) -> QoSProfile:
+    """
+    Return ``profile`` for a reader that must not lose what arrives while it lags.
+
+    At least :data:`INBOX_DEPTH` deep (10 s of a 1000/s topic held in DDS while the node reads);
+    a 1000-deep history dropped the oldest without a word when the reader lagged. Only for
+    readers: deep writers slowed the matching of new endpoints.
+    """
+    deep = copy.copy(profile)
+    deep.depth = max(profile.depth, INBOX_DEPTH)
+    return deep
+
+
+# The nodes' own request readers (release and planner): what their worker cannot take in time
+# is answered 'busy'.
+REQUEST_INBOX = inbox(REQUEST)
 # Flight orders (release node -> simulator) and their acknowledgements (simulator -> release
 # node): reliable, volatile (a simulator that is not there when a release is accepted must not
 # fly it later), as deep as the requests so that a burst is not cut short in transit.

@@ -37,7 +37,6 @@ full disk, the recorder keeps an 8 MiB reserve file in the bag folder while reco
 from __future__ import annotations
 
 import argparse
-import copy
 import datetime
 import os
 from pathlib import Path
@@ -79,9 +78,6 @@ EXIT_WRITE_ERROR = 1
 DRAIN_S = 3.0
 """After a stop signal, messages still queued are written for up to this long [s] (until the
 topics have been quiet for 0.2 s): a bag stopped right after a flight holds the flight's tail."""
-INBOX_DEPTH = 10000
-"""Depth of the recorder's readers: 10 s of a 1 kHz topic, so that a recorder starved of CPU
-for a while (a busy machine) catches up instead of losing messages; bounded."""
 STORAGES = ('mcap', 'sqlite3')
 
 
@@ -185,13 +181,11 @@ class RecorderNode(Node):
             DiagnosticArray, qos.DIAGNOSTICS, qos.DIAGNOSTICS_QOS
         )
         for topic, (cls, profile) in selected.items():
-            inbox = copy.copy(profile)
-            inbox.depth = max(profile.depth, INBOX_DEPTH)
-            self.create_subscription(
+            self.create_subscription(  # deep readers: a recorder short of CPU catches up
                 cls,
                 topic,
                 lambda data, t=topic, c=cls, p=profile: self._write(t, c, p, data),
-                inbox,
+                qos.inbox(profile),
                 raw=True,
             )
         self.get_logger().info(f'ready: recording {len(selected)} topics to {self.path} ({store})')
