@@ -15,7 +15,7 @@
 """
 Many balls through simulation_interfaces: real-time pacing and lock-step speed (issue 19).
 
-    .venv/bin/python bench/entities_benchmark.py [--seconds 4] [--repeats 5]
+    .venv/bin/python bench/entities_benchmark.py [--seconds 4] [--repeats 5] [--priority 50]
 
 Real time: for each (balls, publish_rate) the simulator (a subprocess) spawns the balls with
 SpawnEntities, throws them while paused with SetEntityState (lobs of 60 m/s at 80 deg: 12 s in
@@ -26,7 +26,11 @@ simulator skips those), then with this client subscribed (raw) to every pose, od
 Baselines from the same run and the same process: the idle simulator (no flight) at that
 rate and the single-ball path (the default entity flown by a flight order, as the release
 node does: today's six state topics, /tf, markers).
-CPU per ball-second = (CPU - idle CPU) / (balls x seconds).
+CPU per ball-second = (CPU - idle CPU) / (balls x seconds). Every case runs twice: the
+simulator pacing on the normal scheduler (thread_priority 0, the default) and on SCHED_FIFO
+(thread_priority ``--priority``; skipped where the machine refuses it). Before each, the floor
+of the machine: a bare Python pacing loop (the simulator's, no ROS, no work) at that rate and
+scheduling, alone for the same window: the late ticks that scheduling alone costs.
 
 Lock-step: paused, StepSimulation(steps=1000) of 1 ms steps (1 s of flight) for 1 and 100
 balls in the air, timed end to end through the service (median of ``--repeats``); the same
@@ -93,11 +97,12 @@ LOCK_STEP_LOB = Release(speed=60.0, elevation_deg=80.0)  # 12 s in the air
 class Simulator:
     """The simulator node in a subprocess, its CPU time and its diagnostics."""
 
-    def __init__(self, rate: float, log_dir: Path) -> None:
-        self.log = log_dir / f'simulator_{rate:g}.log'
+    def __init__(self, rate: float, log_dir: Path, priority: int = 0) -> None:
+        self.log = log_dir / f'simulator_{rate:g}_{priority}.log'
         self.proc = subprocess.Popen(
             [sys.executable, '-m', 'football_ros.cli', 'simulator', '--ros-args', '-p',
-             f'publish_rate:={rate}', '-p', 'max_entities:=200', '-p', 'marker_rate:=30.0'],
+             f'publish_rate:={rate}', '-p', 'max_entities:=200', '-p', 'marker_rate:=30.0',
+             '-p', f'thread_priority:={priority}'],
             stdout=open(self.log, 'w'), stderr=subprocess.STDOUT, cwd=REPO,
             env=dict(os.environ, PYTHONPATH=str(REPO)),
         )
@@ -317,6 +322,32 @@ def offline_second() -> float:
     return statistics.median(times)
 
 
+def pace(rate: float, seconds: float, priority: int) -> dict:
+    """
+    Measure the floor of the machine: a bare pacing loop (the simulator's, no ROS, no work).
+
+    Sleeps to absolute deadlines k / ``rate`` for ``seconds`` and counts late ticks as the
+    simulator does (whole periods behind at each wake-up), on SCHED_FIFO at ``priority`` if
+    > 0 (``refused`` says why not).
+    """
+    from football_ros.nodes.simulator import fifo_priority
+
+    refused = fifo_priority(priority) if priority else None
+    period = int(round(1e9 / rate))
+    next_due = time.monotonic_ns()
+    end = next_due + int(seconds * 1e9)
+    late = 0
+    while next_due < end:
+        now = time.monotonic_ns()
+        if now < next_due:
+            time.sleep(min(next_due - now, 50_000_000) * 1e-9)
+            continue
+        late += (now - next_due) // period
+        while next_due <= now:
+            next_due += period
+    return {'late': int(late), 'refused': refused}
+
+
 def phase(args) -> dict:
     """
     Run one measurement in this (fresh) client process and return its numbers.
@@ -324,6 +355,8 @@ def phase(args) -> dict:
     A fresh process each: an rclpy client process that has seen many of the simulator's
     endpoints come and go gets its answers ever later (client side: a new process is fast).
     """
+    if args.phase == 'pace':
+        return pace(args.rate, args.seconds, args.priority)
     bench = Bench()
     try:
         if args.phase == 'realtime':
@@ -361,8 +394,11 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     parser.add_argument('--seconds', type=float, default=4.0, help='real-time window [s] (<= 5)')
     parser.add_argument('--repeats', type=int, default=5, help='lock-step repeats (median)')
-    parser.add_argument('--phase', choices=('realtime', 'lockstep', 'round_trip'),
+    parser.add_argument('--priority', type=int, default=50,
+                        help='thread_priority of the real-time rows (SCHED_FIFO; 0: none)')
+    parser.add_argument('--phase', choices=('realtime', 'lockstep', 'round_trip', 'pace'),
                         help=argparse.SUPPRESS)
+    parser.add_argument('--rate', type=float, help=argparse.SUPPRESS)
     parser.add_argument('--pid', type=int, help=argparse.SUPPRESS)
     parser.add_argument('--balls', type=int, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
@@ -372,13 +408,21 @@ def main(argv=None) -> int:
         return 0
     seconds = args.seconds
     rows = []
+    priorities = (0, args.priority) if args.priority > 0 else (0,)
+    refused = None
+    cases = [(balls, rate, priority) for balls, rate in ((100, 100.0), (10, 1000.0))
+             for priority in priorities]
     with tempfile.TemporaryDirectory() as tmp:
-        for balls, rate in ((100, 100.0), (10, 1000.0)):
-            sim = Simulator(rate, Path(tmp))
+        for balls, rate, priority in cases:
+            floor = run_phase('pace', rate=rate, seconds=seconds, priority=priority)
+            if floor['refused']:
+                refused = floor['refused']
+                continue
+            sim = Simulator(rate, Path(tmp), priority)
             try:
-                rows.append((balls, rate, run_phase(
+                rows.append((balls, rate, priority, floor['late'], run_phase(
                     'realtime', pid=sim.proc.pid, balls=balls, seconds=seconds)))
-                if rate == 100.0:
+                if rate == 100.0 and priority == 0:
                     trips = run_phase('round_trip')
                     steps = {
                         n: run_phase('lockstep', pid=sim.proc.pid, balls=n, repeats=args.repeats)
@@ -389,11 +433,15 @@ def main(argv=None) -> int:
     offline = offline_second()
 
     print(f'Real time ({seconds:g} s windows; CPU = simulator process user + system; late = '
-          'published after its deadline, skipped = never published)')
-    print('| case | rate Hz | balls | CPU s/s | CPU ms per tick (budget: the period) '
+          'published after its deadline, skipped = never published; pacing = the simulator '
+          'thread_priority: normal scheduler or SCHED_FIFO)')
+    print('| case | pacing | rate Hz | balls | CPU s/s | CPU ms per tick (budget: the period) '
           '| late ticks | skipped ticks | CPU ms per ball-second | vs single-ball path |')
-    print('|---|---|---|---|---|---|---|---|---|')
-    for balls, rate, r in rows:
+    print('|---|---|---|---|---|---|---|---|---|---|')
+    for balls, rate, priority, floor_late, r in rows:
+        pacing = f'FIFO {priority}' if priority else 'normal'
+        print(f'| bare pacing loop (floor: no ROS, no work, {seconds:g} s alone) | {pacing} '
+              f'| {rate:g} | 0 | | | {floor_late} | | | |')
         idle_cpu = r['idle'][0]
         single = (r['single'][0] - idle_cpu) / seconds
         for name, n, (cpu, late, skipped) in (
@@ -405,11 +453,14 @@ def main(argv=None) -> int:
             per = (cpu - idle_cpu) / (max(n, 1) * seconds)
             ratio = '' if n == 0 else f'{per / single:.3f}'
             per_text = '' if n == 0 else f'{1e3 * per:.2f}'
-            print(f'| {name} | {rate:g} | {n} | {cpu / seconds:.3f} '
+            print(f'| {name} | {pacing} | {rate:g} | {n} | {cpu / seconds:.3f} '
                   f'| {1e3 * cpu / (seconds * rate):.3f} (of {1e3 / rate:g}) | {late} | {skipped} '
                   f'| {per_text} | {ratio} |')
         print(f'| (throwing the {balls} balls through the services: {r["throw_s"]:.2f} s; '
-              f'messages the subscribed window delivered: {r["received"]}) | | | | | | | | |')
+              f'messages the subscribed window delivered: {r["received"]}) | | | | | | | | | |')
+    if refused:
+        print(f'(SCHED_FIFO {args.priority} refused on this machine: {refused}; only the normal '
+              'scheduler was measured)')
     print()
     print('Lock-step: 1 s of flight (1000 steps of 1 ms), paused, end to end (median)')
     print('(simulator CPU = the CPU time of its threads per call, /proc schedstat: the work, '

@@ -656,3 +656,45 @@ def test_parameter_combinations():
     frames = {s.name: s for s in sim.PARAMETERS if s.name in ('frame_id', 'child_frame_id')}
     for name, spec in frames.items():  # a rule of the row itself, checked on every set
         assert spec.check('') == f"'{name}' must not be empty"
+
+
+def _fifo_threads(pid: int) -> list[int]:
+    """Real-time priorities of the threads of ``pid`` on SCHED_FIFO."""
+    import os
+    from pathlib import Path
+
+    found = []
+    for task in Path(f'/proc/{pid}/task').iterdir():
+        try:
+            if os.sched_getscheduler(int(task.name)) == os.SCHED_FIFO:
+                found.append(os.sched_getparam(int(task.name)).sched_priority)
+        except OSError:  # a thread that just ended
+            pass
+    return found
+
+
+def test_thread_priority_puts_the_pacer_alone_on_sched_fifo_or_says_why_not(
+        start_node, collector):
+    normal = start_node('simulator')
+    assert 'pacing on the normal scheduler' in normal.log()
+    assert _fifo_threads(normal.pid) == []
+    normal.stop()
+    node = start_node('simulator', '--ros-args', '-p', 'thread_priority:=7')
+    log = node.log()
+    if 'SCHED_FIFO refused' in log:  # no rtprio limit here: a warning, the normal scheduler
+        assert 'thread_priority 7' in log and 'pacing on the normal scheduler' in log
+        assert _fifo_threads(node.pid) == []
+        expected = 'normal scheduler'
+    else:  # the pacing thread, and no other, at priority 7
+        assert 'pacing on the SCHED_FIFO priority 7' in log
+        assert _fifo_threads(node.pid) == [7]
+        expected = 'SCHED_FIFO priority 7'
+    collector.subscribe(DiagnosticArray, qos.DIAGNOSTICS, qos.DIAGNOSTICS_QOS)
+    collector.wait_for(lambda: any(
+        kv.key == 'pacing' and kv.value == expected
+        for msg in collector.get(qos.DIAGNOSTICS) for st in msg.status for kv in st.values),
+        10.0, 'the pacing on /diagnostics')
+    out = subprocess.run(
+        [sys.executable, '-m', 'football_ros.cli', 'simulator', '--ros-args', '-p',
+         'thread_priority:=100'], capture_output=True, text=True, timeout=60)
+    assert out.returncode != 0 and 'thread_priority' in out.stderr

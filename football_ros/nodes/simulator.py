@@ -22,7 +22,8 @@ scheduled stamp, and counted as an overrun on /diagnostics. All messages of one 
 same stamp. After publishing, a tick integrates the next tick's sample, so that the next tick
 publishes at its deadline whatever the integration costs (in place instead when the flight
 changed meanwhile or the simulated camera is on). After the landing the landed state is
-republished at ``hold_rate`` (0 = never).
+republished at ``hold_rate`` (0 = never). ``thread_priority`` > 0 puts the pacing thread on
+SCHED_FIFO, so that other work of the machine does not make ticks late (:func:`fifo_priority`).
 
 Threads: the pacing thread is the only one that integrates and publishes state, markers, /clock
 and /diagnostics; the executor thread serves orders, services, parameters and a 1 Hz check for
@@ -44,6 +45,7 @@ from __future__ import annotations
 
 import gc
 import math
+import os
 import sys
 import threading
 import time
@@ -171,6 +173,15 @@ PARAMETERS = (
         guard='allow_reconfigure',
     ),
     ParamSpec(
+        'thread_priority',
+        0,
+        'Scheduling of the pacing thread: 0 = the normal scheduler; 1..99 = SCHED_FIFO at this '
+        'real-time priority (as the thread_priority of the ros2_control manager; needs an '
+        'rtprio limit or CAP_SYS_NICE, else a warning and the normal scheduler)',
+        (0, 99),
+        read_only=True,
+    ),
+    ParamSpec(
         'model',
         'release',
         "Equations of motion: 'release' (as each release asks), 'paper' or 'full'",
@@ -192,6 +203,21 @@ PUBLISH_TF = ParamSpec(
     'Publish the ball on /tf (frame_id -> child_frame_id)',
     guard='allow_reconfigure',
 )
+
+
+def fifo_priority(priority: int) -> str | None:
+    """
+    Put the calling thread on SCHED_FIFO at ``priority`` (1..99); return why not, or None.
+
+    A real-time thread wakes at its deadline ahead of every normal thread of the machine (a
+    pacing loop on the normal scheduler is late by whole periods whenever the kernel runs
+    something else first: bench/entities_benchmark.py measures both).
+    """
+    try:
+        os.sched_setscheduler(0, os.SCHED_FIFO, os.sched_param(priority))  # 0: this thread
+    except (OSError, AttributeError) as exc:  # EPERM without rtprio; no SCHED_FIFO off Linux
+        return str(exc)
+    return None
 
 
 def check_parameters(values: dict, flight_step: float | None = None) -> str | None:
@@ -295,11 +321,14 @@ class SimulatorNode(Node):
         gc.freeze()  # start-up objects leave the collector's generations: shorter GC pauses
         sys.setswitchinterval(1e-4)  # the pacer gets the GIL within 0.1 ms (default: 5 ms)
         self._stop = threading.Event()
+        self._scheduled = threading.Event()
+        self._scheduling = 'normal scheduler'
         self._thread = threading.Thread(target=self._pace, name='football-pacer', daemon=True)
         self._thread.start()
+        self._scheduled.wait(5.0)
         self.get_logger().info(
             f'ready: {self.publish_rate:g} Hz, step {self.integration_step:g} s, real-time factor '
-            f'{self.real_time_factor:g}; waiting for flights on '
+            f'{self.real_time_factor:g}, pacing on the {self._scheduling}; waiting for flights on '
             f"'{self.resolve_topic_name(qos.FLIGHT_ORDER)}'"
         )
 
@@ -475,6 +504,17 @@ class SimulatorNode(Node):
 
     # --- pacing thread -----------------------------------------------------------------------
     def _pace(self) -> None:
+        if self.thread_priority:
+            refused = fifo_priority(self.thread_priority)
+            if refused:
+                self.get_logger().warning(
+                    f'thread_priority {self.thread_priority}: SCHED_FIFO refused ({refused}); '
+                    'pacing on the normal scheduler (allow it with an rtprio limit, e.g. '
+                    '"@realtime - rtprio 99" in /etc/security/limits.conf, or CAP_SYS_NICE)'
+                )
+            else:
+                self._scheduling = f'SCHED_FIFO priority {self.thread_priority}'
+        self._scheduled.set()
         mono0 = time.monotonic_ns()
         wall0 = time.time_ns()
         next_due = mono0
@@ -933,6 +973,7 @@ class SimulatorNode(Node):
             'overruns': stats['overruns'],
             'skipped_ticks': stats['skipped'],
             'max_late_ms': round(stats['max_late_ms'], 3),
+            'pacing': self._scheduling,
         }
         level, message = 'OK', 'idle: waiting for a release'
         if run is not None:
