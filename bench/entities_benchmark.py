@@ -224,14 +224,16 @@ class Bench:
         return elapsed
 
 
-def window(bench: Bench, pid: int, seconds: float) -> tuple[float, int, int]:
-    """CPU seconds, late and skipped ticks of the simulator over ``seconds``."""
+def window(bench: Bench, pid: int, seconds: float) -> tuple[float, int, int, float]:
+    """CPU seconds, late and skipped ticks of the simulator, and this client's CPU seconds."""
     late, skipped = bench.late_ticks()
     cpu = cpu_seconds(pid)
+    own = time.process_time()
     bench.spin(seconds)
+    own = time.process_time() - own
     cpu = cpu_seconds(pid) - cpu
     late_after, skipped_after = bench.late_ticks()
-    return cpu, late_after - late, skipped_after - skipped
+    return cpu, late_after - late, skipped_after - skipped, own
 
 
 def real_time(bench: Bench, pid: int, balls: int, seconds: float) -> dict:
@@ -436,15 +438,16 @@ def main(argv=None) -> int:
           'published after its deadline, skipped = never published; pacing = the simulator '
           'thread_priority: normal scheduler or SCHED_FIFO)')
     print('| case | pacing | rate Hz | balls | CPU s/s | CPU ms per tick (budget: the period) '
-          '| late ticks | skipped ticks | CPU ms per ball-second | vs single-ball path |')
-    print('|---|---|---|---|---|---|---|---|---|---|')
+          '| late ticks | skipped ticks | CPU ms per ball-second | vs single-ball path '
+          '| client CPU s/s (of 2 cores, with the simulator) |')
+    print('|---|---|---|---|---|---|---|---|---|---|---|')
     for balls, rate, priority, floor_late, r in rows:
         pacing = f'FIFO {priority}' if priority else 'normal'
         print(f'| bare pacing loop (floor: no ROS, no work, {seconds:g} s alone) | {pacing} '
-              f'| {rate:g} | 0 | | | {floor_late} | | | |')
+              f'| {rate:g} | 0 | | | {floor_late} | | | | |')
         idle_cpu = r['idle'][0]
         single = (r['single'][0] - idle_cpu) / seconds
-        for name, n, (cpu, late, skipped) in (
+        for name, n, (cpu, late, skipped, client) in (
             ('idle (baseline)', 0, r['idle']),
             ('single-ball path (baseline)', 1, r['single']),
             ('spawned balls (no subscriber on their topics)', balls, r['many']),
@@ -455,9 +458,10 @@ def main(argv=None) -> int:
             per_text = '' if n == 0 else f'{1e3 * per:.2f}'
             print(f'| {name} | {pacing} | {rate:g} | {n} | {cpu / seconds:.3f} '
                   f'| {1e3 * cpu / (seconds * rate):.3f} (of {1e3 / rate:g}) | {late} | {skipped} '
-                  f'| {per_text} | {ratio} |')
+                  f'| {per_text} | {ratio} | {client / seconds:.3f} '
+                  f'({(cpu + client) / seconds:.2f}) |')
         print(f'| (throwing the {balls} balls through the services: {r["throw_s"]:.2f} s; '
-              f'messages the subscribed window delivered: {r["received"]}) | | | | | | | | | |')
+              f'messages the subscribed window delivered: {r["received"]}) | | | | | | | | | | |')
     if refused:
         print(f'(SCHED_FIFO {args.priority} refused on this machine: {refused}; only the normal '
               'scheduler was measured)')
