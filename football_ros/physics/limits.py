@@ -93,15 +93,17 @@ def fastest_rates(params: np.ndarray, initial: InitialState) -> dict[str, float]
     }
 
 
-def check_flyable(params: np.ndarray, initial: InitialState, step: float) -> None:
+def check_flyable(params: np.ndarray, initial: InitialState, step: float) -> float:
     """
     Raise :class:`ReleaseError` naming the rate when ``step`` [s] is too large for it.
 
     Also refuses a release that moves with the wind (no air speed: the aerodynamic angles,
-    the linear theory and the loads' direction are undefined).
+    the linear theory and the loads' direction are undefined). Returns the largest step [s]
+    the rules allow this flight.
     """
     check_air_speed(initial, params)
-    for name, rate in fastest_rates(params, initial).items():
+    rates = fastest_rates(params, initial)
+    for name, rate in rates.items():
         if not math.isfinite(rate):
             raise ReleaseError(f"the flight's {name} is not finite")
         if rate * step > MAX_STEP_RATE:
@@ -110,3 +112,4 @@ def check_flyable(params: np.ndarray, initial: InitialState, step: float) -> Non
                 f'{rate:.4g} rad/s (step x rate = {rate * step:.3g} > {MAX_STEP_RATE:g}): '
                 f'use a step <= {MAX_STEP_RATE / rate:.3g} s, or less spin, speed or moment'
             )
+    return MAX_STEP_RATE / max(max(rates.values()), 1e-300)

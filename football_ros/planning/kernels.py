@@ -228,18 +228,20 @@ def wobble_every(states, n, stride, params, consts):
     The rows of :func:`football_ros.planning.planner._wobble_rows`, without their array.
     """
     eqs = np.empty((0, 3))
-    return _wobble_every(states, n, stride, params, consts, eqs, False, states, 0)
+    return _wobble_every(states, n, stride, params, consts, eqs, False, states, 0, 0, 1)
 
 
 @njit(cache=True, error_model='numpy')
-def _wobble_every(states, n, stride, params, consts, eqs, reuse, other, n_other):
+def _wobble_every(states, n, stride, params, consts, eqs, reuse, other, n_other, n_grid,
+                  other_stride):
     """
     Return :func:`wobble_every`, keeping or reusing X_p of the rows j ``stride`` in ``eqs``.
 
     ``reuse`` False: X_p of row j stride is written to ``eqs[j]`` (if it has that row). True:
-    ``eqs[j]`` holds X_p of row j stride of ``other`` (its first ``n_other`` rows) and is taken
-    where this row's velocity and h1 are those of other's row, bit for bit (X_p depends on
-    nothing else of a state: the same numbers).
+    ``eqs[j]`` holds X_p of row j ``other_stride`` of ``other`` (its first ``n_other`` rows, at
+    the same time as row j stride of these ``n_grid`` evenly stepped ones) and is taken where
+    this row's velocity and h1 agree with other's row to 1e-12 (relative): X_p depends on
+    nothing else of a state, and no further than that on them.
     """
     if n <= 0:
         return math.nan, math.nan
@@ -249,9 +251,8 @@ def _wobble_every(states, n, stride, params, consts, eqs, reuse, other, n_other)
         y = states[k]
         j = k // stride
         on_grid = k == j * stride
-        if reuse and on_grid and k < n_other and y[dyn.H1] == other[k, dyn.H1] and (
-                y[dyn.V] == other[k, dyn.V] and y[dyn.V + 1] == other[k, dyn.V + 1]
-                and y[dyn.V + 2] == other[k, dyn.V + 2]):
+        if reuse and on_grid and k < n_grid and j * other_stride < n_other and _same_air(
+                y, other[j * other_stride]):
             q = (eqs[j, 0], eqs[j, 1], eqs[j, 2])
         else:
             q = _equilibrium_axis(y, params, consts)
@@ -268,21 +269,40 @@ def _wobble_every(states, n, stride, params, consts, eqs, reuse, other, n_other)
     return math.acos(least), _delta(states[n - 1], params)
 
 
+@njit(cache=True)
+def _same_air(y, z):
+    """Tell whether two states' velocities and h1 agree to 1e-12 (relative)."""
+    for i in (dyn.V, dyn.V + 1, dyn.V + 2, dyn.H1):
+        if not abs(y[i] - z[i]) <= 1e-12 * (1.0 + abs(z[i])):
+            return False
+    return True
+
+
 @njit(cache=True, error_model='numpy')
-def compare_wobbles(states, n, y0_aligned, dt, params, consts, until, stride, target, d):
+def compare_wobbles(states, n, y0_aligned, dt_aligned, params, consts, stride, stride_aligned,
+                    t_last, target, d):
     """
     Return the wobble comparison of a checked plan [rad]: (wobble, delta, aligned ones).
 
-    :func:`wobble_every` of the first ``n`` rows of the checking flight's ``states``, and of
-    the aligned release ``y0_aligned`` flown by :func:`fly` (step ``dt`` [s], to ``until``
-    [s], ground z = 0). Where the two flights share a row's velocity and spin (the paper's
-    centre flies the same parabola whatever the attitude) X_p is computed once.
+    :func:`wobble_every` of the first ``n`` rows of the checking flight's ``states`` (evenly
+    stepped, the last at ``t_last`` [s]) and of the aligned release ``y0_aligned`` flown by
+    :func:`fly` in steps of ``dt_aligned`` [s] (ground z = 0) to ``t_last``, the last step a
+    partial one to it. Where the two flights share a row's velocity and spin (the paper's
+    centre flies the same parabola whatever the attitude and the step) X_p is computed once.
     """
     eqs = np.empty((max(n, 0) // stride + 1, 3))
-    wob, delta = _wobble_every(states, n, stride, params, consts, eqs, False, states, 0)
-    a_states = fly(y0_aligned, dt, params, until, 0.0, target, d, -1)[1]
-    a_wob, a_delta = _wobble_every(a_states, a_states.shape[0], stride, params, consts, eqs,
-                                   True, states, n)
+    wob, delta = _wobble_every(states, n, stride, params, consts, eqs, False, states, 0, 0, 1)
+    a_times, a_states, landed = fly(y0_aligned, dt_aligned, params, t_last, 0.0, target, d, -1)
+    n_grid = a_times.size
+    if not landed and a_times[n_grid - 1] < t_last - 1e-12:  # the partial step to t_last
+        rows = np.empty((n_grid + 1, a_states.shape[1]))
+        rows[:n_grid] = a_states
+        dyn.rk4_step(a_states[n_grid - 1], t_last - a_times[n_grid - 1], params, rows[n_grid])
+        a_states = rows
+    elif landed:
+        n_grid -= 1  # the landing row is not on the step grid
+    a_wob, a_delta = _wobble_every(a_states, a_states.shape[0], stride_aligned, params, consts,
+                                   eqs, True, states, n, n_grid, stride)
     return wob, delta, a_wob, a_delta
 
 
