@@ -28,9 +28,13 @@ rate and the single-ball path (the default entity flown by a flight order, as th
 node does: today's six state topics, /tf, markers).
 CPU per ball-second = (CPU - idle CPU) / (balls x seconds). Every case runs twice: the
 simulator pacing on the normal scheduler (thread_priority 0, the default) and on SCHED_FIFO
-(thread_priority ``--priority``; skipped where the machine refuses it). Before each, the floor
-of the machine: a bare Python pacing loop (the simulator's, no ROS, no work) at that rate and
-scheduling, alone for the same window: the late ticks that scheduling alone costs.
+(thread_priority ``--priority``; skipped where the machine refuses it). Before each, two
+floors at that rate and scheduling for the same window: a bare Python pacing loop (the
+simulator's, no ROS, no work), alone: the late ticks that scheduling alone costs; and the
+publishing floor: that loop encoding (the simulator's encoders) and publishing the messages of
+the subscribed window (every ball's pose and odom and one TFMessage per tick) to a client
+subscribed to all of them as this one is, with no simulation and no executor: what publishing
+alone costs.
 
 Lock-step: paused, StepSimulation(steps=1000) of 1 ms steps (1 s of flight) for 1 and 100
 balls in the air, timed end to end through the service (median of ``--repeats``); the same
@@ -350,6 +354,102 @@ def pace(rate: float, seconds: float, priority: int) -> dict:
     return {'late': int(late), 'refused': refused}
 
 
+def publish_floor(rate: float, balls: int, seconds: float, priority: int) -> dict:
+    """
+    Measure the publishing floor: the simulator's messages, encoded and published, no simulation.
+
+    Publishes ``balls`` poses, odometries and one TFMessage per tick on ``floor/...`` (the
+    simulator's own encoders, mb.EntityMessages, with moving states), paced by the bare loop of
+    :func:`pace` on this main thread (no executor) at ``priority``, once every topic has a
+    subscriber (:func:`floor_client`), for ``seconds``. Returns its CPU seconds and late ticks.
+    """
+    from football_ros.nodes import messages as mb
+    from football_ros.nodes.simulator import fifo_priority
+
+    rclpy.init()
+    node = rclpy.create_node('publish_floor')
+    try:
+        pubs = [(node.create_publisher(PoseStamped, f'floor/b{k}/pose', qos.STATE),
+                 node.create_publisher(Odometry, f'floor/b{k}/odom', qos.STATE),
+                 mb.EntityMessages('field', f'football/b{k}')) for k in range(balls)]
+        tf_pub = node.create_publisher(TFMessage, 'floor/tf', qos.TF_QOS)
+        deadline = time.monotonic() + 30.0
+        while time.monotonic() < deadline and not (
+                tf_pub.get_subscription_count() and all(
+                    a.get_subscription_count() and b.get_subscription_count()
+                    for a, b, _ in pubs)):
+            time.sleep(0.05)
+        time.sleep(1.0)  # discovery settles
+        refused = fifo_priority(priority) if priority else None
+        period = int(round(1e9 / rate))
+        cpu = time.process_time()
+        next_due = start = time.monotonic_ns()
+        end = start + int(seconds * 1e9)
+        late = 0
+        while next_due < end:
+            now = time.monotonic_ns()
+            if now < next_due:
+                time.sleep(min(next_due - now, 50_000_000) * 1e-9)
+                continue
+            late += (now - next_due) // period
+            while next_due <= now:
+                t = (next_due - start) * 1e-9
+                stamp = mb.time_msg(time.time_ns())
+                transforms = []
+                for k, (pose_pub, odom_pub, msgs) in enumerate(pubs):
+                    position = [10.0 * t, 0.5 * k, 20.0 * t - 4.9 * t * t]
+                    orientation = [0.0, -0.2, 0.0, 0.98]
+                    pose_pub.publish(msgs.pose(stamp, position, orientation))
+                    odom_pub.publish(msgs.odom(stamp, position, orientation,
+                                               [10.0, 0.0, 20.0 - 9.8 * t], [60.0, 0.1, 0.2]))
+                    transforms.append((msgs, stamp, position, orientation))
+                tf_pub.publish(mb.tf_message_bytes(transforms))
+                next_due += period
+        return {'cpu': time.process_time() - cpu, 'late': int(late), 'refused': refused}
+    finally:
+        node.destroy_node()
+        rclpy.shutdown()
+
+
+def floor_client(balls: int, seconds: float) -> dict:
+    """Subscribe (raw) to every topic of :func:`publish_floor` for ``seconds``: the count."""
+    bench = Bench()
+    received = [0]
+
+    def count(_msg) -> None:
+        received[0] += 1
+
+    topics = [(msg_type, f'floor/b{k}/{leaf}') for k in range(balls)
+              for msg_type, leaf in ((PoseStamped, 'pose'), (Odometry, 'odom'))]
+    subs = [bench.node.create_subscription(msg_type, topic, count, qos.STATE, raw=True)
+            for msg_type, topic in topics]
+    subs.append(bench.node.create_subscription(TFMessage, 'floor/tf', count, qos.TF_QOS,
+                                               raw=True))
+    try:
+        bench.spin(seconds)
+        return {'received': received[0]}
+    finally:
+        bench.node.destroy_node()
+        rclpy.shutdown()
+
+
+def floor(rate: float, balls: int, seconds: float, priority: int) -> dict:
+    """Run :func:`publish_floor` and :func:`floor_client` side by side (two processes)."""
+    argv = [sys.executable, __file__, '--phase', 'publish_floor', '--no-record', '--rate',
+            str(rate), '--balls', str(balls), '--seconds', str(seconds), '--priority',
+            str(priority)]
+    publisher = subprocess.Popen(argv, stdout=subprocess.PIPE, text=True)
+    try:
+        client = run_phase('floor_client', balls=balls, seconds=seconds + 4.0)
+        out, _ = publisher.communicate(timeout=120)
+    finally:
+        if publisher.poll() is None:
+            publisher.kill()
+    result = json.loads(out.strip().splitlines()[-1])
+    result['received'] = client['received']
+    return result
+
+
 def phase(args) -> dict:
     """
     Run one measurement in this (fresh) client process and return its numbers.
@@ -359,6 +459,10 @@ def phase(args) -> dict:
     """
     if args.phase == 'pace':
         return pace(args.rate, args.seconds, args.priority)
+    if args.phase == 'publish_floor':
+        return publish_floor(args.rate, args.balls, args.seconds, args.priority)
+    if args.phase == 'floor_client':
+        return floor_client(args.balls, args.seconds)
     bench = Bench()
     try:
         if args.phase == 'realtime':
@@ -398,13 +502,14 @@ def main(argv=None) -> int:
     parser.add_argument('--repeats', type=int, default=5, help='lock-step repeats (median)')
     parser.add_argument('--priority', type=int, default=50,
                         help='thread_priority of the real-time rows (SCHED_FIFO; 0: none)')
-    parser.add_argument('--phase', choices=('realtime', 'lockstep', 'round_trip', 'pace'),
-                        help=argparse.SUPPRESS)
+    parser.add_argument('--phase', help=argparse.SUPPRESS, choices=(
+        'realtime', 'lockstep', 'round_trip', 'pace', 'publish_floor', 'floor_client'))
     parser.add_argument('--rate', type=float, help=argparse.SUPPRESS)
     parser.add_argument('--pid', type=int, help=argparse.SUPPRESS)
     parser.add_argument('--balls', type=int, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
-    args.seconds = min(args.seconds, 5.0)
+    if not args.phase:
+        args.seconds = min(args.seconds, 5.0)
     if args.phase:
         print(json.dumps(phase(args)))
         return 0
@@ -416,13 +521,14 @@ def main(argv=None) -> int:
              for priority in priorities]
     with tempfile.TemporaryDirectory() as tmp:
         for balls, rate, priority in cases:
-            floor = run_phase('pace', rate=rate, seconds=seconds, priority=priority)
-            if floor['refused']:
-                refused = floor['refused']
+            bare = run_phase('pace', rate=rate, seconds=seconds, priority=priority)
+            if bare['refused']:
+                refused = bare['refused']
                 continue
+            published = floor(rate, balls, seconds, priority)
             sim = Simulator(rate, Path(tmp), priority)
             try:
-                rows.append((balls, rate, priority, floor['late'], run_phase(
+                rows.append((balls, rate, priority, bare['late'], published, run_phase(
                     'realtime', pid=sim.proc.pid, balls=balls, seconds=seconds)))
                 if rate == 100.0 and priority == 0:
                     trips = run_phase('round_trip')
@@ -441,10 +547,16 @@ def main(argv=None) -> int:
           '| late ticks | skipped ticks | CPU ms per ball-second | vs single-ball path '
           '| client CPU s/s (of 2 cores, with the simulator) |')
     print('|---|---|---|---|---|---|---|---|---|---|---|')
-    for balls, rate, priority, floor_late, r in rows:
+    for balls, rate, priority, floor_late, published, r in rows:
         pacing = f'FIFO {priority}' if priority else 'normal'
         print(f'| bare pacing loop (floor: no ROS, no work, {seconds:g} s alone) | {pacing} '
               f'| {rate:g} | 0 | | | {floor_late} | | | | |')
+        cpu = published['cpu']
+        print('| publishing floor (the messages of the subscribed window, encoded and published '
+              f'by that loop, no simulation, no executor; delivered: {published["received"]}) '
+              f'| {pacing} | {rate:g} | {balls} | {cpu / seconds:.3f} '
+              f'| {1e3 * cpu / (seconds * rate):.3f} (of {1e3 / rate:g}) | {published["late"]} '
+              '| | | | |')
         idle_cpu = r['idle'][0]
         single = (r['single'][0] - idle_cpu) / seconds
         for name, n, (cpu, late, skipped, client) in (
