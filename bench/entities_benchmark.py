@@ -328,20 +328,22 @@ def offline_second() -> float:
     return statistics.median(times)
 
 
-def pace(rate: float, seconds: float, priority: int) -> dict:
+def pace(rate: float, seconds: float, priority: int, work=None) -> dict:
     """
     Measure the floor of the machine: a bare pacing loop (the simulator's, no ROS, no work).
 
     Sleeps to absolute deadlines k / ``rate`` for ``seconds`` and counts late ticks as the
     simulator does (whole periods behind at each wake-up), on SCHED_FIFO at ``priority`` if
-    > 0 (``refused`` says why not).
+    > 0 (``refused`` says why not). ``work(t)``, if given, is each tick's work (t [s] since
+    the start); ``cpu`` is this process's CPU seconds over the loop.
     """
     from football_ros.nodes.simulator import fifo_priority
 
     refused = fifo_priority(priority) if priority else None
     period = int(round(1e9 / rate))
-    next_due = time.monotonic_ns()
-    end = next_due + int(seconds * 1e9)
+    cpu = time.process_time()
+    next_due = start = time.monotonic_ns()
+    end = start + int(seconds * 1e9)
     late = 0
     while next_due < end:
         now = time.monotonic_ns()
@@ -350,8 +352,10 @@ def pace(rate: float, seconds: float, priority: int) -> dict:
             continue
         late += (now - next_due) // period
         while next_due <= now:
+            if work is not None:
+                work((next_due - start) * 1e-9)
             next_due += period
-    return {'late': int(late), 'refused': refused}
+    return {'late': int(late), 'refused': refused, 'cpu': time.process_time() - cpu}
 
 
 def publish_floor(rate: float, balls: int, seconds: float, priority: int) -> dict:
@@ -364,7 +368,6 @@ def publish_floor(rate: float, balls: int, seconds: float, priority: int) -> dic
     subscriber (:func:`floor_client`), for ``seconds``. Returns its CPU seconds and late ticks.
     """
     from football_ros.nodes import messages as mb
-    from football_ros.nodes.simulator import fifo_priority
 
     rclpy.init()
     node = rclpy.create_node('publish_floor')
@@ -380,32 +383,20 @@ def publish_floor(rate: float, balls: int, seconds: float, priority: int) -> dic
                     for a, b, _ in pubs)):
             time.sleep(0.05)
         time.sleep(1.0)  # discovery settles
-        refused = fifo_priority(priority) if priority else None
-        period = int(round(1e9 / rate))
-        cpu = time.process_time()
-        next_due = start = time.monotonic_ns()
-        end = start + int(seconds * 1e9)
-        late = 0
-        while next_due < end:
-            now = time.monotonic_ns()
-            if now < next_due:
-                time.sleep(min(next_due - now, 50_000_000) * 1e-9)
-                continue
-            late += (now - next_due) // period
-            while next_due <= now:
-                t = (next_due - start) * 1e-9
-                stamp = mb.time_msg(time.time_ns())
-                transforms = []
-                for k, (pose_pub, odom_pub, msgs) in enumerate(pubs):
-                    position = [10.0 * t, 0.5 * k, 20.0 * t - 4.9 * t * t]
-                    orientation = [0.0, -0.2, 0.0, 0.98]
-                    pose_pub.publish(msgs.pose(stamp, position, orientation))
-                    odom_pub.publish(msgs.odom(stamp, position, orientation,
-                                               [10.0, 0.0, 20.0 - 9.8 * t], [60.0, 0.1, 0.2]))
-                    transforms.append((msgs, stamp, position, orientation))
-                tf_pub.publish(mb.tf_message_bytes(transforms))
-                next_due += period
-        return {'cpu': time.process_time() - cpu, 'late': int(late), 'refused': refused}
+
+        def tick(t: float) -> None:
+            stamp = mb.time_msg(time.time_ns())
+            transforms = []
+            for k, (pose_pub, odom_pub, msgs) in enumerate(pubs):
+                position = [10.0 * t, 0.5 * k, 20.0 * t - 4.9 * t * t]
+                orientation = [0.0, -0.2, 0.0, 0.98]
+                pose_pub.publish(msgs.pose(stamp, position, orientation))
+                odom_pub.publish(msgs.odom(stamp, position, orientation,
+                                           [10.0, 0.0, 20.0 - 9.8 * t], [60.0, 0.1, 0.2]))
+                transforms.append((msgs, stamp, position, orientation))
+            tf_pub.publish(mb.tf_message_bytes(transforms))
+
+        return pace(rate, seconds, priority, tick)
     finally:
         node.destroy_node()
         rclpy.shutdown()
@@ -508,12 +499,10 @@ def main(argv=None) -> int:
     parser.add_argument('--pid', type=int, help=argparse.SUPPRESS)
     parser.add_argument('--balls', type=int, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
-    if not args.phase:
-        args.seconds = min(args.seconds, 5.0)
     if args.phase:
         print(json.dumps(phase(args)))
         return 0
-    seconds = args.seconds
+    seconds = min(args.seconds, 5.0)
     rows = []
     priorities = (0, args.priority) if args.priority > 0 else (0,)
     refused = None
