@@ -270,6 +270,8 @@ def test_scratch_rk4_step_is_bit_for_bit_dynamics_rk4_step():
 
 
 def test_batch_guard_clears_fine_balls_and_ends_a_broken_one():
+    from football_ros.physics import dynamics as dyn
+
     world = wd.World()
     a = world.spawn('a', 'football_ros://american', [0, 0, 0], UPRIGHT)
     b = world.spawn('b', 'football_ros://american', [0, 0, 0], UPRIGHT)
@@ -283,10 +285,16 @@ def test_batch_guard_clears_fine_balls_and_ends_a_broken_one():
     assert b.run.ended and 'non-finite' in b.run.ended
     errors = [text for level, event, text in world.events if event == 'error']
     assert errors == [f"flight 'b' ended: {b.run.ended}"]
-    b.run.ended, b.run.y, b.run.done = None, b.run.flight.y0.copy(), 0
-    b.run.y[0] = 2e5  # finite but far away: the batch guard defers to runaway()
-    world.step(1, 0.001, 0)
-    assert 'from the release point' in b.run.ended
+    # Finite but past a bound: the compiled guard (kernel.runaway_free) defers to runaway(),
+    # which words the reason; the good ball stays cleared by the compiled guard.
+    for index, value, reason in ((dyn.R, 2e5, 'from the release point'),
+                                 (dyn.V, 300.0, 'runaway: speed'),
+                                 (dyn.H, 5e3, 'runaway: angular rate')):
+        b.run.ended, b.run.y, b.run.done = None, b.run.flight.y0.copy(), 0
+        b.run.y[index] = value
+        out = world.step(1, 0.001, 0)
+        assert reason in b.run.ended and [e.name for e, _s in out] == ['a']
+        assert a.run.cleared is a.last and b.run.cleared is None
 
 
 def _exact(sample, flight: Flight, t: float) -> bool:

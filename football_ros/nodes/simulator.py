@@ -95,6 +95,9 @@ MAX_STEPS_PER_SECOND = 2.0e5
 """Largest real_time_factor / integration_step [RK4 steps per wall second] (about 0.2 s of CPU
 per wall second at 0.85 us a step); larger combinations are refused (parameter callback)."""
 RIVAL_CHECK_PERIOD_S = 1.0
+SUBSCRIBERS_CHECK_NS = 100_000_000
+"""Wall time [ns] between two counts of an entity topic's subscribers (the count is an rmw
+graph query; the entities' topics of a tick are skipped or sent on the last count)."""
 LOG_THROTTLE_S = 0.1
 """Lines a client can trigger at will (pause, reset, orders) are logged at most this often
 each; every event still reaches /diagnostics (bounded by MAX_EVENTS)."""
@@ -300,6 +303,7 @@ class SimulatorNode(Node):
         self._world_lock = threading.RLock()
         self._stopped = False  # SetSimulationState STOPPED (paused and reset)
         self._entity_pubs: dict[str, tuple] = {}  # pose and odom publishers, EntityMessages
+        self._entity_outs: dict[str, list] = {}  # their last subscriber count (pacing thread)
         self._last_order: FlightOrder | None = None
         self._paused = False
         self._ahead = None  # (run, t, sample): the next tick's sample, integrated ahead
@@ -688,11 +692,14 @@ class SimulatorNode(Node):
 
         The messages go out serialized (mb.EntityMessages: CDR encoded by hand, the frame
         strings once); a topic nobody subscribes to is skipped (volatile QoS: nobody could see
-        the difference); /tf carries every entity's transform in one TFMessage.
+        the difference; its subscribers are counted every ``SUBSCRIBERS_CHECK_NS``, so a new
+        one gets its first message within that); /tf carries every entity's transform in one
+        TFMessage.
         """
         transforms = []
         with_tf = self._tf_pub is not None and self.publish_tf
         ns = stamp.sec * 1_000_000_000 + stamp.nanosec
+        now = time.monotonic_ns()
         for entity, at_rest in items:
             pubs = self._entity_pubs.get(entity.name)
             if pubs is None:
@@ -701,8 +708,11 @@ class SimulatorNode(Node):
             frames = (self.frame_id, f'{self.child_frame_id}/{entity.name}')
             if msgs.frame_ids != frames:
                 msgs.frames(*frames)
-            pose_out = pose_pub.get_subscription_count() > 0
-            odom_out = odom_pub.get_subscription_count() > 0
+            outs = self._entity_outs[entity.name]  # [counted at [ns], pose out, odom out]
+            if now - outs[0] >= SUBSCRIBERS_CHECK_NS:
+                outs[:] = (now, pose_pub.get_subscription_count() > 0,
+                           odom_pub.get_subscription_count() > 0)
+            _, pose_out, odom_out = outs
             tf_out = with_tf and ns > msgs.tf_ns  # tf2 refuses a repeated stamp for a frame
             if not (pose_out or odom_out or tf_out):
                 continue
@@ -738,11 +748,13 @@ class SimulatorNode(Node):
         )
         msgs = mb.EntityMessages(self.frame_id, f'{self.child_frame_id}/{entity.name}')
         self._entity_pubs[entity.name] = pubs + (msgs,)
+        self._entity_outs[entity.name] = [-(2**62), False, False]
 
     def remove_entity_publishers(self, entity: Entity) -> None:
         """Destroy a deleted entity's publishers (world lock held)."""
         for pub in self._entity_pubs.pop(entity.name, ())[:2]:
             self.destroy_publisher(pub)
+        self._entity_outs.pop(entity.name, None)
 
     def stamp_now(self):
         """

@@ -260,8 +260,52 @@ def advance_many(
         described[b] = dyn.describe(out[b:b + 1], p)[0]
 
 
+@njit(cache=True)
+def runaway_free(
+    out: np.ndarray,
+    described: np.ndarray,
+    landing_times: np.ndarray,
+    times: np.ndarray,
+    bounds: np.ndarray,
+    origins: np.ndarray,
+    max_distance: float,
+    max_time: float,
+) -> np.ndarray:
+    """
+    Return, per ball of an :func:`advance_many` call, whether none of the runaway rules fires.
+
+    The rules of :meth:`football_ros.simulation.world.FlightRun.runaway` on its results
+    (``out``, ``described``, ``landing_times`` at ``times``): finite position, velocity and
+    description; speed [m/s] and angular rate [rad/s] within ``bounds`` (B, 2); within
+    ``max_distance`` [m] of ``origins`` (B, 3); landed or at most ``max_time`` [s] flown.
+    """
+    n = out.shape[0]
+    fine = np.empty(n, dtype=np.bool_)
+    for b in range(n):
+        ok = True
+        for i in range(3):
+            ok = ok and math.isfinite(out[b, dyn.R + i]) and math.isfinite(out[b, dyn.V + i])
+        for i in range(described.shape[1]):
+            ok = ok and math.isfinite(described[b, i])
+        if ok:
+            vx, vy, vz = out[b, dyn.V], out[b, dyn.V + 1], out[b, dyn.V + 2]
+            wx = described[b, dyn.D_OMEGA]
+            wy = described[b, dyn.D_OMEGA + 1]
+            wz = described[b, dyn.D_OMEGA + 2]
+            dx = out[b, dyn.R] - origins[b, 0]
+            dy = out[b, dyn.R + 1] - origins[b, 1]
+            dz = out[b, dyn.R + 2] - origins[b, 2]
+            landed = not math.isnan(landing_times[b])
+            ok = (math.sqrt(vx * vx + vy * vy + vz * vz) <= bounds[b, 0]
+                  and math.sqrt(wx * wx + wy * wy + wz * wz) <= bounds[b, 1]
+                  and math.sqrt(dx * dx + dy * dy + dz * dz) <= max_distance
+                  and (landed or times[b] <= max_time))
+        fine[b] = ok
+    return fine
+
+
 def warm_up():
-    """Load (or compile) :func:`advance_many` now; returns a precompile.CompileStep."""
+    """Load (or compile) :func:`advance_many` and :func:`runaway_free`; return a CompileStep."""
     import time
 
     from ..physics.precompile import CompileStep
@@ -276,10 +320,14 @@ def warm_up():
     params = np.zeros((1, dyn.N_PARAM))
     params[0, dyn.P_SPIN_RATIO] = 1.0
     params[0, dyn.P_GRAVITY] = 9.81
+    out, described = np.empty((1, dyn.N_STATE)), np.empty((1, dyn.N_DESCRIBE))
+    landing = np.empty(1)
+    times = np.full(1, 2.0)
     advance_many(
-        ball, np.zeros(1, dtype=np.int64), np.full(1, 1e-3), params, np.full(1, 2.0), 0.0,
-        np.empty((1, dyn.N_STATE)), np.empty((1, dyn.N_DESCRIBE)), np.empty(1),
+        ball, np.zeros(1, dtype=np.int64), np.full(1, 1e-3), params, times, 0.0, out, described,
+        landing,
     )
+    runaway_free(out, described, landing, times, np.ones((1, 2)), np.zeros((1, 3)), 1.0, 1.0)
     hits, misses = sum(stats.cache_hits.values()) - hits, sum(stats.cache_misses.values()) - misses
     return CompileStep(
         'many-ball kernel (simulator world)', time.perf_counter() - start, hits, misses

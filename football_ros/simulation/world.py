@@ -239,35 +239,6 @@ def runaway_bounds(flight: Flight) -> tuple[float, float]:
     return RUNAWAY_FACTOR * speed, RUNAWAY_FACTOR * rate
 
 
-def _batch_guard(runs, states, described, landing_times, times) -> np.ndarray:
-    """
-    Return, per ball of a kernel call, whether :meth:`FlightRun.runaway` would find nothing.
-
-    The same conditions, on the whole batch at once (a ball that fails any goes through
-    runaway() itself, which words the reason).
-    """
-    for run in runs:
-        if run.bounds is None:
-            run.bounds = runaway_bounds(run.flight)
-    bounds = np.array([run.bounds for run in runs])
-    origins = np.array([run.flight.initial.position for run in runs])
-    position = states[:, dyn.R:dyn.R + 3]
-    velocity = states[:, dyn.V:dyn.V + 3]
-    omega = described[:, dyn.D_OMEGA:dyn.D_OMEGA + 3]
-    landed = ~np.isnan(landing_times)
-    t = np.where(landed, landing_times, times)
-    with np.errstate(invalid='ignore', over='ignore'):
-        return (
-            np.isfinite(position).all(axis=1)
-            & np.isfinite(velocity).all(axis=1)
-            & np.isfinite(described).all(axis=1)
-            & (np.linalg.norm(velocity, axis=1) <= bounds[:, 0])
-            & (np.linalg.norm(omega, axis=1) <= bounds[:, 1])
-            & (np.linalg.norm(position - origins, axis=1) <= MAX_DISTANCE_M)
-            & (landed | (t <= MAX_FLIGHT_S))
-        )
-
-
 def landed_text(position, time_of_flight: float) -> str:
     return (
         f'landed at x = {position[0]:.3f} m, y = {position[1]:.3f} m after {time_of_flight:.4f} s'
@@ -373,6 +344,7 @@ class World:
         self._default_ball = default_ball
         self._add_default()
         self._counter = 0
+        self._batch: tuple | None = None  # (runs, their y, arrays) of the last kernel call
 
     def _add_default(self) -> None:
         rest = (np.zeros(3), np.array([0.0, 0.0, 0.0, 1.0]))
@@ -562,10 +534,8 @@ class World:
                 batch.append(k)
         if batch:
             runs = [items[k][0] for k in batch]
-            states = np.stack([r.y for r in runs])
+            states, steps, params, bounds, origins = self._batch_arrays(runs)
             done = np.array([r.done for r in runs], dtype=np.int64)
-            steps = np.array([r.flight.step for r in runs])
-            params = np.stack([r.flight.params for r in runs])
             times = np.array([items[k][1] for k in batch], dtype=float)
             n = len(batch)
             new = np.empty_like(states)
@@ -574,10 +544,11 @@ class World:
             kernel.advance_many(
                 states, done, steps, params, times, 0.0, new, described, landing_times
             )
-            fine = _batch_guard(runs, new, described, landing_times, times)
+            fine = kernel.runaway_free(new, described, landing_times, times, bounds, origins,
+                                       MAX_DISTANCE_M, MAX_FLIGHT_S)
             nan2 = np.full(2, np.nan)
             for j, (k, run) in enumerate(zip(batch, runs)):
-                run.y, run.done = states[j], int(done[j])
+                run.done = int(done[j])  # run.y: row j of states, advanced in place
                 landed = not math.isnan(landing_times[j])
                 d = described[j]
                 sample = BallSample(  # views of this call's arrays: nothing else writes them
@@ -597,6 +568,34 @@ class World:
                     run.landing = sample
                 out[k] = sample
         return out
+
+    def _batch_arrays(self, runs: list[FlightRun]) -> tuple:
+        """
+        Return the kernel's arrays of ``runs``: states, steps, params, runaway bounds, origins.
+
+        Kept from the last call while the same runs come in the same order, each run's ``y``
+        still the row it was given (the kernel advances the rows in place); else stacked anew
+        and each ``y`` made a view of its row.
+        """
+        last = self._batch
+        if last is not None and len(last[0]) == len(runs) and all(
+                a is b and a.y is y for a, b, y in zip(runs, last[0], last[1])):
+            return last[2]
+        for run in runs:
+            if run.bounds is None:
+                run.bounds = runaway_bounds(run.flight)
+        states = np.stack([run.y for run in runs])
+        for j, run in enumerate(runs):
+            run.y = states[j]
+        arrays = (
+            states,
+            np.array([run.flight.step for run in runs]),
+            np.stack([run.flight.params for run in runs]),
+            np.array([run.bounds for run in runs]),
+            np.array([run.flight.initial.position for run in runs]),
+        )
+        self._batch = (list(runs), [run.y for run in runs], arrays)
+        return arrays
 
     def judge(self, entity: Entity, run: FlightRun, sample: BallSample, wall_ns: int) -> bool:
         """
