@@ -16,6 +16,7 @@
 Many balls through simulation_interfaces: real-time pacing and lock-step speed (issue 19).
 
     .venv/bin/python bench/entities_benchmark.py [--seconds 4] [--repeats 5] [--priority 50]
+        [--draws 3]
 
 Real time: for each (balls, publish_rate) the simulator (a subprocess) spawns the balls with
 SpawnEntities, throws them while paused with SetEntityState (lobs of 60 m/s at 80 deg: 12 s in
@@ -34,7 +35,8 @@ simulator's, no ROS, no work), alone: the late ticks that scheduling alone costs
 publishing floor: that loop encoding (the simulator's encoders) and publishing the messages of
 the subscribed window (every ball's pose and odom and one TFMessage per tick) to a client
 subscribed to all of them as this one is, with no simulation and no executor: what publishing
-alone costs.
+alone costs. Late ticks vary from run to run: ``--draws`` runs every case that many times and
+lists each run's late ticks.
 
 Lock-step: paused, StepSimulation(steps=1000) of 1 ms steps (1 s of flight) for 1 and 100
 balls in the air, timed end to end through the service (median of ``--repeats``); the same
@@ -491,6 +493,8 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     parser.add_argument('--seconds', type=float, default=4.0, help='real-time window [s] (<= 5)')
     parser.add_argument('--repeats', type=int, default=5, help='lock-step repeats (median)')
+    parser.add_argument('--draws', type=int, default=3,
+                        help='real-time runs of every case (late ticks vary from run to run)')
     parser.add_argument('--priority', type=int, default=50,
                         help='thread_priority of the real-time rows (SCHED_FIFO; 0: none)')
     parser.add_argument('--phase', help=argparse.SUPPRESS, choices=(
@@ -508,8 +512,10 @@ def main(argv=None) -> int:
     refused = None
     cases = [(balls, rate, priority) for balls, rate in ((100, 100.0), (10, 1000.0))
              for priority in priorities]
+    draws: dict[tuple, list] = {}  # (balls, rate, priority) -> per draw: late ticks by row
     with tempfile.TemporaryDirectory() as tmp:
-        for balls, rate, priority in cases:
+        for draw, (balls, rate, priority) in (
+                (d, case) for d in range(max(args.draws, 1)) for case in cases):
             bare = run_phase('pace', rate=rate, seconds=seconds, priority=priority)
             if bare['refused']:
                 refused = bare['refused']
@@ -517,9 +523,13 @@ def main(argv=None) -> int:
             published = floor(rate, balls, seconds, priority)
             sim = Simulator(rate, Path(tmp), priority)
             try:
-                rows.append((balls, rate, priority, bare['late'], published, run_phase(
-                    'realtime', pid=sim.proc.pid, balls=balls, seconds=seconds)))
-                if rate == 100.0 and priority == 0:
+                r = run_phase('realtime', pid=sim.proc.pid, balls=balls, seconds=seconds)
+                draws.setdefault((balls, rate, priority), []).append(
+                    [bare['late'], published['late']]
+                    + [r[k][1] for k in ('idle', 'single', 'many', 'subscribed')])
+                if draw == 0:
+                    rows.append((balls, rate, priority, bare['late'], published, r))
+                if draw == 0 and rate == 100.0 and priority == 0:
                     trips = run_phase('round_trip')
                     steps = {
                         n: run_phase('lockstep', pid=sim.proc.pid, balls=n, repeats=args.repeats)
@@ -566,6 +576,16 @@ def main(argv=None) -> int:
     if refused:
         print(f'(SCHED_FIFO {args.priority} refused on this machine: {refused}; only the normal '
               'scheduler was measured)')
+    print(f'\nLate ticks of each of {max(args.draws, 1)} runs (the table above is the first; '
+          f'{seconds:g} s windows, {seconds:g} x rate ticks each)')
+    names = ('bare pacing loop', 'publishing floor', 'idle', 'single-ball path',
+             'spawned, unsubscribed', 'spawned, subscribed')
+    print('| pacing | rate Hz | balls | ' + ' | '.join(names) + ' |')
+    print('|---' * (3 + len(names)) + '|')
+    for (balls, rate, priority), per in draws.items():
+        pacing = f'FIFO {priority}' if priority else 'normal'
+        print(f'| {pacing} | {rate:g} | {balls} | ' + ' | '.join(
+            ', '.join(str(run[i]) for run in per) for i in range(len(names))) + ' |')
     print()
     print('Lock-step: 1 s of flight (1000 steps of 1 ms), paused, end to end (median)')
     print('(simulator CPU = the CPU time of its threads per call, /proc schedstat: the work, '
