@@ -71,6 +71,7 @@ sys.path.insert(0, str(REPO))
 from diagnostic_msgs.msg import DiagnosticArray  # noqa: E402
 from football_ros.nodes import qos  # noqa: E402
 from football_ros.physics import Flight, Release  # noqa: E402
+from football_ros.physics.frames import BODY_FRAME, FIELD_FRAME  # noqa: E402
 from football_ros.requests import FlightOrder  # noqa: E402
 from geometry_msgs.msg import PoseStamped  # noqa: E402
 from nav_msgs.msg import Odometry  # noqa: E402
@@ -179,6 +180,26 @@ class Bench:
         while time.monotonic() < end:
             rclpy.spin_once(self.node, timeout_sec=0.05)
 
+    def count_all(self, balls: int, topic) -> tuple[list, list[int]]:
+        """
+        Subscribe (raw: this client only counts) to every ball's pose and odom and to a /tf.
+
+        ``topic(k, leaf)`` names ball k's ``pose`` or ``odom`` topic, ``topic(None, 'tf')``
+        the /tf. Returns the subscriptions and the one-element count of messages received.
+        """
+        received = [0]
+
+        def count(_msg) -> None:
+            received[0] += 1
+
+        subs = [
+            self.node.create_subscription(msg_type, topic(k, leaf), count, qos.STATE, raw=True)
+            for k in range(balls)
+            for msg_type, leaf in ((PoseStamped, 'pose'), (Odometry, 'odom'))
+        ] + [self.node.create_subscription(TFMessage, topic(None, 'tf'), count, qos.TF_QOS,
+                                           raw=True)]
+        return subs, received
+
     def late_ticks(self) -> tuple[int, int]:
         """Return the simulator's late (caught up) and skipped (never published) ticks."""
         self.status = {}
@@ -263,20 +284,9 @@ def real_time(bench: Bench, pid: int, balls: int, seconds: float) -> dict:
     bench.set_state(SimulationState.STATE_PLAYING)
     bench.spin(0.5)
     out['many'] = window(bench, pid, seconds)
-    # The same with a subscriber on every entity topic and /tf (raw: the client only counts).
-    received = [0]
-
-    def count(_msg) -> None:
-        received[0] += 1
-
-    subs = [
-        bench.node.create_subscription(msg_type, topic, count, qos_profile, raw=True)
-        for k in range(balls)
-        for msg_type, topic, qos_profile in (
-            (PoseStamped, qos.entity_topic(f'b{k}', 'pose'), qos.STATE),
-            (Odometry, qos.entity_topic(f'b{k}', 'odom'), qos.STATE),
-        )
-    ] + [bench.node.create_subscription(TFMessage, qos.TF, count, qos.TF_QOS, raw=True)]
+    # The same with a subscriber on every entity topic and /tf.
+    subs, received = bench.count_all(
+        balls, lambda k, leaf: qos.TF if k is None else qos.entity_topic(f'b{k}', leaf))
     bench.spin(1.0)  # discovery
     received[0] = 0
     out['subscribed'] = window(bench, pid, seconds)
@@ -364,7 +374,7 @@ def publish_floor(rate: float, balls: int, seconds: float, priority: int) -> dic
     """
     Measure the publishing floor: the simulator's messages, encoded and published, no simulation.
 
-    Publishes ``balls`` poses, odometries and one TFMessage per tick on ``floor/...`` (the
+    Publishes ``balls`` poses, odometries and one TFMessage per tick on :func:`_floor_topic` (the
     simulator's own encoders, mb.EntityMessages, with moving states), paced by the bare loop of
     :func:`pace` on this main thread (no executor) at ``priority``, once every topic has a
     subscriber (:func:`floor_client`), for ``seconds``. Returns its CPU seconds and late ticks.
@@ -374,10 +384,10 @@ def publish_floor(rate: float, balls: int, seconds: float, priority: int) -> dic
     rclpy.init()
     node = rclpy.create_node('publish_floor')
     try:
-        pubs = [(node.create_publisher(PoseStamped, f'floor/b{k}/pose', qos.STATE),
-                 node.create_publisher(Odometry, f'floor/b{k}/odom', qos.STATE),
-                 mb.EntityMessages('field', f'football/b{k}')) for k in range(balls)]
-        tf_pub = node.create_publisher(TFMessage, 'floor/tf', qos.TF_QOS)
+        pubs = [(node.create_publisher(PoseStamped, _floor_topic(k, 'pose'), qos.STATE),
+                 node.create_publisher(Odometry, _floor_topic(k, 'odom'), qos.STATE),
+                 mb.EntityMessages(FIELD_FRAME, f'{BODY_FRAME}/b{k}')) for k in range(balls)]
+        tf_pub = node.create_publisher(TFMessage, _floor_topic(None, 'tf'), qos.TF_QOS)
         deadline = time.monotonic() + 30.0
         while time.monotonic() < deadline and not (
                 tf_pub.get_subscription_count() and all(
@@ -407,23 +417,18 @@ def publish_floor(rate: float, balls: int, seconds: float, priority: int) -> dic
 def floor_client(balls: int, seconds: float) -> dict:
     """Subscribe (raw) to every topic of :func:`publish_floor` for ``seconds``: the count."""
     bench = Bench()
-    received = [0]
-
-    def count(_msg) -> None:
-        received[0] += 1
-
-    topics = [(msg_type, f'floor/b{k}/{leaf}') for k in range(balls)
-              for msg_type, leaf in ((PoseStamped, 'pose'), (Odometry, 'odom'))]
-    subs = [bench.node.create_subscription(msg_type, topic, count, qos.STATE, raw=True)
-            for msg_type, topic in topics]
-    subs.append(bench.node.create_subscription(TFMessage, 'floor/tf', count, qos.TF_QOS,
-                                               raw=True))
+    _subs, received = bench.count_all(balls, _floor_topic)
     try:
         bench.spin(seconds)
         return {'received': received[0]}
     finally:
         bench.node.destroy_node()
         rclpy.shutdown()
+
+
+def _floor_topic(k: int | None, leaf: str) -> str:
+    """Topic of :func:`publish_floor`: ball k's pose or odom, or (k None) its /tf."""
+    return f'floor/{leaf}' if k is None else f'floor/b{k}/{leaf}'
 
 
 def floor(rate: float, balls: int, seconds: float, priority: int) -> dict:

@@ -239,13 +239,16 @@ def timing(n: int, seed: int, draws: int = 1) -> None:
             parts: dict[str, list[float]] = {
                 'release': [], 'state': [], 'flight': [], 'aligned': []}
             per_draw: dict[str, list[float]] = {}
+            drawn = []
+            for draw in range(draws):
+                rng = np.random.default_rng(seed + draw)
+                cases = [random_case(rng) for _ in range(n)]
+                if model == 'paper':
+                    cases = [(t, b.replace(model='paper', aero={})) for t, b in cases]
+                drawn.append(cases)
             for label, with_wobble in (('aim + check', False), ('+ wobble comparison', True)):
                 times = []
-                for draw in range(draws):
-                    rng = np.random.default_rng(seed + draw)
-                    cases = [random_case(rng) for _ in range(n)]
-                    if model == 'paper':
-                        cases = [(t, b.replace(model='paper', aero={})) for t, b in cases]
+                for cases in drawn:
                     these = []
                     for target, base in cases:
                         t0 = CLOCK()
@@ -310,8 +313,7 @@ def compulsory(p, base: Release) -> dict[str, float]:
     t4 = CLOCK()
     sh.mode = 'aligned'
     y0 = sh.y0(r.speed, r.elevation_deg, r.azimuth_deg)
-    largest = check_flyable(sh.params, initial, sh.step)
-    step = planner.ALIGNED_STEP if sh.step < planner.ALIGNED_STEP <= largest else sh.step
+    step = planner.aligned_step(sh.step, check_flyable(sh.params, initial, sh.step))
     t5 = CLOCK()
     kernels.fly(y0, step, sh.params, p.arrival_time, 0.0, sh.target, sh.d, -1)
     t6 = CLOCK()

@@ -305,6 +305,17 @@ larger, or if this one breaks the step rules): RK4 at 2.5 ms puts its wobble and
 random plans, spins up to 900 rpm)."""
 
 
+def aligned_step(step: float, largest_step: float) -> float:
+    """
+    Return the step [s] the aligned release's comparison flight takes (:data:`ALIGNED_STEP`).
+
+    ``step`` [s] the simulator's, ``largest_step`` [s] the largest the step rules allow the
+    planned release (:func:`football_ros.physics.limits.check_flyable`; the aligned one turns
+    no faster).
+    """
+    return ALIGNED_STEP if step < ALIGNED_STEP <= largest_step else step
+
+
 def wobble_of(
     times: np.ndarray, states: np.ndarray, params: np.ndarray, until: float | None = None
 ) -> tuple[float, float]:
@@ -1145,10 +1156,9 @@ def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear,
         # The Release's own azimuth and spin: its velocity and h1 bit for bit.
         y0 = sh.y0(speed, elev, _wrap(azim), float(y_check[dyn.H1]))
         sh.mode = saved
-        # The aligned release (its rates are the planned one's less the transverse rate)
-        # flown to the last checked row and both wobbles (:func:`wobble_of` of the checking
-        # flight to the arrival and of the aligned one): one compiled call.
-        step = ALIGNED_STEP if sh.step < ALIGNED_STEP <= largest_step else sh.step
+        # The aligned release flown to the last checked row and both wobbles (:func:`wobble_of`
+        # of the checking flight to the arrival and of the aligned one): one compiled call.
+        step = aligned_step(sh.step, largest_step)
         wobble, delta, aligned_wobble, aligned_delta = (math.degrees(v) for v in (
             kernels.compare_wobbles(states, n_keep, y0, step, sh.params, sh.consts,
                                     _wobble_stride(sh.step), _wobble_stride(step),
