@@ -302,8 +302,8 @@ class SimulatorNode(Node):
         # change entities or step: taken before self._lock, never inside it.
         self._world_lock = threading.RLock()
         self._stopped = False  # SetSimulationState STOPPED (paused and reset)
-        self._entity_pubs: dict[str, tuple] = {}  # pose and odom publishers, EntityMessages
-        self._entity_outs: dict[str, list] = {}  # their last subscriber count (pacing thread)
+        # name -> pose and odom publishers, EntityMessages, their last subscriber count
+        self._entity_pubs: dict[str, tuple] = {}
         self._last_order: FlightOrder | None = None
         self._paused = False
         self._ahead = None  # (run, t, sample): the next tick's sample, integrated ahead
@@ -704,12 +704,11 @@ class SimulatorNode(Node):
             pubs = self._entity_pubs.get(entity.name)
             if pubs is None:
                 continue
-            pose_pub, odom_pub, msgs = pubs
+            pose_pub, odom_pub, msgs, outs = pubs
             frames = (self.frame_id, f'{self.child_frame_id}/{entity.name}')
             if msgs.frame_ids != frames:
                 msgs.frames(*frames)
-            outs = self._entity_outs[entity.name]  # [counted at [ns], pose out, odom out]
-            if now - outs[0] >= SUBSCRIBERS_CHECK_NS:
+            if now - outs[0] >= SUBSCRIBERS_CHECK_NS:  # outs: [counted at [ns], pose, odom]
                 outs[:] = (now, pose_pub.get_subscription_count() > 0,
                            odom_pub.get_subscription_count() > 0)
             _, pose_out, odom_out = outs
@@ -747,14 +746,12 @@ class SimulatorNode(Node):
             for msg_type, leaf in ((PoseStamped, 'pose'), (Odometry, 'odom'))
         )
         msgs = mb.EntityMessages(self.frame_id, f'{self.child_frame_id}/{entity.name}')
-        self._entity_pubs[entity.name] = pubs + (msgs,)
-        self._entity_outs[entity.name] = [-(2**62), False, False]
+        self._entity_pubs[entity.name] = pubs + (msgs, [-(2**62), False, False])
 
     def remove_entity_publishers(self, entity: Entity) -> None:
         """Destroy a deleted entity's publishers (world lock held)."""
         for pub in self._entity_pubs.pop(entity.name, ())[:2]:
             self.destroy_publisher(pub)
-        self._entity_outs.pop(entity.name, None)
 
     def stamp_now(self):
         """
