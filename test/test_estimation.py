@@ -124,7 +124,7 @@ def test_converges_on_a_full_model_flight():
     h1_true = Flight.from_release(RELEASE).y0[dyn.H1]
     assert x[X_H:X_H + 3] @ x[X_S:X_S + 3] == pytest.approx(h1_true, rel=0.15)
     assert x[X_KD] == pytest.approx(1.0, abs=0.15) and x[X_KL] == pytest.approx(1.0, abs=0.2)
-    assert xy[1] < -2.5 and len(tracker.track.hyps) == 1
+    assert xy[1] < -2.5 and tracker.hand == 1.0
     # The reported uncertainty is honest: the error is within 3 sigma.
     sigma = math.sqrt(np.trace(at_05.covariance))
     assert err_05 < 3.0 * sigma + 0.01 and sigma < 0.2

@@ -297,7 +297,8 @@ def _predict_at(tracker, obs, t_until):
 def test_an_unknown_crosswind_is_estimated_and_a_known_one_taken():
     from football_ros.estimation.motion import X_W
 
-    release = RELEASE.replace(aero={'wind': (0.0, 5.0, 0.0)})  # 5 m/s from the right
+    # 5 m/s from the right, on a long pass (3.2 s) where the drift is well beyond the noise.
+    release = RELEASE.replace(speed=26.0, elevation_deg=42.0, aero={'wind': (0.0, 5.0, 0.0)})
     obs, t_land, xy = fixes(release, seed=22)
     blind = _predict_at(FlightTracker(), obs, t_land - 1.0)
     estimating = FlightTracker(TrackerSettings(wind_sigma=4.0))
@@ -308,7 +309,9 @@ def test_an_unknown_crosswind_is_estimated_and_a_known_one_taken():
     assert err['estimating'] < 0.07 and err['estimating'] < 0.6 * err['blind'], err
     assert err['told'] < 0.03, err
     _, x, P = estimating.estimate
-    assert x.size == 16 and abs(x[X_W + 1] - 5.0) < 1.5 and abs(x[X_W]) < 1.0
+    assert x.size == 16 and abs(x[X_W + 1] - 5.0) < 1.5
+    # The wind along the throw trades against the drag scale: it is as uncertain as it says.
+    assert abs(x[X_W]) < 3.0 * math.sqrt(P[X_W, X_W])
     assert math.sqrt(P[X_W + 1, X_W + 1]) < 2.0  # the wind was learnt, not only allowed
     e = est.position[:2] - xy
     assert e @ np.linalg.solve(est.covariance, e) < 9.2  # inside the 99 % ellipse
@@ -415,7 +418,11 @@ def test_gyroscopic_stability_of_a_state_is_the_modes_s_g():
 
 
 def test_low_spin_rugby_kicks_that_tumble_keep_an_honest_covariance():
-    """Screw kicks at 80-200 rpm (S_g < 1): at 1 s lead the NEES falls to an honest size."""
+    """
+    Screw kicks at 80-200 rpm (S_g < 1): at 1 s lead the defaults' NEES is an honest size.
+
+    Against one Gaussian spin prior without the tumbling term, which is overconfident.
+    """
     rng = np.random.default_rng(23)
     kicks = [
         Release(
@@ -428,20 +435,21 @@ def test_low_spin_rugby_kicks_that_tumble_keep_an_honest_covariance():
         )
         for _ in range(6)
     ]
-    nees = {0.0: [], 2.0: []}
+    variants = {'one Gaussian': {'spin_components': 1, 'tumble_noise': 0.0}, 'defaults': {}}
+    nees = {name: [] for name in variants}
     for k, kick in enumerate(kicks):
         kept, t_land, xy = fixes(kick, seed=100 + k)
-        for tumble in nees:
-            tracker = FlightTracker(TrackerSettings(ball='rugby', tumble_noise=tumble))
+        for name, kw in variants.items():
+            tracker = FlightTracker(TrackerSettings(ball='rugby', **kw))
             for t, z in kept:
                 if t <= t_land - 1.0:
                     tracker.update(t, z)
             pred = tracker.predict_landing()
             err = pred.position[:2] - xy
-            nees[tumble].append(float(err @ np.linalg.solve(pred.covariance, err)))
-    # Measured on these kicks: median NEES 17, 3 of 6 inside the 95 % ellipse without the
-    # tumbling term; 1.6 and 5 of 6 with it (one kick at 94 rpm whose spin the filter has not
-    # learnt by then stays overconfident).
-    off, on = np.array(nees[0.0]), np.array(nees[2.0])
+            nees[name].append(float(err @ np.linalg.solve(pred.covariance, err)))
+    # Measured on these kicks: median NEES 11, 3 of 6 inside the 95 % ellipse with one
+    # Gaussian and no tumbling term; 1.1 and 6 of 6 with the defaults (4 spin components a
+    # hand, tumble_noise 1).
+    off, on = np.array(nees['one Gaussian']), np.array(nees['defaults'])
     assert np.median(off) > 10.0 and np.mean(off <= 5.991) <= 4 / 6, nees
     assert 0.5 < np.median(on) < 3.0 and np.mean(on <= 5.991) >= 5 / 6, nees

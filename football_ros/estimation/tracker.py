@@ -43,9 +43,12 @@ by default the spread of real throws, :data:`SPIN_SPREAD`), with h = h1 s + h_pe
 with s (the momentum turns with the axis). Without that correlation the prior describes balls
 nutating at h1 delta, and the filter locks on a wrong spin and lift scale with an
 overconfident covariance (see test_a_lob_with_more_lift_is_not_locked_on_a_wrong_spin).
-The hand is unknown, so two filters run (right- and left-handed spin) and the one whose
-innovations are the more likely is reported; the other is dropped once the odds exceed
-``hand_odds`` (the lateral drift tells the hands apart within a few tenths of a second).
+The hand is unknown, so filters run for both hands (right- and left-handed spin), each hand's
+|spin| prior a Gaussian sum: ``spin_components`` slices of the spread of real spins, one filter
+each (a single wide Gaussian lets a low-spin kick's spin estimate cross zero before the fixes
+tell, overconfident). The predictions mix them by likelihood; a filter is dropped once the best
+outweighs it by ``hand_odds`` (the lateral drift tells the hands apart within a few tenths of a
+second).
 
 Track management: a throw starts when ``min_points`` unassociated fixes within
 ``init_window`` of the newest fit a ballistic arc (known gravity) to within the noise and move
@@ -105,6 +108,9 @@ SPIN_SPREAD = {'american': 0.19, 'rugby': 0.5}
 """Default ``spin_sigma`` of a ball preset: the standard deviation of |spin| over the nominal,
 from the spread of real throws taken as uniform: spirals 400-800 rpm around 600 (115 rpm),
 screw kicks 60-600 rpm around 300 (156 rpm); 0.3 for another ball."""
+SPIN_COMPONENTS = {'american': 2, 'rugby': 4}
+"""Default ``spin_components`` of a ball preset (2 for another ball): slices of its spin spread,
+one Gaussian each (bench/prediction_benchmark.py: the landing errors and NEES per count)."""
 
 
 @dataclass(frozen=True)
@@ -115,32 +121,34 @@ class TrackerSettings:
     ``noise`` [m] 1-sigma per axis of the fixes; ``accel_noise`` [m/s^2/sqrt(Hz)] white model-error
     acceleration, plus ``tumble_noise`` x (1 - S_g) when the estimate is gyroscopically unstable
     (McCoy's S_g < 1: a low-spin kick whose axis motion the sigma points cannot follow);
-    ``axis_noise`` [rad/sqrt(s)] and ``rate_noise`` [rad/s/sqrt(s)] on s and h;
-    ``scale_rate`` [1/sqrt(s)] random walk of kd and kl; priors ``axis_sigma`` [rad],
-    ``rate_sigma`` [rad/s] (transverse), ``spin_sigma`` (fraction of the nominal spin; None = the
-    ball's :data:`SPIN_SPREAD`), ``scale_sigma`` (of kd and kl, mean 1); ``spin_rpm`` nominal
-    |spin| [rev/min] (None = the ball preset's); ``hand_odds`` likelihood ratio that drops the
-    other hand; ``gate`` squared Mahalanobis distance; ``max_lag`` [s] oldest fix accepted behind
-    the newest; ``max_future`` [s] newest fix ahead of ``now``; ``max_gap`` [s] silence that ends a
-    track; ``min_points``, ``init_window`` [s], ``min_speed`` [m/s] for a new throw; ``spread`` the
-    unscented transform's alpha (points at alpha sqrt(n) sigma); ``reinit_after`` rejected fixes in
-    a row that may start a new throw; ``step`` [s] filter integration step, ``landing_step`` [s]
-    for predictions; ``horizon`` [s] of the landing search; ``ground`` [m] height of the landing
-    plane; ``ball`` preset; ``aero`` the full model's settings the filter assumes (None = the
-    defaults); ``wind`` (x, y) [m/s] a known steady wind in ``field`` (an anemometer's);
-    ``wind_sigma`` [m/s] > 0 adds two states, the unknown horizontal wind beyond ``wind``
-    (prior sigma per axis), with random walk ``wind_rate`` [m/s/sqrt(s)].
+    ``axis_noise`` [rad/sqrt(s)] and ``rate_noise`` [rad/s/sqrt(s)] on s and h; ``scale_rate``
+    [1/sqrt(s)] random walk of kd and kl; priors ``axis_sigma`` [rad], ``rate_sigma`` [rad/s]
+    (transverse), ``spin_sigma`` (fraction of the nominal spin; None = the ball's
+    :data:`SPIN_SPREAD`), ``spin_components`` Gaussians of |spin| a hand (None = the ball's
+    :data:`SPIN_COMPONENTS`), ``scale_sigma`` (of kd and kl, mean 1); ``spin_rpm`` nominal |spin|
+    [rev/min] (None = the ball preset's); ``hand_odds`` likelihood ratio by which the best drops
+    another filter (a hand, a spin component); ``gate`` squared Mahalanobis distance; ``max_lag``
+    [s] oldest fix accepted behind the newest; ``max_future`` [s] newest fix ahead of ``now``;
+    ``max_gap`` [s] silence that ends a track; ``min_points``, ``init_window`` [s], ``min_speed``
+    [m/s] for a new throw; ``spread`` the unscented transform's alpha (points at alpha sqrt(n)
+    sigma); ``reinit_after`` rejected fixes in a row that may start a new throw; ``step`` [s]
+    filter integration step, ``landing_step`` [s] for predictions; ``horizon`` [s] of the landing
+    search; ``ground`` [m] height of the landing plane; ``ball`` preset; ``aero`` the full model's
+    settings the filter assumes (None = the defaults); ``wind`` (x, y) [m/s] a known steady wind in
+    ``field`` (an anemometer's); ``wind_sigma`` [m/s] > 0 adds two states, the unknown horizontal
+    wind beyond ``wind`` (prior sigma per axis), with random walk ``wind_rate`` [m/s/sqrt(s)].
     """
 
     noise: float = 0.02
-    accel_noise: float = 0.03
-    tumble_noise: float = 2.0
+    accel_noise: float = 0.01
+    tumble_noise: float = 1.0
     axis_noise: float = 0.001
     rate_noise: float = 0.01
     scale_rate: float = 0.003
     axis_sigma: float = 0.05
     rate_sigma: float = 0.3
     spin_sigma: float | None = None
+    spin_components: int | None = None
     scale_sigma: float = 0.2
     spread: float = 0.5
     spin_rpm: float | None = None
@@ -173,6 +181,7 @@ class TrackerSettings:
         'axis_sigma': (1e-4, 1.0),
         'rate_sigma': (1e-4, 100.0),
         'spin_sigma': (1e-3, 1.0),
+        'spin_components': (1, 8),
         'scale_sigma': (1e-3, 2.0),
         'spread': (0.1, 1.0),
         'hand_odds': (1.0, 1e300),
@@ -196,6 +205,9 @@ class TrackerSettings:
         if self.spin_sigma is None:  # the ball's own (a bad ball is refused below)
             spread = SPIN_SPREAD.get(self.ball, 0.3) if isinstance(self.ball, str) else 0.3
             object.__setattr__(self, 'spin_sigma', spread)
+        if self.spin_components is None:
+            count = SPIN_COMPONENTS.get(self.ball, 2) if isinstance(self.ball, str) else 2
+            object.__setattr__(self, 'spin_components', count)
         check_numbers('tracker', self, self.LIMITS)
         if self.spin_rpm is not None and (
             isinstance(self.spin_rpm, bool)
@@ -258,9 +270,10 @@ class _Hypothesis:
     x: np.ndarray
     P: np.ndarray
     loglik: float = 0.0
+    hand: float = 1.0  # sign of the spin it started with
 
     def copy(self) -> '_Hypothesis':
-        return _Hypothesis(self.x.copy(), self.P.copy(), self.loglik)
+        return _Hypothesis(self.x.copy(), self.P.copy(), self.loglik, self.hand)
 
 
 @dataclass
@@ -362,6 +375,14 @@ class FlightTracker:
     @property
     def landed(self) -> bool:
         return self.track is not None and self.track.landed
+
+    @property
+    def hand(self) -> float | None:
+        """Return the sign of the current throw's spin once one hand is left (else None)."""
+        if self.track is None:
+            return None
+        hands = {hyp.hand for hyp in self.track.hyps}
+        return hands.pop() if len(hands) == 1 else None
 
     def predict_landing(self) -> LandingPrediction | None:
         """
@@ -523,7 +544,7 @@ class FlightTracker:
                     P = 0.5 * (P + P.T)
                     x[X_S:X_S + 3] /= np.linalg.norm(x[X_S:X_S + 3])
                     if np.all(np.isfinite(x)) and np.all(np.isfinite(P)):
-                        new = _Hypothesis(x, P, hyp.loglik - 0.5 * (d2 + logdet))
+                        new = _Hypothesis(x, P, hyp.loglik - 0.5 * (d2 + logdet), hyp.hand)
                         if hyp is best:
                             accepted = True
             new_hyps.append(new)
@@ -552,11 +573,10 @@ class FlightTracker:
         return result
 
     def _prune(self, tr: _Track) -> None:
-        """Drop the less likely hand once the odds exceed ``hand_odds``."""
+        """Drop the hypotheses (a hand, a spin component) that the best outweighs ``hand_odds``."""
         if len(tr.hyps) > 1:
-            ll = [h.loglik for h in tr.hyps]
-            if max(ll) - min(ll) > math.log(self.settings.hand_odds):
-                tr.hyps = [tr.best]
+            floor = tr.best.loglik - math.log(self.settings.hand_odds)
+            tr.hyps = [h for h in tr.hyps if h.loglik >= floor]
 
     def _below_ground_soon(self, tr: _Track) -> bool:
         """
@@ -753,6 +773,26 @@ class FlightTracker:
             )
         return x0, cov, resid
 
+    def _spin_prior(self) -> list[tuple[float, float, float]]:
+        """
+        Return the prior's components (hand, |h1| mean, |h1| sigma) [rad/s], both hands.
+
+        The spread of real spins is taken as uniform (nominal x (1 +/- sqrt(3) ``spin_sigma``),
+        at most 0 to twice the nominal): ``spin_components`` equal slices of it, each a
+        Gaussian of its slice's mean and of sigma ``spin_sigma`` / ``spin_components`` (one
+        slice: the nominal and ``spin_sigma``), since one wide Gaussian fits a low-spin kick
+        badly: its spin estimate can cross zero before the fixes tell.
+        """
+        s = self.settings
+        k = s.spin_components
+        half = min(math.sqrt(3.0) * s.spin_sigma, 1.0)
+        return [
+            (hand, self.nominal_h1 * (1.0 + half * ((2 * i + 1) / k - 1.0)),
+             self.nominal_h1 * s.spin_sigma / k)
+            for hand in (1.0, -1.0)
+            for i in range(k)
+        ]
+
     def _start(self, t, z_last, x0, cov6, t_span=0.0) -> UpdateResult:
         s = self.settings
         v = x0[3:6]
@@ -769,10 +809,6 @@ class FlightTracker:
             P[3 + i, 3 + i] += (0.01 * speed) ** 2
             P[i, i] += 1e-4
         P[X_S:X_S + 3, X_S:X_S + 3] = s.axis_sigma**2 * perp + 1e-8 * np.eye(3)
-        h1_sigma = s.spin_sigma * self.nominal_h1
-        P[X_H:X_H + 3, X_H:X_H + 3] = (
-            h1_sigma**2 * np.outer(axis, axis) + s.rate_sigma**2 * perp
-        )
         P[X_KD, X_KD] = P[X_KL, X_KL] = s.scale_sigma**2
         if n_x == N_X_WIND:  # unknown steady wind beyond the known ``wind``, mean 0
             P[X_W, X_W] = P[X_W + 1, X_W + 1] = s.wind_sigma**2
@@ -782,24 +818,27 @@ class FlightTracker:
                 mean[i] = m
                 P[i, i] = min(P[i, i], var + CARRY_VARIANCE[i])
         hyps = []
-        for hand in (1.0, -1.0):
+        for hand, h1, h1_sigma in self._spin_prior():
             x = np.zeros(n_x)
             x[:6] = x0
             x[X_S:X_S + 3] = axis
-            x[X_H:X_H + 3] = hand * self.nominal_h1 * axis
+            x[X_H:X_H + 3] = hand * h1 * axis
             for i, m in mean.items():
                 if i < n_x:
                     x[i] = m
+            Ph = P.copy()
+            Ph[X_H:X_H + 3, X_H:X_H + 3] = (
+                h1_sigma**2 * np.outer(axis, axis) + s.rate_sigma**2 * perp
+            )
             # h = h1 s + h_perp: the spin momentum turns with the axis (dh = h1 ds), so an
             # axis off the guess carries h along. Without this coupling the prior describes
             # balls whose h stays put while the axis is off, i.e. with transverse rates
             # h1 delta ~ 2 rad/s, far beyond rate_sigma.
-            c = hand * self.nominal_h1 * P[X_S:X_S + 3, X_S:X_S + 3]
-            Ph = P.copy()
+            c = hand * h1 * P[X_S:X_S + 3, X_S:X_S + 3]
             Ph[X_H:X_H + 3, X_S:X_S + 3] = c
             Ph[X_S:X_S + 3, X_H:X_H + 3] = c.T
-            Ph[X_H:X_H + 3, X_H:X_H + 3] += hand * self.nominal_h1 * c
-            hyps.append(_Hypothesis(x, Ph))
+            Ph[X_H:X_H + 3, X_H:X_H + 3] += hand * h1 * c
+            hyps.append(_Hypothesis(x, Ph, 0.0, hand))
         self.track = _Track(hyps, float(t))
         self.track.history.append(
             _Entry(

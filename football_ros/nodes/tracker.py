@@ -84,6 +84,12 @@ PARAMETERS = (
     for row in (
         ('ball', 'american', 'Ball preset the filter assumes', None, tuple(PRESETS)),
         ('observation_noise', 0.02, 'Fix noise, 1 sigma per axis [m]', (1e-4, 10.0)),
+        (
+            'model_noise',
+            0.01,
+            'Model-error acceleration, white [m/s^2/sqrt(Hz)]; more in gusty air',
+            (0.0, 100.0),
+        ),
         ('spin_rpm', 0.0, "Nominal |spin| [rev/min] of a throw, 0 = the preset's", (0.0, 3000.0)),
         ('gate', 21.11, 'Outlier gate: squared Mahalanobis distance', (1.0, 10000.0)),
         ('max_lag', 0.5, 'Oldest fix accepted behind the newest [s]', (0.0, 10.0)),
@@ -131,6 +137,7 @@ class TrackerNode(Node):
         self.tracker = MultiTracker(
             TrackerSettings(
                 noise=self.observation_noise,
+                accel_noise=self.model_noise,
                 ball=self.ball,
                 spin_rpm=self.spin_rpm or None,
                 gate=self.gate,
@@ -218,7 +225,7 @@ class TrackerNode(Node):
         stream = self._streams.get(track_id)
         if stream is None or tracker.track is None:
             return
-        if stream.locked is None and (len(tracker.track.hyps) == 1 or landed):
+        if stream.locked is None and (tracker.hand is not None or landed):
             pred = tracker.predict_landing()
             if pred is not None:
                 stream.locked = pred
