@@ -25,7 +25,8 @@ hand are taken as known (both favour the bound). Priors:
 - benchmark: the benchmark's own distribution: alpha0, beta0 ~ N(0, 1.5 deg), axis rates 0
   (known), |spin| uniform 400-800 rpm (a Gaussian of its variance: sigma 115 rpm); kd, kl
   sigma 0.3 (the tracker's; the truth is 1 for the defaults, 1.3 / 0.7 for the others);
-- tracker: the tracker's own prior widths instead (axis 0.05 rad, spin 0.3 x 600 rpm);
+- tracker: the tracker's own prior widths instead (TrackerSettings' axis_sigma, spin_sigma and
+  scale_sigma; one Gaussian for the spin);
 each with the spin known, the coefficients known (sigma -> 0) and both known, and a few
 sensitivity rows (narrower priors, release point known, axis offsets known).
 Per flight, the 2x2 covariance C gives the median of |e| under N(0, C) (exact); per set, the
@@ -65,7 +66,7 @@ from football_ros.estimation.bound import (
     ThrowModel,
 )
 from football_ros.estimation.motion import X_H, X_S
-from football_ros.physics import Flight
+from football_ros.physics import Flight, get_preset
 from football_ros.physics.aero import AeroModel
 from football_ros.physics.release import RPM
 import numpy as np
@@ -78,10 +79,15 @@ CASES, LATENCY, NOISE, RATE = (_benchmark.CASES, _benchmark.LATENCY, _benchmark.
 random_releases = _benchmark.random_releases
 
 CLASSES = (('< 2.2 s', 0.0, 2.2), ('2.2-2.8 s', 2.2, 2.8), ('> 2.8 s', 2.8, math.inf))
+_TRACKER = TrackerSettings()
 PRIORS = {
     # name: (axis offset sigma [rad], spin sigma [rad/s], scale sigma)
     'benchmark': (math.radians(1.5), 400.0 / math.sqrt(12.0) * RPM, 0.3),
-    'tracker': (0.05, 0.3 * 600.0 * RPM, 0.3),
+    'tracker': (
+        _TRACKER.axis_sigma,
+        _TRACKER.spin_sigma * get_preset(_TRACKER.ball).spin_rpm * RPM,
+        _TRACKER.scale_sigma,
+    ),
 }
 KNOWN = {
     'neither known': (),

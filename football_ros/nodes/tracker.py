@@ -86,7 +86,7 @@ PARAMETERS = (
         ('observation_noise', 0.02, 'Fix noise, 1 sigma per axis [m]', (1e-4, 10.0)),
         (
             'model_noise',
-            0.01,
+            0.007,
             'Model-error acceleration, white [m/s^2/sqrt(Hz)]; more in gusty air',
             (0.0, 100.0),
         ),
