@@ -15,16 +15,16 @@
 """
 Information limit of the landing prediction on the prediction benchmark's own flights (headless).
 
-For each flight of bench/prediction_benchmark.py (same generator, seeds, camera phase and
-noise, 60 Hz, 2 cm, 20 ms latency), the fixes delivered by ``lead`` s before the true landing
-(as run_flight delivers them) give a Bayesian Cramer-Rao bound (the Laplace / Gauss-Newton
-posterior at the true throw, football_ros.estimation.bound) of the landing point (x, y on
-z = 0). Unknowns: the release position, speed, elevation, azimuth (flat priors), the axis
+For each flight of bench/prediction_benchmark.py (any of its cases: same generator, seeds,
+ball, camera phase, rate and noise, 20 ms latency), the fixes delivered by ``lead`` s before
+the true landing (as run_flight delivers them) give a Bayesian Cramer-Rao bound (the Laplace /
+Gauss-Newton posterior at the true throw, football_ros.estimation.bound) of the landing point
+(x, y on z = 0). Unknowns: the release position, speed, elevation, azimuth (flat priors), the axis
 offsets alpha0, beta0, the spin, the drag and lift scales kd, kl; the release instant and the
 hand are taken as known (both favour the bound). Priors:
 - benchmark: the benchmark's own distribution: alpha0, beta0 ~ N(0, 1.5 deg), axis rates 0
-  (known), |spin| uniform 400-800 rpm (a Gaussian of its variance: sigma 115 rpm); kd, kl
-  sigma 0.3 (the tracker's; the truth is 1 for the defaults, 1.3 / 0.7 for the others);
+  (known), |spin| uniform over the case's range (a Gaussian of its variance: sigma 115 rpm
+  for 400-800 rpm); kd, kl sigma 0.3 (the truth is 1, or 1.3 / 0.7 in the 30 %-off cases);
 - tracker: the tracker's own prior widths instead (TrackerSettings' axis_sigma, spin_sigma and
   scale_sigma; one Gaussian for the spin);
 each with the spin known, the coefficients known (sigma -> 0) and both known, and a few
@@ -79,16 +79,26 @@ CASES, LATENCY, NOISE, RATE = (_benchmark.CASES, _benchmark.LATENCY, _benchmark.
 random_releases = _benchmark.random_releases
 
 CLASSES = (('< 2.2 s', 0.0, 2.2), ('2.2-2.8 s', 2.2, 2.8), ('> 2.8 s', 2.8, math.inf))
-_TRACKER = TrackerSettings()
-PRIORS = {
-    # name: (axis offset sigma [rad], spin sigma [rad/s], scale sigma)
-    'benchmark': (math.radians(1.5), 400.0 / math.sqrt(12.0) * RPM, 0.3),
-    'tracker': (
-        _TRACKER.axis_sigma,
-        _TRACKER.spin_sigma * get_preset(_TRACKER.ball).spin_rpm * RPM,
-        _TRACKER.scale_sigma,
-    ),
-}
+PRIOR_NAMES = ('benchmark', 'tracker')
+
+
+def priors(case) -> dict:
+    """
+    Return {prior name: (axis offset sigma [rad], spin sigma [rad/s], scale sigma)} of a case.
+
+    'benchmark': the case's own draws (|spin| uniform over its range: sigma range / sqrt(12));
+    'tracker': the tracker's TrackerSettings for the case's ball.
+    """
+    tracker = TrackerSettings(ball=case.ball)
+    return {
+        'benchmark': (math.radians(1.5), (case.spin[1] - case.spin[0]) / math.sqrt(12.0) * RPM,
+                      0.3),
+        'tracker': (tracker.axis_sigma,
+                    tracker.spin_sigma * get_preset(case.ball).spin_rpm * RPM,
+                    tracker.scale_sigma),
+    }
+
+
 KNOWN = {
     'neither known': (),
     'spin known': ('spin',),
@@ -98,13 +108,13 @@ KNOWN = {
 TRACKER_ROWS = ('neither known', 'spin known', 'coefs known', 'both known')
 
 
-def camera_fixes(release, seed: int, t_land: float, lead: float) -> list:
-    """Return the benchmark camera's fixes of a flight delivered by ``lead`` s before landing."""
-    fixes = _benchmark.camera_fixes(release, seed, t_land)
+def camera_fixes(release, seed: int, t_land: float, lead: float, case) -> list:
+    """Return the case camera's fixes of a flight delivered by ``lead`` s before landing."""
+    fixes = _benchmark.camera_fixes(release, seed, t_land, case)
     return [o for o in fixes if o.delivery <= t_land - lead]
 
 
-def flight_setup(release, seed: int, lead: float, wind_sigma: float = 0.0):
+def flight_setup(release, seed: int, lead: float, case, wind_sigma: float = 0.0):
     """
     Return (t_land, xy_land, the fixes (:func:`camera_fixes`), their model).
 
@@ -113,11 +123,12 @@ def flight_setup(release, seed: int, lead: float, wind_sigma: float = 0.0):
     """
     truth = Flight.from_release(release).simulate(rate=100.0, duration=20.0)
     t_land = float(truth.times[-1])
-    obs = camera_fixes(release, seed, t_land, lead)
+    obs = camera_fixes(release, seed, t_land, lead, case)
     aero = AeroModel() if wind_sigma > 0.0 else AeroModel(wind=release.aero_model().wind)
-    model = ThrowModel(obs[0].stamp, 1.0 / RATE, len(obs), aero=aero, wind=wind_sigma > 0.0)
+    model = ThrowModel(obs[0].stamp, 1.0 / case.rate, len(obs), ball=case.ball, aero=aero,
+                       wind=wind_sigma > 0.0)
     if not np.allclose(model.times, [o.stamp for o in obs], rtol=0.0, atol=1e-9):
-        raise RuntimeError('the fixes are not on one 60 Hz grid')
+        raise RuntimeError(f'the fixes are not on one {case.rate:g} Hz grid')
     return t_land, truth.positions[-1, :2], obs, model
 
 
@@ -133,16 +144,17 @@ def jacobians(release, model: ThrowModel, xy_land) -> dict:
             'landing': jac[3 * count: 3 * count + 2]}
 
 
-def posterior(jac: dict, sigmas: dict) -> tuple[np.ndarray, np.ndarray, list]:
+def posterior(jac: dict, sigmas: dict, noise: float) -> tuple[np.ndarray, np.ndarray, list]:
     """
     Return the landing covariance (2, 2), the parameters' and their names.
 
-    ``sigmas``: prior sigma per parameter name (0 = known, absent = flat).
+    ``sigmas``: prior sigma per parameter name (0 = known, absent = flat); ``noise`` [m] of
+    the fixes.
     """
     names = [n for n in jac['names'] if sigmas.get(n, math.inf) > 0.0]
     keep = [jac['names'].index(n) for n in names]
     prior = np.diag([1.0 / sigmas[n] ** 2 if n in sigmas else 0.0 for n in names])
-    cov = posterior_covariance(jac['fixes'][:, keep], NOISE, prior)
+    cov = posterior_covariance(jac['fixes'][:, keep], noise, prior)
     g = jac['landing'][:, keep]
     return g @ cov @ g.T, cov, names
 
@@ -151,9 +163,9 @@ WIND_SIGMA = [0.0]
 """The wind's prior sigma [m/s] of this run (``--wind-sigma``; 0: the wind is known)."""
 
 
-def prior_sigmas(prior: str, known=(), **changes) -> dict:
-    """Prior sigma per parameter for a :data:`PRIORS` entry, ``known`` ones at 0."""
-    axis_s, spin_s, scale_s = PRIORS[prior]
+def prior_sigmas(case, prior: str, known=(), **changes) -> dict:
+    """Prior sigma per parameter for a case's :func:`priors` entry, ``known`` ones at 0."""
+    axis_s, spin_s, scale_s = priors(case)[prior]
     sig = {'alpha0': axis_s, 'beta0': axis_s, 'spin': spin_s, 'kd': scale_s, 'kl': scale_s}
     if WIND_SIGMA[0] > 0.0:
         sig.update(wind_x=WIND_SIGMA[0], wind_y=WIND_SIGMA[0])
@@ -162,7 +174,7 @@ def prior_sigmas(prior: str, known=(), **changes) -> dict:
     return sig
 
 
-def tracker_errors(release, obs: list, xy_land, changes: dict) -> dict:
+def tracker_errors(release, obs: list, xy_land, case, changes: dict) -> dict:
     """
     Replay the fixes ``obs`` (:func:`camera_fixes`) into the tracker.
 
@@ -180,7 +192,8 @@ def tracker_errors(release, obs: list, xy_land, changes: dict) -> dict:
     }
     out = {}
     for name, kw in settings.items():
-        tracker = FlightTracker(TrackerSettings(**{**kw, **changes}))
+        told = {'noise': case.noise, 'ball': case.ball}  # as the benchmark tells it
+        tracker = FlightTracker(TrackerSettings(**{**told, **kw, **changes}))
         for o in obs:
             tracker.update(o.stamp, o.position)
         pred = tracker.predict_landing()
@@ -199,7 +212,7 @@ def tracker_errors(release, obs: list, xy_land, changes: dict) -> dict:
     return out
 
 
-def map_errors(release, obs: list, model: ThrowModel, xy_land) -> dict:
+def map_errors(release, obs: list, model: ThrowModel, xy_land, case) -> dict:
     """
     Landing error [m] of the batch MAP fit (Gauss-Newton, benchmark prior) on the fixes ``obs``.
 
@@ -211,10 +224,10 @@ def map_errors(release, obs: list, model: ThrowModel, xy_land) -> dict:
     z = np.concatenate([o.position for o in obs])
     truth = model.theta_of(release)
     mean = {'alpha0': 0.0, 'beta0': 0.0, 'kd': 1.0, 'kl': 1.0,
-            'spin': math.copysign(600.0 * RPM, release.spin_rpm)}
+            'spin': math.copysign(0.5 * (case.spin[0] + case.spin[1]) * RPM, release.spin_rpm)}
     out = {}
     for kname, known in KNOWN.items():
-        sig = prior_sigmas('benchmark', known)
+        sig = prior_sigmas(case, 'benchmark', known)
         free = [i for i, n in enumerate(model.names) if sig.get(n, math.inf) > 0.0]
         mu = np.array([mean.get(model.names[i], 0.0) for i in free])
         w = np.array([1.0 / sig[model.names[i]] if model.names[i] in sig else 0.0 for i in free])
@@ -226,7 +239,7 @@ def map_errors(release, obs: list, model: ThrowModel, xy_land) -> dict:
 
         def resid(xf, full=full, mu=mu, w=w):
             f = model.evaluate(full(xf))
-            return np.concatenate([(f[: z.size] - z) / NOISE, w * (xf - mu)])
+            return np.concatenate([(f[: z.size] - z) / case.noise, w * (xf - mu)])
 
         steps = [FD_STEPS[model.names[i]] for i in free]
         x0 = np.where(w > 0.0, mu, truth[free])
@@ -250,7 +263,8 @@ def main() -> None:
     ap.add_argument('--flights', type=int, default=60, help='flights per case')
     ap.add_argument('--seed', type=int, default=1)
     ap.add_argument('--lead', type=float, default=1.0, help='lead time before the landing [s]')
-    ap.add_argument('--all-cases', action='store_true', help='also the 30 %%-off cases')
+    ap.add_argument('--cases', nargs='*', default=['defaults'], help="the benchmark's cases")
+    ap.add_argument('--all-cases', action='store_true', help="every case of the benchmark's")
     ap.add_argument('--tracker', action='store_true', help='replay the fixes into the tracker')
     ap.add_argument('--set', nargs='*', default=[], metavar='NAME=VALUE',
                     help='TrackerSettings changes for the replay, e.g. accel_noise=0')
@@ -268,21 +282,20 @@ def main() -> None:
     if args.wind_sigma > 0.0:
         changes.setdefault('wind_sigma', args.wind_sigma)
     TrackerSettings(**changes)  # validate before the long loop
-    cases = (
-        [c for c, case in CASES.items() if (case.ball, case.rate, case.noise) == (
-            'american', RATE, NOISE)]  # this bound's model: the american ball, the 60 Hz camera
-        if args.all_cases
-        else ['defaults']
-    )
+    cases = list(CASES) if args.all_cases else args.cases
+    unknown = sorted(set(cases) - set(CASES))
+    if unknown:
+        ap.error(f'unknown case(s) {unknown}; the cases: {list(CASES)}')
     print(
-        f'camera {RATE:g} Hz, noise {NOISE * 100:g} cm, latency {LATENCY * 1000:g} ms; '
+        f'camera {RATE:g} Hz, noise {NOISE * 100:g} cm unless the case says, latency '
+        f'{LATENCY * 1000:g} ms; '
         f'lead {args.lead:g} s; {args.flights} flights x {args.seeds} draws per case, seeds '
         f'{args.seed}..{args.seed + args.seeds - 1}; wind '
         + (f'unknown (prior sigma {args.wind_sigma:g} m/s)' if args.wind_sigma else 'known')
         + (f'; tracker settings changed: {changes}' if changes else '')
     )
     for case in cases:
-        ci = list(CASES).index(case)
+        ci, spec = list(CASES).index(case), CASES[case]
         t0 = time.perf_counter()
         t_lands, jacs, trk, fixes, maps = [], [], [], [], []
         for draw in range(args.seed, args.seed + args.seeds):  # the benchmark's seeding
@@ -291,18 +304,18 @@ def main() -> None:
             for k, release in enumerate(releases):
                 seed = draw * 100000 + ci * 1000 + k
                 t_land, xy_land, obs, model = flight_setup(
-                    release, seed, args.lead, args.wind_sigma
+                    release, seed, args.lead, spec, args.wind_sigma
                 )
                 t_lands.append(t_land)
                 fixes.append(len(obs))
                 jacs.append(jacobians(release, model, xy_land))
                 if args.tracker:
-                    trk.append(tracker_errors(release, obs, xy_land, changes))
+                    trk.append(tracker_errors(release, obs, xy_land, spec, changes))
                 if args.map:
-                    maps.append(map_errors(release, obs, model, xy_land))
+                    maps.append(map_errors(release, obs, model, xy_land, spec))
         t_lands = np.array(t_lands)
-        print(f'\ncase: true coefficients {case} ({time.perf_counter() - t0:.0f} s; fixes per '
-              f'flight {min(fixes)}-{max(fixes)})')
+        print(f'\ncase: {case} ({spec.ball}, {spec.rate:g} Hz, {spec.noise * 100:g} cm; '
+              f'{time.perf_counter() - t0:.0f} s; fixes per flight {min(fixes)}-{max(fixes)})')
         masks = [('all', np.ones(t_lands.size, bool))] + [
             (name, (t_lands >= lo) & (t_lands < hi)) for name, lo, hi in CLASSES
         ]
@@ -311,7 +324,7 @@ def main() -> None:
         print(f'{"":>40}' + f'{"med(med)  pooled +/- sd":>26}' * len(masks))
 
         def row(label: str, sigmas: dict) -> np.ndarray:
-            c = np.array([posterior(j, sigmas)[0] for j in jacs])
+            c = np.array([posterior(j, sigmas, spec.noise)[0] for j in jacs])
             meds = np.array([radial_median(x) for x in c])
             cells = ''
             for _, m in masks:
@@ -324,22 +337,25 @@ def main() -> None:
             return meds
 
         meds = {}
-        for pname in PRIORS:
+        for pname in PRIOR_NAMES:
             for kname, known in KNOWN.items():
-                meds[(pname, kname)] = row(f'{pname} prior, {kname}', prior_sigmas(pname, known))
+                meds[(pname, kname)] = row(f'{pname} prior, {kname}',
+                                           prior_sigmas(spec, pname, known))
         cells = []
         for kname, known in KNOWN.items():
-            c = np.array([posterior(j, prior_sigmas('benchmark', known))[0] for j in jacs])
+            c = np.array([posterior(j, prior_sigmas(spec, 'benchmark', known), spec.noise)[0]
+                          for j in jacs])
             cells.append(f'{kname} {np.mean(pooled_medians(c, args.draws, 1) <= 0.05):.3f}')
         print(f'{"P(median <= 5 cm) at the bound":>40}   benchmark prior: ' + ', '.join(cells))
         print('sensitivity (benchmark prior, neither known, but):')
         for scale in (0.2, 0.1, 0.05):
-            row(f'scale sigma {scale:g}', prior_sigmas('benchmark', kd=scale, kl=scale))
+            row(f'scale sigma {scale:g}', prior_sigmas(spec, 'benchmark', kd=scale, kl=scale))
         for frac in (0.5, 0.25):
             row(f'spin sigma x {frac:g}',
-                prior_sigmas('benchmark', spin=frac * PRIORS['benchmark'][1]))
-        row('release point known (0, 0, 1.8)', prior_sigmas('benchmark', ('x0', 'y0', 'z0')))
-        row('axis offsets known', prior_sigmas('benchmark', ('alpha0', 'beta0')))
+                prior_sigmas(spec, 'benchmark', spin=frac * priors(spec)['benchmark'][1]))
+        row('release point known (0, 0, 1.8)',
+            prior_sigmas(spec, 'benchmark', ('x0', 'y0', 'z0')))
+        row('axis offsets known', prior_sigmas(spec, 'benchmark', ('alpha0', 'beta0')))
         if args.map:
             print(f'{"batch MAP on the same fixes [cm]":>40}'
                   + f'{"median  (x bound)":>26}' * len(masks))
@@ -368,13 +384,13 @@ def main() -> None:
         spin_err = np.array([t['neither known'][1] for t in trk])
         spin_bound = []
         for j in jacs:
-            _, cov, names = posterior(j, prior_sigmas('benchmark'))
+            _, cov, names = posterior(j, prior_sigmas(spec, 'benchmark'), spec.noise)
             spin_bound.append(QUARTILE * math.sqrt(cov[names.index('spin'), names.index('spin')]))
         spin_bound = np.array(spin_bound) / RPM
         hand = np.array([t['neither known'][2] for t in trk])
         cells = ''.join(
             f'{np.nanmedian(spin_err[m]):>16.0f}  (x {np.nanmedian(spin_bound[m]):.0f})'
-            for _, m in masks
+            if m.any() else f'{"-":>26}' for _, m in masks
         )
         print(f'{"|spin| error [rpm] (bound median)":>40}{cells}')
         print(f'{"hand right (tracker, neither known)":>40}'
