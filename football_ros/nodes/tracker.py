@@ -86,9 +86,9 @@ PARAMETERS = (
         ('observation_noise', 0.02, 'Fix noise, 1 sigma per axis [m]', (1e-4, 10.0)),
         (
             'model_noise',
-            0.007,
+            TrackerSettings.accel_noise,  # the filter's own default and range
             'Model-error acceleration, white [m/s^2/sqrt(Hz)]; more in gusty air',
-            (0.0, 100.0),
+            TrackerSettings.LIMITS['accel_noise'],
         ),
         ('spin_rpm', 0.0, "Nominal |spin| [rev/min] of a throw, 0 = the preset's", (0.0, 3000.0)),
         ('gate', 21.11, 'Outlier gate: squared Mahalanobis distance', (1.0, 10000.0)),
