@@ -123,16 +123,18 @@ def test_simulate_steps_cancel_stops_at_a_step_boundary(start_node, collector):
     from rclpy.action import ActionClient
     from action_msgs.msg import GoalStatus
 
-    start_node('simulator', '--ros-args', '-p', 'max_entities:=50')
+    start_node('simulator', '--ros-args', '-p', 'max_entities:=250')
     paused = SimulationState(state=SimulationState.STATE_PAUSED)
     assert srv(collector, 'set_simulation_state', si_srv.SetSimulationState,
                state=paused).result.result == OK
     release = Release(speed=60.0, elevation_deg=80.0)  # 12 s in the air
     st = release.initial_state()
-    spawns = [spawn_request(f'b{k}') for k in range(40)]  # 40 balls: the first chunk takes time
+    # 200 balls: the goal takes about a second, so that the cancel lands while it runs even on a
+    # loaded machine (with 40, the whole goal sometimes ended before the cancel was handled).
+    spawns = [spawn_request(f'b{k}') for k in range(200)]
     answer = srv(collector, 'spawn_entities', si_srv.SpawnEntities, spawn_requests=spawns)
     assert answer.result.result == OK
-    for k in range(40):
+    for k in range(200):
         state = EntityState()
         o = state.pose.orientation
         o.x, o.y, o.z, o.w = st.attitude.tolist()
