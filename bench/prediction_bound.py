@@ -400,6 +400,11 @@ def main() -> None:
 if __name__ == '__main__':
     import results  # bench/results.py: the figures go to bench/RESULTS.md
 
-    wind = '--wind-sigma' in sys.argv  # its own section: the bound with the wind unknown
-    section = 'prediction bound' + (', wind unknown' if wind else '')
+    # Its own section for the wind unknown and for another lead time.
+    pre = argparse.ArgumentParser(add_help=False)
+    pre.add_argument('--wind-sigma', type=float, default=0.0)
+    pre.add_argument('--lead', type=float, default=1.0)
+    flags, _ = pre.parse_known_args()
+    section = ('prediction bound' + (', wind unknown' if flags.wind_sigma > 0.0 else '')
+               + (f', lead {flags.lead:g} s' if flags.lead != 1.0 else ''))
     raise SystemExit(results.recorded(section, main))
