@@ -395,6 +395,33 @@ def test_fuzz_the_multi_tracker_and_the_catch_height(stream, now, height):
                 assert np.all(np.isfinite(pred.covariance))
 
 
+def test_spin_prior_slices_keep_the_mean_and_spread_of_one_gaussian():
+    """The spin components of each hand: same mean and variance as the one Gaussian."""
+    for ball, count in (('american', 2), ('rugby', 4)):
+        tracker = FlightTracker(TrackerSettings(ball=ball))
+        s = tracker.settings
+        assert s.spin_components == count
+        parts = tracker._spin_prior()
+        assert [hand for hand, _, _ in parts] == [1.0] * count + [-1.0] * count
+        means = np.array([m for _, m, _ in parts[:count]])
+        var = np.mean(means**2 + parts[0][2] ** 2) - np.mean(means) ** 2
+        nominal = tracker.nominal_h1
+        assert np.mean(means) == pytest.approx(nominal, rel=1e-12)
+        assert math.sqrt(var) == pytest.approx(s.spin_sigma * nominal, rel=1e-12)
+        assert np.all(means > 0.0)
+    single = FlightTracker(TrackerSettings(spin_components=1))
+    assert single._spin_prior() == [
+        (1.0, single.nominal_h1, single.settings.spin_sigma * single.nominal_h1),
+        (-1.0, single.nominal_h1, single.settings.spin_sigma * single.nominal_h1),
+    ]
+    # A spread too wide for slices above zero is cut to 0 .. twice the nominal.
+    wide = FlightTracker(TrackerSettings(ball='rugby', spin_sigma=1.0))
+    assert min(m for _, m, _ in wide._spin_prior()) > 0.0
+    for bad in (0, 9, 2.5, 2.0, True, 'two', math.nan):
+        with pytest.raises(ValueError, match='spin_components'):
+            TrackerSettings(spin_components=bad)
+
+
 def test_gyroscopic_stability_of_a_state_is_the_modes_s_g():
     from football_ros.physics.aero import resolve
     from football_ros.physics.modes import dynamic_stability
