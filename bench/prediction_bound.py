@@ -190,9 +190,9 @@ def tracker_errors(release, obs: list, xy_land, case, changes: dict) -> dict:
         'coefs known': coefs,
         'both known': {**spin, **coefs},
     }
+    told = {'noise': case.noise, 'ball': case.ball}  # as the benchmark tells it
     out = {}
     for name, kw in settings.items():
-        told = {'noise': case.noise, 'ball': case.ball}  # as the benchmark tells it
         tracker = FlightTracker(TrackerSettings(**{**told, **kw, **changes}))
         for o in obs:
             tracker.update(o.stamp, o.position)

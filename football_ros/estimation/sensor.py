@@ -58,18 +58,21 @@ def check_numbers(kind: str, settings: object, limits: dict) -> None:
     """
     Raise ValueError naming the first attribute of ``settings`` outside its ``limits``.
 
-    Each attribute named in ``limits`` must be a finite number (not a bool) in [lo, hi].
+    Each attribute named in ``limits`` must be a finite number (not a bool) in [lo, hi]; where
+    lo and hi are both ints (a count), an int.
     """
     for name, (lo, hi) in limits.items():
         value = getattr(settings, name)
+        count = isinstance(lo, int) and isinstance(hi, int)
         if (
             isinstance(value, bool)
-            or not isinstance(value, (int, float))
+            or not isinstance(value, int if count else (int, float))
             or not math.isfinite(value)
             or not lo <= value <= hi
         ):
+            what = 'an integer' if count else 'a number'
             raise ValueError(
-                f"{kind} '{name}' must be a number in [{lo:g}, {hi:g}], got {value!r}"
+                f"{kind} '{name}' must be {what} in [{lo:g}, {hi:g}], got {value!r}"
             )
 
 

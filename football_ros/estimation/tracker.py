@@ -212,11 +212,7 @@ class TrackerSettings:
         if self.spin_components is None:
             count = SPIN_COMPONENTS.get(self.ball, 2) if isinstance(self.ball, str) else 2
             object.__setattr__(self, 'spin_components', count)
-        check_numbers('tracker', self, self.LIMITS)
-        for name in ('spin_components', 'min_points', 'reinit_after'):  # counts
-            value = getattr(self, name)
-            if not isinstance(value, int):
-                raise ValueError(f"tracker '{name}' must be an integer, got {value!r}")
+        check_numbers('tracker', self, self.LIMITS)  # the counts' int limits: ints
         if self.spin_rpm is not None and (
             isinstance(self.spin_rpm, bool)
             or not isinstance(self.spin_rpm, (int, float))
