@@ -356,13 +356,17 @@ def test_the_camera_delivers_past_rate_times_latency_and_says_what_it_dropped(
 
 
 def test_two_balls_get_a_stream_each(start_node, collector):
-    tracker = start_node('tracker')
+    # A receiver's plane x = 30 m, crossed along +x: the first ball goes through it.
+    tracker = start_node(
+        'tracker', '--ros-args', '-p', 'receiver_plane:=true', '-p', 'receiver_x:=30.0'
+    )
     for k in (1, 2):
         collector.subscribe(
             PoseWithCovarianceStamped, qos.track_topic(k, qos.LANDING), qos.STATE
         )
     collector.subscribe(PoseWithCovarianceStamped, qos.LANDING, qos.STATE)
     collector.subscribe(PoseWithCovarianceStamped, qos.track_topic(2, qos.CATCH), qos.STATE)
+    collector.subscribe(PoseWithCovarianceStamped, qos.track_topic(1, qos.RECEIVER), qos.STATE)
     pub = collector.publisher(PointStamped, qos.OBSERVATION, qos.STATE)
     collector.wait_for_subscribers(pub)
     first = Release(model='full', position=(0.0, 0.0, 1.8))
@@ -414,3 +418,19 @@ def test_two_balls_get_a_stream_each(start_node, collector):
     assert math.hypot(final.x - x_c, final.y - y_c) < 0.5
     t_c = base + 0.3 + flights[1].times[k]
     assert t_c - 0.02 < stamp_s(catches[-1]) < t_c + 1.0 / 60.0 + 0.02
+    # The first ball through the receiver's plane, predicted before it got there (the last
+    # prediction made before the crossing), with the y/z covariance of a point on the plane.
+    x = flights[0].positions[:, 0]
+    k = int(np.flatnonzero((x[:-1] < 30.0) & (x[1:] >= 30.0))[0])
+    f = (30.0 - x[k]) / (x[k + 1] - x[k])
+    t_w = flights[0].times[k] + f * (flights[0].times[k + 1] - flights[0].times[k])
+    p_w = flights[0].positions[k] + f * (flights[0].positions[k + 1] - flights[0].positions[k])
+    through = collector.get(qos.track_topic(1, qos.RECEIVER))
+    assert len(through) > 10
+    last = through[-1]
+    p = last.pose.pose.position
+    assert p.x == pytest.approx(30.0, abs=1e-6)
+    assert math.hypot(p.y - p_w[1], p.z - p_w[2]) < 0.15, (p, p_w)
+    assert abs(stamp_s(last) - (base + t_w)) < 0.02
+    cov = np.array(last.pose.covariance).reshape(6, 6)
+    assert cov[0, 0] == pytest.approx(0.0, abs=1e-9) and cov[1, 1] > 0.0 and cov[2, 2] > 0.0

@@ -17,7 +17,7 @@
 import math
 
 from football_ros.estimation import Camera, CameraSettings, FlightTracker, TrackerSettings
-from football_ros.estimation.motion import fly_to_planes, N_X, path_of, propagate_points
+from football_ros.estimation.motion import fly_to_planes, N_X, NO_PLANE, path_of, propagate_points
 from football_ros.physics import Flight, Release
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -66,7 +66,7 @@ def test_kernels_fly_a_ball_at_rest_or_without_axis_instead_of_dividing_by_zero(
     tracker = FlightTracker()
     x = _at_rest(1.0, axis)
     # Dropped from 1 m: it falls in sqrt(2 h / g) (drag adds well under a millisecond).
-    land = fly_to_planes(x[None, :].copy(), tracker.params, 0.01, -math.inf, 0.0, 15.0)
+    land = fly_to_planes(x[None, :].copy(), tracker.params, 0.01, -math.inf, 0.0, 15.0, NO_PLANE)
     assert land[0, 3] == 1.0
     assert land[0, 0] == pytest.approx(math.sqrt(2.0 / G), abs=2e-3)
     assert np.allclose(land[0, 1:3], 0.0, atol=1e-3)  # a little lift, no more
@@ -87,7 +87,7 @@ def test_non_finite_points_come_out_as_nan_not_as_an_exception():
     assert np.all(np.isfinite(pts[0])) and np.all(np.isnan(pts[1]))
     pts = np.stack([_at_rest(1.0), _at_rest(1.0)])
     pts[1, 9] = math.inf
-    land = fly_to_planes(pts, tracker.params, 0.01, -math.inf, 0.0, 15.0)
+    land = fly_to_planes(pts, tracker.params, 0.01, -math.inf, 0.0, 15.0, NO_PLANE)
     assert land[0, 3] == 1.0 and land[1, 3] == 0.0
 
 
@@ -287,6 +287,52 @@ def test_the_crossing_of_a_catch_height_matches_the_flight():
         assert tracker.predict_crossing(bad) is None
 
 
+def test_the_crossing_of_a_receivers_plane_matches_the_flight():
+    from football_ros.estimation.tracker import vertical_plane
+
+    truth = Flight.from_release(OTHER).simulate(rate=2000.0)
+    obs, _, _ = fixes(OTHER, seed=17)
+    # A receiver 25 m down the pass's line (azimuth 30 deg), facing the thrower.
+    heading = math.radians(30.0)
+    n = np.array([math.cos(heading), math.sin(heading)])
+    p0 = np.array([10.0, 5.0]) + 25.0 * n
+    d = (truth.positions[:, :2] - p0) @ n
+    k = int(np.flatnonzero((d[:-1] < 0.0) & (d[1:] >= 0.0))[0])
+    f = -d[k] / (d[k + 1] - d[k])
+    t_w = truth.times[k] + f * (truth.times[k + 1] - truth.times[k])
+    p_w = truth.positions[k] + f * (truth.positions[k + 1] - truth.positions[k])
+    plane = vertical_plane(p0[0], p0[1], 30.0)
+    tracker = FlightTracker()
+    for t, z in obs:
+        if t <= t_w - 0.5:
+            tracker.update(t, z)
+    land, _, pred = tracker.predict_planes(-math.inf, plane)
+    assert (pred.position[:2] - p0) @ n == pytest.approx(0.0, abs=1e-6)  # on the plane
+    assert np.linalg.norm(pred.position - p_w) < 0.1
+    assert pred.time == pytest.approx(t_w, abs=0.01) and pred.time < land.time
+    # Its covariance lies in the plane: nothing across it, positive along it and in height.
+    cov = pred.covariance
+    across = np.array([n[0], n[1], 0.0])
+    assert across @ cov @ across == pytest.approx(0.0, abs=1e-9)
+    along = np.array([-n[1], n[0], 0.0])
+    basis = np.stack([along, [0.0, 0.0, 1.0]])
+    in_plane = basis @ cov @ basis.T
+    assert np.all(np.linalg.eigvalsh(in_plane) > 0.0)
+    err = basis @ (pred.position - p_w)
+    assert err @ np.linalg.solve(in_plane, err) < 13.8  # inside the 99.9 % ellipse
+    assert tracker.predict_through(plane).time == pred.time
+    # A plane behind the ball, one beyond the landing, and hostile ones: None, never a raise.
+    for bad in (
+        vertical_plane(10.0, 5.0, 30.0), vertical_plane(p0[0] + 200.0, p0[1], 0.0),
+        [1.0, 2.0, 3.0, 4.0], [math.nan] * 4, 'x', None, [1.0],
+    ):
+        assert tracker.predict_through(bad) is None
+    for args, name in (((math.nan, 0.0, 0.0), 'x'), ((0.0, 1e5, 0.0), 'y'),
+                       ((0.0, 0.0, 'north'), 'heading_deg'), ((True, 0.0, 0.0), 'x')):
+        with pytest.raises(ValueError, match=name):
+            vertical_plane(*args)
+
+
 def _predict_at(tracker, obs, t_until):
     for t, z in obs:
         if t <= t_until:
@@ -389,7 +435,8 @@ def test_fuzz_the_multi_tracker_and_the_catch_height(stream, now, height):
         assert track_id is None or track_id in multi.tracks or result.landed or result.used
     assert len(multi.tracks) <= 2
     for tracker in multi.tracks.values():
-        for pred in (tracker.predict_landing(), tracker.predict_crossing(height)):
+        preds = tracker.predict_planes(height, (20.0, height, 0.6, 0.8))
+        for pred in preds + (tracker.predict_landing(), tracker.predict_crossing(height)):
             if pred is not None:
                 assert np.all(np.isfinite(pred.position)) and math.isfinite(pred.time)
                 assert np.all(np.isfinite(pred.covariance))

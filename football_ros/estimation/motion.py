@@ -44,6 +44,8 @@ X_W = 14
 """Optional horizontal wind states (x, y) [m/s], added to the parameters' wind: a point of
 N_X_WIND = 16 floats carries them (the filter with ``wind_sigma`` > 0)."""
 N_X_WIND = 16
+NO_PLANE = np.zeros(4)
+"""The vertical plane of :func:`fly_to_planes` that no ball crosses (a zero normal)."""
 
 
 @njit(cache=True)
@@ -141,6 +143,28 @@ def propagate_points(points: np.ndarray, dt: float, params: np.ndarray, step: fl
 
 
 @njit(cache=True)
+def _through(y: np.ndarray, plane: np.ndarray) -> float:
+    """Signed distance [m] of the ball past the vertical ``plane`` (px, py, nx, ny)."""
+    return plane[2] * (y[0] - plane[0]) + plane[3] * (y[1] - plane[1])
+
+
+@njit(cache=True)
+def _plane_time_in_step(y: np.ndarray, dt: float, params: np.ndarray, plane: np.ndarray) -> float:
+    """Time [s] in [0, dt] at which the step from ``y`` reaches the vertical plane (bisection)."""
+    lo, hi = 0.0, dt
+    tmp = np.empty(y.size)
+    work = np.empty((5, y.size))
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        dyn.rk4_step_with(y, mid, params, tmp, work)
+        if _through(tmp, plane) < 0.0:
+            lo = mid
+        else:
+            hi = mid
+    return hi
+
+
+@njit(cache=True)
 def fly_to_planes(
     points: np.ndarray,
     params: np.ndarray,
@@ -148,19 +172,24 @@ def fly_to_planes(
     height: float,
     ground: float,
     horizon: float,
+    plane: np.ndarray,
 ) -> np.ndarray:
     """
-    Fly each row of ``points`` (m, N_X) down to z = ``ground``, noting where it passes ``height``.
+    Fly each row of ``points`` (m, N_X) down to z = ``ground``, noting the planes on the way.
 
-    One flight per point gives (m, 8) rows: the landing (time from now [s], x, y [m], 1.0 if it
-    lands within ``horizon`` [s], else NaN, NaN, NaN, 0.0), then the next downward crossing of
-    z = ``height`` [m] before the landing in the same form (a point now below ``height`` must
-    first rise above it; ``height`` <= ``ground`` or -inf: none). A point already on or below
-    the ground has landed now.
+    One flight per point gives (m, 13) rows. Columns 0-3, the landing: time from now [s], x, y
+    [m], 1.0 if it lands within ``horizon`` [s] (else NaN, NaN, NaN, 0.0). Columns 4-7, the next
+    downward crossing of z = ``height`` [m] before the landing, in the same form (a point now
+    below ``height`` must first rise above it; ``height`` <= ``ground`` or -inf: none). Columns
+    8-12, the first crossing before the landing of the vertical plane ``plane`` = (px, py, nx,
+    ny) through (px, py) [m] with horizontal unit normal (nx, ny), in the normal's direction:
+    time, x, y, z, 1.0 (a point already on or past it, or a zero normal: none). A point already
+    on or below the ground has landed now.
     """
-    out = np.full((points.shape[0], 8), np.nan)
+    out = np.full((points.shape[0], 13), np.nan)
     out[:, 3] = 0.0
     out[:, 7] = 0.0
+    out[:, 12] = 0.0
     y = np.empty(dyn.N_STATE)
     nxt = np.empty(dyn.N_STATE)
     at = np.empty(dyn.N_STATE)
@@ -174,6 +203,7 @@ def fly_to_planes(
             out[i, 0], out[i, 1], out[i, 2], out[i, 3] = 0.0, y[0], y[1], 1.0
             continue
         crossing = height > ground
+        facing = (plane[2] != 0.0 or plane[3] != 0.0) and _through(y, plane) < 0.0
         try:
             for k in range(n_max):
                 dyn.rk4_step_with(y, step, p, nxt, work)
@@ -183,6 +213,13 @@ def fly_to_planes(
                     out[i, 4], out[i, 5], out[i, 6] = k * step + tau, at[0], at[1]
                     out[i, 7] = 1.0
                     crossing = False
+                if facing and _through(nxt, plane) >= 0.0:
+                    tau = _plane_time_in_step(y, step, p, plane)
+                    dyn.rk4_step_with(y, tau, p, at, work)
+                    if at[dyn.R + 2] >= ground:  # else it lands first, in this step
+                        out[i, 8], out[i, 9], out[i, 10] = k * step + tau, at[0], at[1]
+                        out[i, 11], out[i, 12] = at[2], 1.0
+                    facing = False
                 if dyn.crossed_ground(y, nxt, ground):
                     tau = dyn.landing_time_in_step(y, step, p, ground)
                     dyn.rk4_step_with(y, tau, p, nxt, work)
@@ -194,6 +231,7 @@ def fly_to_planes(
             out[i, :] = np.nan
             out[i, 3] = 0.0
             out[i, 7] = 0.0
+            out[i, 12] = 0.0
     return out
 
 

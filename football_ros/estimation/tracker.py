@@ -74,6 +74,7 @@ import bisect
 import collections
 from dataclasses import dataclass, field
 import math
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -81,6 +82,7 @@ from .motion import (
     fly_to_planes,
     N_X,
     N_X_WIND,
+    NO_PLANE,
     path_of,
     propagate_points,
     X_H,
@@ -236,11 +238,11 @@ class TrackerSettings:
 @dataclass(frozen=True)
 class LandingPrediction:
     """
-    Predicted landing on z = ground (or crossing of a catch height, z = that height).
+    Predicted landing on z = ground (or crossing of a catch height, or of a vertical plane).
 
-    ``time`` [s] on the observations' clock and its variance [s^2], ``position`` (3,) [m] (z =
-    the plane's) and ``covariance`` (2, 2) [m^2] of x, y, made from the estimate at
-    ``made_at`` [s].
+    ``time`` [s] on the observations' clock and its variance [s^2], ``position`` (3,) [m] and
+    ``covariance`` [m^2]: (2, 2) of x, y on a horizontal plane (z = the plane's), (3, 3) of x,
+    y, z on a vertical one (:func:`vertical_plane`); made from the estimate at ``made_at`` [s].
     """
 
     time: float
@@ -248,6 +250,34 @@ class LandingPrediction:
     position: np.ndarray
     covariance: np.ndarray
     made_at: float
+
+
+def vertical_plane(x: float, y: float, heading_deg: float) -> np.ndarray:
+    """
+    Return the vertical plane through (``x``, ``y``) [m] crossed heading ``heading_deg``.
+
+    A receiver's plane in ``field``: the ball crosses it moving along the horizontal direction
+    ``heading_deg`` [deg] from +x towards +y (0: a pass along +x). Returns (px, py, nx, ny), the
+    form :meth:`FlightTracker.predict_planes` takes. Raises ValueError naming the bad argument.
+    """
+    check_numbers(
+        'vertical plane',
+        SimpleNamespace(x=x, y=y, heading_deg=heading_deg),
+        {'x': (-1e4, 1e4), 'y': (-1e4, 1e4), 'heading_deg': (-360.0, 360.0)},
+    )
+    a = math.radians(heading_deg)
+    return np.array([float(x), float(y), math.cos(a), math.sin(a)])
+
+
+def _plane_or_none(plane) -> np.ndarray:
+    """Return ``plane`` as (px, py, nx, ny) if finite with a unit normal, else :data:`NO_PLANE`."""
+    try:
+        wall = np.asarray(plane if plane is not None else NO_PLANE, dtype=float).reshape(4)
+    except (TypeError, ValueError):
+        return NO_PLANE
+    if not (np.all(np.isfinite(wall)) and abs(math.hypot(wall[2], wall[3]) - 1.0) < 1e-6):
+        return NO_PLANE
+    return wall
 
 
 @dataclass(frozen=True)
@@ -409,15 +439,27 @@ class FlightTracker:
         """
         return self.predict_planes(height)[1]
 
-    def predict_planes(
-        self, height: float
-    ) -> tuple[LandingPrediction | None, LandingPrediction | None]:
+    def predict_through(self, plane: np.ndarray) -> LandingPrediction | None:
         """
-        Return (:meth:`predict_landing`, :meth:`predict_crossing` of ``height``) from one flight.
+        Predict where and when the current throw goes through the vertical ``plane``.
 
-        Each sigma point is flown once to the ground, its crossing of ``height`` noted on the
-        way: the catch costs nothing beyond the landing. A ``height`` that is not a number in
-        [ground, ground + 1000 m] gives no crossing.
+        ``plane`` from :func:`vertical_plane`; position (x, y, z) [m] on it, covariance (3, 3)
+        of x, y, z; None without a throw or if some sigma point lands first.
+        """
+        return self.predict_planes(-math.inf, plane)[2]
+
+    def predict_planes(
+        self, height: float, plane: np.ndarray | None = None
+    ) -> tuple[LandingPrediction | None, LandingPrediction | None, LandingPrediction | None]:
+        """
+        Return the landing and the crossings of ``height`` and of ``plane``, from one flight.
+
+        Each sigma point is flown once to the ground, its crossings of z = ``height`` [m] and of
+        ``plane`` (:func:`vertical_plane`, None: none) noted on the way: the catches cost
+        nothing beyond the landing. A ``height`` that is not a number in [ground, ground +
+        1000 m] gives no crossing; so does a plane the ball is already past, or that some sigma
+        point does not reach before the ground. The vertical plane's covariance is that of x,
+        y, z, the model error added within the plane.
         """
         s = self.settings
         try:
@@ -426,48 +468,64 @@ class FlightTracker:
             h = math.nan
         if not (math.isfinite(h) and s.ground <= h <= s.ground + 1000.0):
             h = -math.inf
+        wall = _plane_or_none(plane)
         tr = self.track
         if tr is None:
-            return None, None
+            return None, None, None
         lls = np.array([hyp.loglik for hyp in tr.hyps])
         weights = np.exp(lls - lls.max())
         weights /= weights.sum()
-        parts = ([], []), ([], [])  # (weighted means, covariances) of the landing, the crossing
+        columns = (slice(0, 4), slice(4, 8), slice(8, 13))
+        parts = tuple(([], []) for _ in columns)  # (weighted means, covariances) per plane
         for hyp, w in zip(tr.hyps, weights):
             if w < 1e-6 and len(tr.hyps) > 1:
                 continue
             pts, wm, wc = _sigma_points(hyp.x, hyp.P, s.spread)
-            flown = fly_to_planes(pts, self.params, s.landing_step, h, s.ground, s.horizon)
-            for (means, covs), cols in zip(parts, (slice(0, 4), slice(4, 8))):
-                plane = flown[:, cols]
-                if np.all(plane[:, 3] == 1.0):
-                    mean, cov = _moments(plane[:, :3], wm, wc)
+            flown = fly_to_planes(pts, self.params, s.landing_step, h, s.ground, s.horizon, wall)
+            for (means, covs), cols in zip(parts, columns):
+                found = flown[:, cols]
+                if np.all(found[:, -1] == 1.0):
+                    mean, cov = _moments(found[:, :-1], wm, wc)
                     means.append((w, mean))
                     covs.append(cov)
                 else:
                     means.append((w, None))
-        return tuple(
-            self._prediction(means, covs, plane_z)
-            for (means, covs), plane_z in zip(parts, (s.ground, h))
+        return (
+            self._prediction(*parts[0], (0.0, 0.0, 1.0), s.ground),
+            self._prediction(*parts[1], (0.0, 0.0, 1.0), h),
+            self._prediction(*parts[2], (wall[2], wall[3], 0.0)),
         )
 
-    def _prediction(self, means, covs, height: float) -> LandingPrediction | None:
-        """Mix the hypotheses' moments on one plane; None if a point missed it or non-finite."""
-        if not means or any(m is None for _, m in means) or not math.isfinite(height):
+    def _prediction(self, means, covs, normal, height: float = math.nan):
+        """
+        Mix the hypotheses' moments on one plane of unit ``normal``; None if a point missed it.
+
+        Horizontal planes (z = ``height``) carry (time, x, y) moments, vertical ones (time, x,
+        y, z). The model error's variance is added in the plane.
+        """
+        if not means or any(m is None for _, m in means):
             return None
         wsum = sum(w for w, _ in means)
         mean = sum(w * m for w, m in means) / wsum
         cov = sum(w * (c + np.outer(m - mean, m - mean)) for (w, m), c in zip(means, covs)) / wsum
         t_land = float(mean[0])
         extra = self._accel_variance(self.track.best.x) * max(t_land, 0.0) ** 3 / 3.0
-        cov_xy = cov[1:, 1:] + extra * np.eye(2)
+        n = np.asarray(normal, dtype=float)
+        in_plane = extra * (np.eye(3) - np.outer(n, n))
+        if mean.size == 3:  # a horizontal plane
+            if not math.isfinite(height):
+                return None
+            position = np.array([mean[1], mean[2], height])
+            cov_pos = cov[1:, 1:] + in_plane[:2, :2]
+        else:
+            position = mean[1:]
+            cov_pos = cov[1:, 1:] + in_plane
         var_t = float(cov[0, 0])
-        position = np.array([mean[1], mean[2], height])
         if not (
-            np.all(np.isfinite(position)) and np.all(np.isfinite(cov_xy)) and math.isfinite(var_t)
+            np.all(np.isfinite(position)) and np.all(np.isfinite(cov_pos)) and math.isfinite(var_t)
         ):
             return None
-        return LandingPrediction(self.track.t + t_land, var_t, position, cov_xy, self.track.t)
+        return LandingPrediction(self.track.t + t_land, var_t, position, cov_pos, self.track.t)
 
     def predict_path(self, sample_dt: float = 0.05) -> tuple[np.ndarray, np.ndarray] | None:
         """

@@ -60,6 +60,7 @@ LANDING, PREDICTED_PATH = 'football/prediction/landing', 'football/prediction/pa
 PLAN_REQUEST, PLAN_RESPONSE = 'football/plan/request', 'football/plan/response'  # planner
 PLAN_PATH = 'football/plan/path'
 CATCH = 'football/prediction/catch'  # tracker: down through catch_height
+RECEIVER = 'football/prediction/receiver'  # tracker: through the receiver's vertical plane
 
 
 def track_topic(track_id: int, topic: str) -> str:

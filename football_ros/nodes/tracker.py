@@ -21,16 +21,19 @@ the package's full flight model; the filter, its choices and its limits are docu
 there). Publishes ``football/estimate`` (nav_msgs/msg/Odometry with covariances),
 ``football/prediction/landing`` (geometry_msgs/msg/PoseWithCovarianceStamped on z = 0, whose
 header.stamp is the predicted landing time), ``football/prediction/catch`` (the same through
-z = ``catch_height``, where a catcher's hands are) and ``football/prediction/path``
-(nav_msgs/msg/Path of the predicted rest of the flight). Every fix is untrusted: a refused one
+z = ``catch_height``, where a catcher's hands are), with ``receiver_plane``
+``football/prediction/receiver`` (the same through a receiver's vertical plane, x/y/z
+covariance) and ``football/prediction/path`` (nav_msgs/msg/Path of the predicted rest of the
+flight). Every fix is untrusted: a refused one
 is counted and logged (throttled), never published from. Topics, frames, units and QoS: msg_docs/.
 
 Several balls (:class:`football_ros.estimation.multi.MultiTracker`, up to ``max_tracks``):
 each track has an id (1, 2, ... in order of start, logged as 'new throw #id' and 'throw #id
-ended: why') and its own three topics ``football/track_<id>/estimate``,
-``football/track_<id>/prediction/landing`` and ``football/track_<id>/prediction/path``
-(:func:`qos.track_topic`), created at its start and removed after its end; the topics without
-an id carry the oldest live track (the only one when one ball flies). Predictions are throttled
+ended: why') and its own topics ``football/track_<id>/estimate``,
+``football/track_<id>/prediction/landing``, ``.../catch``, ``.../receiver`` and
+``football/track_<id>/prediction/path`` (:func:`qos.track_topic`), created at its start and
+removed after its end; the topics without an id carry the oldest live track (the only one when
+one ball flies). Predictions are throttled
 to ``prediction_rate`` per second of the fixes' own clock (not the node's); a clock that jumps
 back (a /clock source restarted under use_sim_time) ends every track and resets the time base,
 with a log line.
@@ -55,6 +58,7 @@ from .runner import run_node
 from ..estimation import FlightTracker, TrackerSettings
 from ..estimation.motion import X_H, X_S, X_V
 from ..estimation.multi import MultiTracker
+from ..estimation.tracker import vertical_plane
 from ..physics.frames import attitude_with_axis, FIELD_FRAME
 from ..physics.presets import PRESETS
 
@@ -109,6 +113,19 @@ PARAMETERS = (
             'Height whose downward crossing is predicted (football/prediction/catch) [m], 0 = off',
             (0.0, 100.0),
         ),
+        (
+            'receiver_plane',
+            False,
+            "Predict the crossing of a receiver's vertical plane (football/prediction/receiver)",
+        ),
+        ('receiver_x', 0.0, "A point of the receiver's plane, x in frame_id [m]", (-1e4, 1e4)),
+        ('receiver_y', 0.0, "A point of the receiver's plane, y in frame_id [m]", (-1e4, 1e4)),
+        (
+            'receiver_heading',
+            0.0,
+            "Direction the ball crosses the receiver's plane in, from +x to +y [deg]",
+            (-360.0, 360.0),
+        ),
         ('wind_x', 0.0, 'Known steady wind, x component in frame_id [m/s]', (-50.0, 50.0)),
         ('wind_y', 0.0, 'Known steady wind, y component in frame_id [m/s]', (-50.0, 50.0)),
         (
@@ -149,6 +166,11 @@ class TrackerNode(Node):
             ),
             max_tracks=int(self.max_tracks),
             carry_over=bool(self.carry_over),
+        )
+        self.plane = (
+            vertical_plane(self.receiver_x, self.receiver_y, self.receiver_heading)
+            if self.receiver_plane
+            else None
         )
         self._streams = {None: self._stream(None)}  # None: the primary stream (legacy topics)
         self.create_subscription(PointStamped, qos.OBSERVATION, self._on_fix, qos.STATE)
@@ -258,12 +280,16 @@ class TrackerNode(Node):
             self.create_publisher(PoseWithCovarianceStamped, name(qos.CATCH), qos.STATE)
             if self.catch_height > 0.0
             else None,
+            self.create_publisher(PoseWithCovarianceStamped, name(qos.RECEIVER), qos.STATE)
+            if self.plane is not None
+            else None,
         )
 
     def _drop_stream(self, track_id) -> None:
         stream = self._streams.pop(track_id, None) if track_id is not None else None
         if stream is not None:
-            for pub in (stream.estimate, stream.landing, stream.path, stream.catch):
+            for pub in (stream.estimate, stream.landing, stream.path, stream.catch,
+                        stream.receiver):
                 if pub is not None:
                     self.destroy_publisher(pub)
 
@@ -293,7 +319,8 @@ class TrackerNode(Node):
 
     def _publish_predictions(self, tracker, stream, log_landing: bool) -> None:
         height = self.catch_height if stream.catch is not None else -math.inf
-        pred, catch = tracker.predict_planes(height)  # one flight of the sigma points for both
+        # One flight of the sigma points for all three.
+        pred, catch, through = tracker.predict_planes(height, self.plane)
         if pred is not None:
             msg = landing_message(pred, self.frame_id)
             if msg is not None:
@@ -303,10 +330,10 @@ class TrackerNode(Node):
                         f'landed: predicted landing at x = {pred.position[0]:.3f} m, '
                         f'y = {pred.position[1]:.3f} m, t = {pred.time:.3f} s'
                     )
-        if stream.catch is not None:
-            msg = landing_message(catch, self.frame_id) if catch is not None else None
-            if msg is not None:
-                stream.catch.publish(msg)
+        for pub, crossing in ((stream.catch, catch), (stream.receiver, through)):
+            msg = landing_message(crossing, self.frame_id) if crossing is not None else None
+            if pub is not None and msg is not None:
+                pub.publish(msg)
         path = tracker.predict_path(self.path_step)
         est = tracker.estimate
         if path is not None and est is not None:
@@ -322,6 +349,7 @@ class _Stream:
     path: object
     throttle: 'PredictionThrottle'
     catch: object | None
+    receiver: object | None
     locked: object | None = None  # the landing predicted at lock-on
 
 
@@ -397,11 +425,13 @@ def landing_message(pred, frame_id: str) -> PoseWithCovarianceStamped | None:
     """
     Build the predicted landing.
 
-    header.stamp = predicted landing (or crossing) time, position on the plane, covariance x/y
-    block from the prediction (z and rotations 0: not estimated).
+    header.stamp = predicted landing (or crossing) time, position on the plane, covariance: the
+    prediction's x/y block (a horizontal plane, z 0) or x/y/z block (a vertical plane); rotations
+    0 (not estimated).
     """
     cov = np.zeros((6, 6))
-    cov[:2, :2] = pred.covariance
+    k = pred.covariance.shape[0]
+    cov[:k, :k] = pred.covariance
     if not (_finite(pred.position, cov) and _stampable(pred.time)):
         return None
     msg = PoseWithCovarianceStamped(header=mb.header(_seconds_msg(pred.time), frame_id))
@@ -435,7 +465,7 @@ def _warm_up(settings: TrackerSettings) -> None:
     for k in range(12):
         t = k / 60.0
         scratch.update(t, (20.0 * t, 0.0, 1.8 + 12.0 * t - 4.905 * t * t))
-    scratch.predict_planes(1.2)
+    scratch.predict_planes(1.2, vertical_plane(10.0, 0.0, 0.0))
     scratch.predict_path(0.05)
     scratch.update(0.5 / 60.0, (0.2, 0.0, 1.9))  # a late fix: the roll-back path
 
