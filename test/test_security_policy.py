@@ -122,7 +122,7 @@ def test_every_topic_and_service_of_the_running_nodes_is_in_its_enclave(
 ):
     start_node('simulator', '--ros-args', '-p', 'observation_rate:=60.0')
     start_node('release')
-    start_node('tracker')
+    start_node('tracker', '--ros-args', '-p', 'receiver_plane:=true')  # every topic it has
     start_node('record', '--out', str(tmp_path / 'bag'))
     from football_ros.programs import NODES
 

@@ -62,6 +62,7 @@ TOPICS: dict[str, tuple[type, QoSProfile]] = {
     qos.ESTIMATE: (Odometry, qos.STATE),
     qos.LANDING: (PoseWithCovarianceStamped, qos.STATE),
     qos.CATCH: (PoseWithCovarianceStamped, qos.STATE),
+    qos.RECEIVER: (PoseWithCovarianceStamped, qos.STATE),
     qos.PREDICTED_PATH: (Path, qos.STATE),
     qos.PLAN_REQUEST: (String, qos.REQUEST),
     qos.PLAN_RESPONSE: (DiagnosticStatus, qos.REQUEST),
