@@ -400,11 +400,15 @@ def main() -> None:
 if __name__ == '__main__':
     import results  # bench/results.py: the figures go to bench/RESULTS.md
 
-    # Its own section for the wind unknown and for another lead time.
+    # Its own section for the wind unknown, another lead time and the tracker's batch fit.
     pre = argparse.ArgumentParser(add_help=False)
     pre.add_argument('--wind-sigma', type=float, default=0.0)
     pre.add_argument('--lead', type=float, default=1.0)
+    pre.add_argument('--set', nargs='*', default=[])
     flags, _ = pre.parse_known_args()
+    fitted = any(item.startswith('refine_iterations=') and item.split('=', 1)[1].strip('0')
+                 for item in flags.set)
     section = ('prediction bound' + (', wind unknown' if flags.wind_sigma > 0.0 else '')
-               + (f', lead {flags.lead:g} s' if flags.lead != 1.0 else ''))
+               + (f', lead {flags.lead:g} s' if flags.lead != 1.0 else '')
+               + (', tracker with the batch fit' if fitted else ''))
     raise SystemExit(results.recorded(section, main))

@@ -143,6 +143,43 @@ def propagate_points(points: np.ndarray, dt: float, params: np.ndarray, step: fl
 
 
 @njit(cache=True)
+def fly_through(
+    points: np.ndarray, times: np.ndarray, params: np.ndarray, step: float, out: np.ndarray
+) -> None:
+    """
+    Fly each row of ``points`` (m, N_X), a state at time 0, through ``times`` (K,) [s] in turn.
+
+    ``out`` (m, K, 3) gets the positions [m] at those times; each row of ``points`` ends as the
+    state at ``times[-1]``. Times may go back (RK4 steps of either sign, each at most ``step``
+    long): a state is flown backwards to where a track began. A row that cannot be flown is NaN.
+    """
+    y = np.empty(dyn.N_STATE)
+    work = np.empty((5, dyn.N_STATE))
+    for i in range(points.shape[0]):
+        p = point_params(params, points[i])
+        ok = _load(points[i], y, p)
+        t = 0.0
+        for k in range(times.size):
+            if not ok:
+                break
+            dt = times[k] - t
+            n = int(math.ceil(abs(dt) / step - 1e-9))
+            try:
+                for _ in range(n):
+                    dyn.rk4_step_with(y, dt / n, p, y, work)
+            except Exception:  # noqa: BLE001 - a zero division in a stage
+                ok = False
+            t = times[k]
+            for j in range(3):
+                out[i, k, j] = y[dyn.R + j]
+        if ok:
+            _store(y, points[i])
+        else:
+            points[i, :] = np.nan
+            out[i, :, :] = np.nan
+
+
+@njit(cache=True)
 def _through(y: np.ndarray, plane: np.ndarray) -> float:
     """Signed distance [m] of the ball past the vertical ``plane`` (px, py, nx, ny)."""
     return plane[2] * (y[0] - plane[0]) + plane[3] * (y[1] - plane[1])

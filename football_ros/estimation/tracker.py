@@ -79,6 +79,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from .motion import (
+    fly_through,
     fly_to_planes,
     N_X,
     N_X_WIND,
@@ -92,7 +93,9 @@ from .motion import (
     X_V,
     X_W,
 )
+from .refine import Prior, refine, Refined
 from .sensor import check_numbers
+from .unscented import moments, sigma_points
 from ..physics import dynamics as dyn
 from ..physics.aero import AeroModel, resolve
 from ..physics.modes import gyroscopic_stability
@@ -100,6 +103,10 @@ from ..physics.presets import get_preset
 from ..physics.release import RPM
 
 CHI2_3_9999 = 21.11  # chi-square 3 dof, 99.99 %
+MAX_FIXES = 1000
+PLANE_COLUMNS = (slice(0, 4), slice(4, 8), slice(8, 13))
+"""Columns of :func:`.motion.fly_to_planes`'s rows: landing, height, wall (each ends in a flag)."""
+"""Fixes of a throw kept for the batch fit (beyond, every other one is dropped: bounded cost)."""
 CARRY_VARIANCE = {X_KD: 0.05**2, X_KL: 0.05**2, X_W: 1.0, X_W + 1: 1.0}
 """Variance added to a learned scale (and to a learned wind [m^2/s^2]) from one throw to the
 next: gusts and a ball that gets wet or scuffed."""
@@ -139,6 +146,9 @@ class TrackerSettings:
     settings the filter assumes (None = the defaults); ``wind`` (x, y) [m/s] a known steady wind in
     ``field`` (an anemometer's); ``wind_sigma`` [m/s] > 0 adds two states, the unknown horizontal
     wind beyond ``wind`` (prior sigma per axis), with random walk ``wind_rate`` [m/s/sqrt(s)].
+    ``refine_iterations`` > 0: once one hand is left, the predictions come from a batch MAP fit
+    of every fix of the throw (:mod:`.refine`, at most that many Levenberg-Marquardt steps a
+    prediction, warm-started from the last); 0 = the filter's own estimate.
 
     The noise and prior defaults make the covariance honest (landing NEES 1.5-3) on the
     prediction benchmark's flights, which have no model error beyond the unknowns the state
@@ -176,6 +186,7 @@ class TrackerSettings:
     wind: tuple = (0.0, 0.0)
     wind_sigma: float = 0.0
     wind_rate: float = 0.2
+    refine_iterations: int = 0
 
     LIMITS = {
         'noise': (1e-4, 10.0),
@@ -205,6 +216,7 @@ class TrackerSettings:
         'ground': (-100.0, 100.0),
         'wind_sigma': (0.0, 30.0),
         'wind_rate': (0.0, 10.0),
+        'refine_iterations': (0, 100),
     }
 
     def __post_init__(self) -> None:
@@ -326,6 +338,17 @@ class _Track:
     history: collections.deque = field(default_factory=lambda: collections.deque(maxlen=90))
     landed: bool = False
     rejected_in_row: int = 0
+    fixes: dict = field(default_factory=dict)  # stamp -> fix the filter took, the arc's too
+    prior: tuple = ()  # (index, mean, sigma) of the scales (and wind) at the start
+    fit: tuple | None = None  # (key, Refined or None) of the last batch fit
+
+    def keep(self, t: float, z: np.ndarray) -> None:
+        """Record a fix the filter took; past MAX_FIXES every other older one is dropped."""
+        self.fixes[t] = z
+        if len(self.fixes) > MAX_FIXES:
+            stamps = sorted(self.fixes)
+            for stamp in stamps[1:-1:2]:
+                del self.fixes[stamp]
 
     @property
     def best(self) -> _Hypothesis:
@@ -475,26 +498,80 @@ class FlightTracker:
         lls = np.array([hyp.loglik for hyp in tr.hyps])
         weights = np.exp(lls - lls.max())
         weights /= weights.sum()
-        columns = (slice(0, 4), slice(4, 8), slice(8, 13))
-        parts = tuple(([], []) for _ in columns)  # (weighted means, covariances) per plane
+        parts = tuple(([], []) for _ in PLANE_COLUMNS)  # (weighted means, covariances) a plane
         for hyp, w in zip(tr.hyps, weights):
             if w < 1e-6 and len(tr.hyps) > 1:
                 continue
-            pts, wm, wc = _sigma_points(hyp.x, hyp.P, s.spread)
-            flown = fly_to_planes(pts, self.params, s.landing_step, h, s.ground, s.horizon, wall)
-            for (means, covs), cols in zip(parts, columns):
-                found = flown[:, cols]
-                if np.all(found[:, -1] == 1.0):
-                    mean, cov = _moments(found[:, :-1], wm, wc)
-                    means.append((w, mean))
-                    covs.append(cov)
-                else:
-                    means.append((w, None))
+            flown = self._plane_moments(hyp.x, hyp.P, h, wall)
+            for (means, covs), (mean, cov) in zip(parts, flown):
+                means.append((w, mean))
+                covs.append(cov)
+        fit = self._fit()
+        if fit is not None:  # the batch fit's moments, widened by how far the filter's lie
+            for k, (mean, cov) in enumerate(self._plane_moments(fit.x, fit.P, h, wall)):
+                means, covs = parts[k]
+                if mean is None or any(m is None for _, m in means):
+                    continue
+                filt = sum(w * m for w, m in means) / sum(w for w, _ in means)
+                means[:] = [(1.0, mean)]
+                covs[:] = [cov + np.outer(mean - filt, mean - filt)]
         return (
             self._prediction(*parts[0], (0.0, 0.0, 1.0), s.ground),
             self._prediction(*parts[1], (0.0, 0.0, 1.0), h),
             self._prediction(*parts[2], (wall[2], wall[3], 0.0)),
         )
+
+    def _plane_moments(self, x, P, height: float, wall: np.ndarray) -> list:
+        """
+        Fly the sigma points of (``x``, ``P``) to the ground, noting the planes on the way.
+
+        [(mean, cov) of (time, x, y[, z]) or (None, None) where a point missed it] for the
+        landing, the height and the wall (:data:`PLANE_COLUMNS`).
+        """
+        s = self.settings
+        pts, wm, wc = sigma_points(x, P, s.spread)
+        flown = fly_to_planes(pts, self.params, s.landing_step, height, s.ground, s.horizon, wall)
+        out = []
+        for cols in PLANE_COLUMNS:
+            found = flown[:, cols]
+            out.append(moments(found[:, :-1], wm, wc) if np.all(found[:, -1] == 1.0)
+                       else (None, None))
+        return out
+
+    def _fit(self) -> Refined | None:
+        """
+        Return the batch MAP fit (:mod:`.refine`) of the throw's one hand left, or None.
+
+        None with ``refine_iterations`` 0, while both hands are alive, or when the fit fails.
+        The prior is the filter's at the first fix, its spin the hand's whole spread (one
+        Gaussian: a fit from the filter's estimate needs no slices). Cached per newest fix;
+        warm-started from the last fit of the throw, else from the filter's estimate flown back
+        to the first fix.
+        """
+        s, tr, hand = self.settings, self.track, self.hand
+        if s.refine_iterations == 0 or tr is None or hand is None:
+            return None
+        key = (tr.t, len(tr.fixes), hand)
+        if tr.fit is not None and tr.fit[0] == key:
+            return tr.fit[1]
+        times = np.array(sorted(tr.fixes))
+        if times[-1] != tr.t:
+            return None
+        if tr.fit is not None and tr.fit[1] is not None and tr.fit[0][2] == hand:
+            x0 = tr.fit[1].x0
+        else:
+            pt = tr.best.x[None, :].copy()
+            fly_through(pt, np.array([times[0] - tr.t]), self.params, s.step, np.empty((1, 1, 3)))
+            x0 = pt[0]
+        prior = Prior((hand * self.nominal_h1, self.nominal_h1 * s.spin_sigma), s.axis_sigma,
+                      s.rate_sigma, tr.prior)
+        zs = np.array([tr.fixes[t] for t in times])
+        fit = None
+        if np.all(np.isfinite(x0)):
+            fit = refine(times, zs, x0, prior, s.noise, self.params, s.step, s.refine_iterations,
+                         s.spread)
+        tr.fit = (key, fit)
+        return fit
 
     def _prediction(self, means, covs, normal, height: float = math.nan):
         """
@@ -612,6 +689,7 @@ class FlightTracker:
             new_hyps.append(new)
         if accepted:
             tr.hyps, tr.t = new_hyps, t
+            tr.keep(t, z)
             tr.rejected_in_row = 0
             self._candidates.clear()
             self._prune(tr)
@@ -672,6 +750,8 @@ class FlightTracker:
         base = tr.history[j - 1]
         for _ in range(len(later)):
             tr.history.pop()
+        for stamp in [k for k in tr.fixes if k > base.stamp]:  # re-taken below if they pass
+            del tr.fixes[stamp]
         tr.hyps, tr.t = [h.copy() for h in base.hyps], base.t
         tr.rejected_in_row, tr.landed = base.rejected_in_row, False
         result = self._filter(tr, t, z, record=True)
@@ -685,9 +765,9 @@ class FlightTracker:
         s = self.settings
         if dt <= 0.0:
             return x.copy(), P.copy(), True
-        pts, wm, wc = _sigma_points(x, P, s.spread)
+        pts, wm, wc = sigma_points(x, P, s.spread)
         propagate_points(pts, dt, self.params, s.step)
-        xm, Pm = _moments(pts, wm, wc)
+        xm, Pm = moments(pts, wm, wc)
         q = self._accel_variance(x)
         for i in range(3):
             Pm[i, i] += q * dt**3 / 3.0
@@ -738,7 +818,7 @@ class FlightTracker:
             (c for k, c in enumerate(self._candidates) if k not in used),
             maxlen=self._candidates.maxlen,
         )
-        return self._start(times[-1], zs[-1], x0, cov, times[-1] - times[0])
+        return self._start(times, zs, x0, cov)
 
     def _behind(self, t: float, z: np.ndarray) -> UpdateResult:
         """
@@ -755,7 +835,7 @@ class FlightTracker:
         jump = self._newest - t
         self.reset_time_base()
         times, zs, x0, cov, _ = arc
-        self._start(times[-1], zs[-1], x0, cov, times[-1] - times[0])
+        self._start(times, zs, x0, cov)
         return UpdateResult('started', f'the clock jumped back {jump:.3f} s: time base reset')
 
     def reset_time_base(self) -> None:
@@ -855,8 +935,10 @@ class FlightTracker:
             for i in range(k)
         ]
 
-    def _start(self, t, z_last, x0, cov6, t_span=0.0) -> UpdateResult:
+    def _start(self, times, zs, x0, cov6) -> UpdateResult:
+        """Start a throw from its arc: fixes ``times`` (k,), ``zs`` (k, 3); x0, cov6 at the end."""
         s = self.settings
+        t, z_last, t_span = times[-1], zs[-1], times[-1] - times[0]
         v = x0[3:6]
         # The axis of a spiral leaves the hand along the velocity and stays nearly fixed in
         # space at first: take the velocity at the first fix of the arc.
@@ -902,6 +984,11 @@ class FlightTracker:
             Ph[X_H:X_H + 3, X_H:X_H + 3] += hand * h1 * c
             hyps.append(_Hypothesis(x, Ph, 0.0, hand))
         self.track = _Track(hyps, float(t))
+        self.track.prior = tuple(
+            (i, float(x[i]), math.sqrt(P[i, i])) for i in (X_KD, X_KL, X_W, X_W + 1) if i < n_x
+        )
+        for tk, zk in zip(times, zs):
+            self.track.keep(float(tk), np.asarray(zk, dtype=float).copy())
         self.track.history.append(
             _Entry(
                 float(t),
@@ -913,30 +1000,6 @@ class FlightTracker:
         )
         self.throws += 1
         return UpdateResult('started')
-
-
-def _sigma_points(x: np.ndarray, P: np.ndarray, spread: float):
-    """
-    Return scaled unscented points (2n + 1, n) and the weights of mean and covariance.
-
-    Row 0 is the mean, then x +/- spread sqrt(n) columns of chol(P); weights with beta = 2.
-    """
-    n = x.size
-    try:
-        L = np.linalg.cholesky(P)
-    except np.linalg.LinAlgError:
-        w, v = np.linalg.eigh(0.5 * (P + P.T))
-        L = v * np.sqrt(np.clip(w, 1e-12, None))
-    scale = spread * math.sqrt(n)
-    pts = np.empty((2 * n + 1, n))
-    pts[0] = x
-    pts[1:n + 1] = x + scale * L.T
-    pts[n + 1:] = x - scale * L.T
-    wm = np.full(2 * n + 1, 1.0 / (2.0 * spread**2 * n))
-    wm[0] = 1.0 - 1.0 / spread**2
-    wc = wm.copy()
-    wc[0] += 3.0 - spread**2
-    return pts, wm, wc
 
 
 def _same(entry: _Entry, t: float, z: np.ndarray) -> bool:
@@ -957,11 +1020,3 @@ def _one_per_stamp(times: np.ndarray, err: np.ndarray, limit: float) -> np.ndarr
         if key not in chosen or err[k] < err[chosen[key]]:
             chosen[key] = k
     return np.array(sorted(chosen.values()), dtype=int)
-
-
-def _moments(vals: np.ndarray, wm: np.ndarray, wc: np.ndarray):
-    """Weighted mean and covariance of sigma-point images ``vals`` (2n + 1, m)."""
-    mean = wm @ vals
-    dev = vals - mean
-    cov = (dev * wc[:, None]).T @ dev
-    return mean, 0.5 * (cov + cov.T)

@@ -94,6 +94,12 @@ PARAMETERS = (
             'Model-error acceleration, white [m/s^2/sqrt(Hz)]; more in gusty air',
             TrackerSettings.LIMITS['accel_noise'],
         ),
+        (
+            'refine_iterations',
+            TrackerSettings.refine_iterations,  # the filter's own default and range
+            'Batch MAP fit of every fix once the hand is known: LM steps a prediction, 0 = off',
+            TrackerSettings.LIMITS['refine_iterations'],
+        ),
         ('spin_rpm', 0.0, "Nominal |spin| [rev/min] of a throw, 0 = the preset's", (0.0, 3000.0)),
         ('gate', 21.11, 'Outlier gate: squared Mahalanobis distance', (1.0, 10000.0)),
         ('max_lag', 0.5, 'Oldest fix accepted behind the newest [s]', (0.0, 10.0)),
@@ -155,6 +161,7 @@ class TrackerNode(Node):
             TrackerSettings(
                 noise=self.observation_noise,
                 accel_noise=self.model_noise,
+                refine_iterations=int(self.refine_iterations),
                 ball=self.ball,
                 spin_rpm=self.spin_rpm or None,
                 gate=self.gate,
