@@ -20,6 +20,8 @@ from football_ros.estimation import Camera, CameraSettings, FlightTracker, Track
 from football_ros.estimation.motion import fly_through, propagate_points, X_H, X_KD, X_KL, X_S
 from football_ros.estimation.refine import Prior, refine
 from football_ros.physics import Flight, Release
+from hypothesis import given, settings
+from hypothesis import strategies as st
 import numpy as np
 import pytest
 
@@ -147,3 +149,41 @@ def test_refine_iterations_is_a_checked_count_and_zero_keeps_the_filter():
     fit = on._fit()
     assert fit is not None and on._fit() is fit  # cached for the same newest fix
     assert not np.allclose(off.predict_landing().position, on.predict_landing().position)
+
+
+finite = st.floats(allow_nan=True, allow_infinity=True, width=64)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    st.lists(
+        st.tuples(
+            st.one_of(finite, st.floats(0.5, 2.5)),
+            st.lists(st.one_of(finite, st.floats(-50.0, 50.0)), min_size=0, max_size=4),
+        ),
+        max_size=25,
+    ),
+    st.one_of(finite, st.floats(0.0, 3.0)),
+)
+def test_fuzz_the_fit_never_raises_and_its_predictions_stay_finite(stream, height):
+    # A real throw locked on first (the fit runs), then hostile fixes into the live track.
+    tracker = FlightTracker(TrackerSettings(refine_iterations=10))
+    for o in FUZZ_OBS[:60]:
+        tracker.update(o.stamp, o.position)
+    assert tracker.hand is not None and tracker._fit() is not None
+    for stamp, pos in stream:
+        tracker.update(stamp, pos)
+        land, catch, _ = tracker.predict_planes(height)
+        for pred in (land, catch):
+            if pred is not None:
+                assert np.all(np.isfinite(pred.position)) and np.all(np.isfinite(pred.covariance))
+                assert math.isfinite(pred.time) and math.isfinite(pred.time_variance)
+
+
+def _fuzz_obs():
+    flight = Flight.from_release(Release(model='full', position=(0.0, 0.0, 1.8)))
+    cam = Camera(CameraSettings(rate=60.0, noise=0.02, latency=0.0, seed=11))
+    return cam.record(2.0, lambda t: flight.state_at(t)[:3])
+
+
+FUZZ_OBS = _fuzz_obs()

@@ -104,9 +104,9 @@ from ..physics.release import RPM
 
 CHI2_3_9999 = 21.11  # chi-square 3 dof, 99.99 %
 MAX_FIXES = 1000
+"""Fixes of a throw kept for the batch fit (beyond, every other one is dropped: bounded cost)."""
 PLANE_COLUMNS = (slice(0, 4), slice(4, 8), slice(8, 13))
 """Columns of :func:`.motion.fly_to_planes`'s rows: landing, height, wall (each ends in a flag)."""
-"""Fixes of a throw kept for the batch fit (beyond, every other one is dropped: bounded cost)."""
 CARRY_VARIANCE = {X_KD: 0.05**2, X_KL: 0.05**2, X_W: 1.0, X_W + 1: 1.0}
 """Variance added to a learned scale (and to a learned wind [m^2/s^2]) from one throw to the
 next: gusts and a ball that gets wet or scuffed."""
