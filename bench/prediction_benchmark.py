@@ -19,7 +19,9 @@ Many full-model flights (both hands, a spread of speeds, elevations, spins and r
 are seen by the simulated camera (60 Hz, 2 cm noise, 20 ms latency). At lead times 1.5, 1.0
 and 0.5 s before the true landing, with the fixes delivered by then, each method predicts the
 landing point and time:
-- tracker: football_ros.estimation.FlightTracker (UKF on the full model);
+- tracker: football_ros.estimation.FlightTracker (UKF on the full model, its predictions from
+  the batch fit of every fix once the hand is known);
+- filter: the same tracker without the batch fit (refine_iterations 0), fed the same fixes;
 - parabola: least-squares quadratic in t per axis, landing where z(t) = 0;
 - drag: point mass with quadratic drag a = -c |v| v - g, fitted (r0, v0, c) by nonlinear least
   squares to the same fixes;
@@ -45,7 +47,8 @@ from __future__ import annotations
 
 import argparse
 import collections
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
+import itertools
 import math
 import time
 
@@ -297,6 +300,7 @@ def run_flight(
     obs = sorted(flat, key=lambda o: o.delivery)
     settings = tracker_settings(case, wind_sigma)
     tracker = MultiTracker(settings) if two_balls else FlightTracker(settings)
+    alone = None if two_balls else FlightTracker(replace(settings, refine_iterations=0))
     routed = collections.Counter()  # track id -> this ball's fixes it took
     known = FlightTracker(
         TrackerSettings(
@@ -317,6 +321,8 @@ def run_flight(
             o = obs[i]
             i += 1
             got = tracker.update(o.stamp, o.position)
+            if alone is not None:
+                alone.update(o.stamp, o.position)
             if id(o) not in mine:
                 continue
             if two_balls and got[0] is not None:
@@ -333,6 +339,8 @@ def run_flight(
         else:
             pred = tracker.predict_landing()
         row['tracker'] = None if pred is None else (pred.time, pred.position[:2], pred.covariance)
+        pred = alone.predict_landing() if alone is not None else None
+        row['filter'] = None if pred is None else (pred.time, pred.position[:2], pred.covariance)
         pred = known.predict_landing() if oracle else None
         row['oracle'] = None if pred is None else (pred.time, pred.position[:2], pred.covariance)
         t_arr, z_arr = np.array(delivered_t), np.array(delivered_z)
@@ -390,23 +398,28 @@ def time_tracker(releases: list[Release], seed: int) -> dict[str, np.ndarray]:
 
 
 def _summary_rows(name: str, per: list, t_flights: np.ndarray, draws: np.ndarray) -> list[str]:
-    """Return the tracker's rows of one case at 1.0 and 0.5 s lead, and its flights > 2.8 s."""
+    """
+    Return the rows of one case at 1.0 and 0.5 s lead, and its flights > 2.8 s at 1.0 s.
+
+    The tracker's, and the filter alone's (without the batch fit) after each.
+    """
     rows = []
     for label, keep in ((name, np.ones(len(per), bool)), (name + ', > 2.8 s', t_flights > 2.8)):
-        for lead in (1.0, 0.5):
+        for lead, method in itertools.product((1.0, 0.5), ('tracker', 'filter')):
             got = [
-                (per[i][lead]['tracker'], draws[i])
+                (per[i][lead][method], draws[i])
                 for i in np.flatnonzero(keep)
-                if per[i][lead]['tracker'] is not None
+                if per[i][lead][method] is not None
             ]
             if not got or (label != name and lead != 1.0):
                 continue
+            shown = label + (', filter alone' if method == 'filter' else '')
             err = np.array([g[0][0] for g in got])
             nees = np.array([g[0][2] for g in got])
             d = np.array([g[1] for g in got])
             medians = [np.median(err[d == k]) for k in np.unique(d)]
             rows.append(
-                f'{label:>28} {lead:>5.1f} {len(got):>4} {np.median(medians):>7.3f} '
+                f'{shown:>42} {lead:>5.1f} {len(got):>4} {np.median(medians):>7.3f} '
                 f'{min(medians):>7.3f}-{max(medians):<7.3f} {np.mean(nees):>6.2f} '
                 f'{np.mean(nees <= CHI2_2_95):>7.2f}'
             )
@@ -437,7 +450,7 @@ def main() -> None:
         ap.error(f'unknown case(s) {unknown}; the cases: {list(CASES)}')
     # Warm the compiled kernels so that the timings are of the steady state.
     run_flight(Release(model='full'), 0)
-    methods = ('tracker', 'oracle', 'drag', 'parabola')
+    methods = ('tracker', 'filter', 'oracle', 'drag', 'parabola')
     print(
         f'camera {RATE:g} Hz, noise {NOISE * 100:g} cm, latency {LATENCY * 1000:g} ms unless the '
         f'case says; {args.flights} flights per case x {args.draws} draws, seeds {args.seed}..'
@@ -490,7 +503,7 @@ def main() -> None:
         '\ntracker per case (median of the per-draw medians [m] and their range; NEES mean; '
         'fraction in the 95 % ellipse; targets: NEES 1.5-3, >= 0.90 inside)'
     )
-    print(f'{"case":>28} {"lead":>5} {"n":>4} {"median":>7} {"draw range":>15} {"NEES":>6} '
+    print(f'{"case":>42} {"lead":>5} {"n":>4} {"median":>7} {"draw range":>15} {"NEES":>6} '
           f'{"in 95%":>7}')
     for row in summary:
         print(row)

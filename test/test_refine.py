@@ -126,10 +126,11 @@ def test_the_fit_beats_the_filter_on_screw_kicks_and_stays_honest():
         rows.append(_kick_errors(release, seed=100 + k))
     a = np.array(rows)  # (kick, filter/fit, error/NEES)
     filt, fit = np.median(a[:, 0, 0]), np.median(a[:, 1, 0])
-    # Measured: medians 7.8 (filter) and 5.4 cm (fit), the fit's NEES 3.2, 8 of 10 inside.
+    # Measured: medians 7.8 (filter) and 5.4 cm (fit), the fit's NEES 2.5, 9 of 10 inside (the
+    # tumbling 141 rpm kick is left to the filter: the fit alone gave NEES 31 there).
     assert fit <= 0.85 * filt, (filt, fit)
     assert 0.3 <= a[:, 1, 1].mean() <= 4.0, a[:, 1, 1]
-    assert np.mean(a[:, 1, 1] <= CHI2_2_95) >= 0.7
+    assert np.mean(a[:, 1, 1] <= CHI2_2_95) >= 0.8
 
 
 def test_refine_iterations_is_a_checked_count_and_zero_keeps_the_filter():

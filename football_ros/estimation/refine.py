@@ -28,9 +28,10 @@ wind [m/s] if the state has it. The objective is
 sum_k |r(t_k) - z_k|^2 / noise^2 + the prior's terms (:class:`Prior`, as the filter starts:
 the axis off the velocity by N(0, axis_sigma) per angle, the spin momentum h.s and the
 transverse momentum, the scales and the wind), minimised by Levenberg-Marquardt steps with a
-central-difference Jacobian whose 2n + 1 states are flown together
+forward-difference Jacobian whose n + 1 states are flown together
 (:func:`.motion.fly_through`). The posterior is the Laplace one at the fit, handed back as the
-state and its covariance at the last fix (its sigma points flown there), the form the
+state and its covariance at the last fix (the fit flown there, the covariance carried by the
+Jacobian's own flights), the form the
 filter's predictions take.
 """
 
@@ -42,12 +43,14 @@ import math
 import numpy as np
 
 from .motion import fly_through, N_X_WIND, X_H, X_KD, X_KL, X_R, X_S, X_V, X_W
-from .unscented import moments, sigma_points
 
 FD_STEP = np.array(
     [1e-4] * 3 + [1e-4] * 3 + [1e-5] * 2 + [1e-3] * 3 + [1e-4] * 2 + [1e-3] * 2
 )
-"""Central-difference step per entry of delta (m, m/s, rad, rad/s, 1, m/s)."""
+"""Forward-difference step per entry of delta (m, m/s, rad, rad/s, 1, m/s)."""
+CONVERGED = 0.01
+"""A step that lowers the objective (a chi-square) by less ends the fit: it moved the estimate by
+about a tenth of its sigma (sqrt of the decrease), what is left to the minimum far less."""
 
 
 @dataclass(frozen=True)
@@ -151,40 +154,41 @@ def refine(
     params: np.ndarray,
     step: float,
     max_iterations: int = 8,
-    spread: float = 1.0,
 ) -> Refined | None:
     """
     Fit the throw to every fix (batch MAP) from ``x0``, the state at ``times[0]``.
 
     ``times`` (K,) [s] ascending, ``zs`` (K, 3) [m] the fixes in ``field``, ``noise`` [m]
     their 1-sigma per axis; ``params`` the motion kernel's parameters, ``step`` [s] its
-    longest RK4 step. Levenberg-Marquardt from ``x0`` until the objective stops falling (a
-    relative change under 1e-9) or ``max_iterations``. The state and covariance at
-    ``times[-1]`` are the fit flown there and the covariance of the posterior's unscented
-    points (``spread`` their alpha) flown with it. None if a flight fails or the information
-    matrix is singular.
+    longest RK4 step. Levenberg-Marquardt from ``x0`` until a step lowers the objective by
+    less than :data:`CONVERGED`, no step lowers it, or ``max_iterations`` Jacobians. At
+    ``times[-1]``: the fit flown there, and the posterior's covariance carried there by the
+    derivatives of the Jacobian's flights (linear: the posterior is narrow). None if a flight
+    fails or the information matrix is singular.
     """
     times = np.asarray(times, dtype=float)
     zs = np.asarray(zs, dtype=float)
     rel = times - times[0]
     n = 15 if x0.size >= N_X_WIND else 13
     steps = FD_STEP[:n]
-    fd = np.zeros((2 * n + 1, n))
-    fd[1:n + 1] = np.diag(steps)
-    fd[n + 1:] = -np.diag(steps)
+    fd = np.vstack([np.zeros(n), np.diag(steps)])  # x, then x moved along each delta
 
     def linearise(x: np.ndarray):
-        """(residuals at x, their Jacobian (m, n)), or None if a flight fails."""
-        res = _residuals(_apply(x, fd), rel, zs, noise, params, step, prior)
-        if not np.all(np.isfinite(res)):
+        """(residuals at x, their Jacobian (m, n), d x(times[-1]) / d delta (n, n_x)) or None."""
+        pts = _apply(x, fd)
+        res = _residuals(pts, rel, zs, noise, params, step, prior)  # pts end at the last fix
+        if not (np.all(np.isfinite(res)) and np.all(np.isfinite(pts))):
             return None
-        return res[0], ((res[1:n + 1] - res[n + 1:]) / (2.0 * steps[:, None])).T
+        return res[0], ((res[1:] - res[0]) / steps[:, None]).T, (pts[1:] - pts[0]) / steps[:, None]
 
     x = np.asarray(x0, dtype=float).copy()
-    lin, lam, it = linearise(x), 1e-3, 0
-    while lin is not None and it < max_iterations:
+    lin = linearise(x)
+    if lin is None:
+        return None
+    lam, it, cost = 1e-3, 0, math.inf
+    while it < max_iterations:
         it += 1
-        r0, jac = lin
+        r0, jac = lin[:2]
         cost, g, info = float(r0 @ r0), jac.T @ r0, jac.T @ jac
         new, trial = math.inf, x
         while lam < 1e8:  # Levenberg-Marquardt: shorten the step until the objective falls
@@ -200,13 +204,13 @@ def refine(
             lam *= 4.0
         if new >= cost:  # no step lowers it: at the minimum
             break
-        x, lam = trial[0], max(lam / 4.0, 1e-7)
-        lin = linearise(x)
-        if cost - new <= 1e-9 * cost:
+        x, lam, cost = trial[0], max(lam / 4.0, 1e-7), new
+        if r0 @ r0 - new <= CONVERGED:  # the last Jacobian serves the posterior
             break
-    if lin is None:
-        return None
-    r0, jac = lin  # the posterior at the fit: Laplace, (J'J)^-1 in delta
+        lin = linearise(x)
+        if lin is None:
+            return None
+    jac, ends = lin[1], lin[2]  # the posterior at the fit: Laplace, (J'J)^-1 in delta
     info = jac.T @ jac
     d = np.sqrt(np.diag(info))
     if not (np.all(d > 0.0) and np.all(np.isfinite(d))):
@@ -215,11 +219,9 @@ def refine(
         cov = np.linalg.inv(info / np.outer(d, d)) / np.outer(d, d)
     except np.linalg.LinAlgError:
         return None
-    # Unscented points of delta ~ N(0, cov), flown to the last fix.
-    pts, wm, wc = sigma_points(np.zeros(n), cov, spread)
-    states = _apply(x, pts)
-    fly_through(states, rel, params, step, np.empty((states.shape[0], rel.size, 3)))
-    if not np.all(np.isfinite(states)):
+    mode = x[None, :].copy()  # the fit flown to the last fix; its covariance carried linearly
+    fly_through(mode, rel, params, step, np.empty((1, rel.size, 3)))
+    P = ends.T @ cov @ ends
+    if not (np.all(np.isfinite(mode)) and np.all(np.isfinite(P))):
         return None
-    P = moments(states, wm, wc)[1]
-    return Refined(x, states[0], P, float(r0 @ r0), it)  # the mode flown, the points' spread
+    return Refined(x, mode[0], 0.5 * (P + P.T), cost, it)

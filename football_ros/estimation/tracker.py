@@ -186,7 +186,7 @@ class TrackerSettings:
     wind: tuple = (0.0, 0.0)
     wind_sigma: float = 0.0
     wind_rate: float = 0.2
-    refine_iterations: int = 0
+    refine_iterations: int = 25
 
     LIMITS = {
         'noise': (1e-4, 10.0),
@@ -446,7 +446,8 @@ class FlightTracker:
         Predict the landing of the current throw from the sigma points of the estimate.
 
         None without a throw or if it does not land within ``horizon``. While both hands
-        are alive the prediction is their mixture, weighted by likelihood. Model error adds
+        are alive the prediction is their mixture, weighted by likelihood; once one is left,
+        with ``refine_iterations`` > 0, the batch fit's (:mod:`.refine`). Model error adds
         q T^3 / 3 to the x and y variances (q: accel_noise^2, and the tumbling term while the
         estimate is gyroscopically unstable).
         """
@@ -495,26 +496,20 @@ class FlightTracker:
         tr = self.track
         if tr is None:
             return None, None, None
-        lls = np.array([hyp.loglik for hyp in tr.hyps])
-        weights = np.exp(lls - lls.max())
-        weights /= weights.sum()
+        fit = self._fit()
+        if fit is not None:  # the batch fit of every fix, once one hand is left
+            sources = [(fit.x, fit.P, 1.0)]
+        else:  # the filters, mixed by likelihood
+            lls = np.array([hyp.loglik for hyp in tr.hyps])
+            weights = np.exp(lls - lls.max())
+            weights /= weights.sum()
+            sources = [(hyp.x, hyp.P, w) for hyp, w in zip(tr.hyps, weights)
+                       if w >= 1e-6 or len(tr.hyps) == 1]
         parts = tuple(([], []) for _ in PLANE_COLUMNS)  # (weighted means, covariances) a plane
-        for hyp, w in zip(tr.hyps, weights):
-            if w < 1e-6 and len(tr.hyps) > 1:
-                continue
-            flown = self._plane_moments(hyp.x, hyp.P, h, wall)
-            for (means, covs), (mean, cov) in zip(parts, flown):
+        for x, P, w in sources:
+            for (means, covs), (mean, cov) in zip(parts, self._plane_moments(x, P, h, wall)):
                 means.append((w, mean))
                 covs.append(cov)
-        fit = self._fit()
-        if fit is not None:  # the batch fit's moments, widened by how far the filter's lie
-            for k, (mean, cov) in enumerate(self._plane_moments(fit.x, fit.P, h, wall)):
-                means, covs = parts[k]
-                if mean is None or any(m is None for _, m in means):
-                    continue
-                filt = sum(w * m for w, m in means) / sum(w for w, _ in means)
-                means[:] = [(1.0, mean)]
-                covs[:] = [cov + np.outer(mean - filt, mean - filt)]
         return (
             self._prediction(*parts[0], (0.0, 0.0, 1.0), s.ground),
             self._prediction(*parts[1], (0.0, 0.0, 1.0), h),
@@ -542,7 +537,9 @@ class FlightTracker:
         """
         Return the batch MAP fit (:mod:`.refine`) of the throw's one hand left, or None.
 
-        None with ``refine_iterations`` 0, while both hands are alive, or when the fit fails.
+        None with ``refine_iterations`` 0, while both hands are alive, when the fit fails, or
+        while the fitted ball is gyroscopically unstable (S_g < 1: a tumbling kick, whose axis
+        motion the deterministic fit cannot follow; the filter has an allowance for it).
         The prior is the filter's at the first fix, its spin the hand's whole spread (one
         Gaussian: a fit from the filter's estimate needs no slices). Cached per newest fix;
         warm-started from the last fit of the throw, else from the filter's estimate flown back
@@ -552,8 +549,14 @@ class FlightTracker:
         if s.refine_iterations == 0 or tr is None or hand is None:
             return None
         key = (tr.t, len(tr.fixes), hand)
-        if tr.fit is not None and tr.fit[0] == key:
-            return tr.fit[1]
+        if tr.fit is None or tr.fit[0] != key:
+            tr.fit = (key, self._refit(tr, hand))
+        fit = tr.fit[1]
+        return fit if fit is not None and self.gyroscopic_stability(fit.x) >= 1.0 else None
+
+    def _refit(self, tr: _Track, hand: float) -> Refined | None:
+        """Fit ``tr``'s fixes for ``hand`` (:meth:`_fit`), from its last fit if it has one."""
+        s = self.settings
         times = np.array(sorted(tr.fixes))
         if times[-1] != tr.t:
             return None
@@ -566,12 +569,9 @@ class FlightTracker:
         prior = Prior((hand * self.nominal_h1, self.nominal_h1 * s.spin_sigma), s.axis_sigma,
                       s.rate_sigma, tr.prior)
         zs = np.array([tr.fixes[t] for t in times])
-        fit = None
-        if np.all(np.isfinite(x0)):
-            fit = refine(times, zs, x0, prior, s.noise, self.params, s.step, s.refine_iterations,
-                         s.spread)
-        tr.fit = (key, fit)
-        return fit
+        if not np.all(np.isfinite(x0)):
+            return None
+        return refine(times, zs, x0, prior, s.noise, self.params, s.step, s.refine_iterations)
 
     def _prediction(self, means, covs, normal, height: float = math.nan):
         """
@@ -606,7 +606,7 @@ class FlightTracker:
 
     def predict_path(self, sample_dt: float = 0.05) -> tuple[np.ndarray, np.ndarray] | None:
         """
-        Remaining path of the mean estimate.
+        Remaining path of the mean estimate (the batch fit's where the predictions use one).
 
         Times (m,) [s] on the observations' clock and positions (m, 3) [m], every
         ``sample_dt`` [s] until the ground.
@@ -615,8 +615,10 @@ class FlightTracker:
         if tr is None or not (0.001 <= sample_dt <= 10.0):
             return None
         s = self.settings
+        fit = self._fit()
         times, pos = path_of(
-            tr.best.x, self.params, sample_dt, s.landing_step, s.ground, s.horizon
+            tr.best.x if fit is None else fit.x, self.params, sample_dt, s.landing_step,
+            s.ground, s.horizon
         )
         if not np.all(np.isfinite(pos)):
             return None
