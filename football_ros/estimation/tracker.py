@@ -66,6 +66,13 @@ lost). Several balls: :mod:`.multi`. Times [s] are on the observations' clock.
 
 Wind: a known steady wind (``wind``) enters the model; with ``wind_sigma`` > 0 the state has two
 more entries (``N_X_WIND``), the unknown horizontal wind, flown point by point.
+
+Predictions once one hand is left (``refine_iterations`` > 0): a batch MAP fit of every fix of
+the throw under the same prior (:mod:`.refine`), warm-started at each prediction. The filter's
+process noise, which keeps it honest and lets it follow a ball the model misses, also makes it
+forget; the fit keeps all the fixes, and so comes closer to the information bound. A fit whose
+ball is gyroscopically unstable is not used (the filter's tumbling allowance is the better
+model there).
 """
 
 from __future__ import annotations

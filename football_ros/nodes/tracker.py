@@ -17,7 +17,8 @@ Tracker node: ball positions from any detector in, state estimate and landing pr
 
 Subscribes ``football/observation`` (geometry_msgs/msg/PointStamped, header.stamp = capture
 time) and runs :class:`football_ros.estimation.FlightTracker` (an unscented Kalman filter on
-the package's full flight model; the filter, its choices and its limits are documented
+the package's full flight model, its predictions from a batch fit of every fix once the hand
+is known, ``refine_iterations``; the filter, its choices and its limits are documented
 there). Publishes ``football/estimate`` (nav_msgs/msg/Odometry with covariances),
 ``football/prediction/landing`` (geometry_msgs/msg/PoseWithCovarianceStamped on z = 0, whose
 header.stamp is the predicted landing time), ``football/prediction/catch`` (the same through
