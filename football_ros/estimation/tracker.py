@@ -70,9 +70,9 @@ more entries (``N_X_WIND``), the unknown horizontal wind, flown point by point.
 Predictions once one hand is left (``refine_iterations`` > 0): a batch MAP fit of every fix of
 the throw under the same prior (:mod:`.refine`), warm-started at each prediction. The filter's
 process noise, which keeps it honest and lets it follow a ball the model misses, also makes it
-forget; the fit keeps all the fixes, and so comes closer to the information bound. A fit whose
-ball is gyroscopically unstable is not used (the filter's tumbling allowance is the better
-model there).
+forget; the fit keeps all the fixes, and so comes closer to the information bound. The
+tumbling allowance then follows the fit's own S_g (a kick the fit finds unstable gets it, as
+the filter's would).
 """
 
 from __future__ import annotations
@@ -504,6 +504,7 @@ class FlightTracker:
         if tr is None:
             return None, None, None
         fit = self._fit()
+        model = tr.best.x if fit is None else fit.x  # whose S_g sets the tumbling allowance
         if fit is not None:  # the batch fit of every fix, once one hand is left
             sources = [(fit.x, fit.P, 1.0)]
         else:  # the filters, mixed by likelihood
@@ -518,9 +519,9 @@ class FlightTracker:
                 means.append((w, mean))
                 covs.append(cov)
         return (
-            self._prediction(*parts[0], (0.0, 0.0, 1.0), s.ground),
-            self._prediction(*parts[1], (0.0, 0.0, 1.0), h),
-            self._prediction(*parts[2], (wall[2], wall[3], 0.0)),
+            self._prediction(*parts[0], model, (0.0, 0.0, 1.0), s.ground),
+            self._prediction(*parts[1], model, (0.0, 0.0, 1.0), h),
+            self._prediction(*parts[2], model, (wall[2], wall[3], 0.0)),
         )
 
     def _plane_moments(self, x, P, height: float, wall: np.ndarray) -> list:
@@ -544,9 +545,7 @@ class FlightTracker:
         """
         Return the batch MAP fit (:mod:`.refine`) of the throw's one hand left, or None.
 
-        None with ``refine_iterations`` 0, while both hands are alive, when the fit fails, or
-        while the fitted ball is gyroscopically unstable (S_g < 1: a tumbling kick, whose axis
-        motion the deterministic fit cannot follow; the filter has an allowance for it).
+        None with ``refine_iterations`` 0, while both hands are alive, or when the fit fails.
         The prior is the filter's at the first fix, its spin the hand's whole spread (one
         Gaussian: a fit from the filter's estimate needs no slices). Cached per newest fix;
         warm-started from the last fit of the throw, else from the filter's estimate flown back
@@ -558,8 +557,7 @@ class FlightTracker:
         key = (tr.t, len(tr.fixes), hand)
         if tr.fit is None or tr.fit[0] != key:
             tr.fit = (key, self._refit(tr, hand))
-        fit = tr.fit[1]
-        return fit if fit is not None and self.gyroscopic_stability(fit.x) >= 1.0 else None
+        return tr.fit[1]
 
     def _refit(self, tr: _Track, hand: float) -> Refined | None:
         """Fit ``tr``'s fixes for ``hand`` (:meth:`_fit`), from its last fit if it has one."""
@@ -580,12 +578,13 @@ class FlightTracker:
             return None
         return refine(times, zs, x0, prior, s.noise, self.params, s.step, s.refine_iterations)
 
-    def _prediction(self, means, covs, normal, height: float = math.nan):
+    def _prediction(self, means, covs, model, normal, height: float = math.nan):
         """
         Mix the hypotheses' moments on one plane of unit ``normal``; None if a point missed it.
 
         Horizontal planes (z = ``height``) carry (time, x, y) moments, vertical ones (time, x,
-        y, z). The model error's variance is added in the plane.
+        y, z). The model error's variance is added in the plane, with the tumbling term of the
+        state ``model`` the prediction is made from (the filter's best, or the batch fit).
         """
         if not means or any(m is None for _, m in means):
             return None
@@ -593,7 +592,7 @@ class FlightTracker:
         mean = sum(w * m for w, m in means) / wsum
         cov = sum(w * (c + np.outer(m - mean, m - mean)) for (w, m), c in zip(means, covs)) / wsum
         t_land = float(mean[0])
-        extra = self._accel_variance(self.track.best.x) * max(t_land, 0.0) ** 3 / 3.0
+        extra = self._accel_variance(model) * max(t_land, 0.0) ** 3 / 3.0
         n = np.asarray(normal, dtype=float)
         in_plane = extra * (np.eye(3) - np.outer(n, n))
         if mean.size == 3:  # a horizontal plane
