@@ -70,9 +70,10 @@ more entries (``N_X_WIND``), the unknown horizontal wind, flown point by point.
 Predictions once one hand is left (``refine_iterations`` > 0): a batch MAP fit of every fix of
 the throw under the same prior (:mod:`.refine`), warm-started at each prediction. The filter's
 process noise, which keeps it honest and lets it follow a ball the model misses, also makes it
-forget; the fit keeps all the fixes, and so comes closer to the information bound. The
-tumbling allowance then follows the fit's own S_g (a kick the fit finds unstable gets it, as
-the filter's would).
+forget; the fit keeps all the fixes, and so comes closer to the information bound. Where
+either finds the ball gyroscopically unstable (a kick that may tumble, which the deterministic
+fit cannot follow but the filter's tumbling noise carries all flight), the prediction keeps the
+fit's mean with the filter's covariance, widened by how far the two lie apart.
 """
 
 from __future__ import annotations
@@ -504,25 +505,55 @@ class FlightTracker:
         if tr is None:
             return None, None, None
         fit = self._fit()
-        model = tr.best.x if fit is None else fit.x  # whose S_g sets the tumbling allowance
+        model = tr.best.x  # whose S_g sets the tumbling allowance
+        may_tumble = fit is not None and min(
+            self.gyroscopic_stability(fit.x), self.gyroscopic_stability(model)
+        ) < 1.0
+        if fit is None or may_tumble:
+            planes = self._mixture(tr, h, wall)
         if fit is not None:  # the batch fit of every fix, once one hand is left
-            sources = [(fit.x, fit.P, 1.0)]
-        else:  # the filters, mixed by likelihood
-            lls = np.array([hyp.loglik for hyp in tr.hyps])
-            weights = np.exp(lls - lls.max())
-            weights /= weights.sum()
-            sources = [(hyp.x, hyp.P, w) for hyp, w in zip(tr.hyps, weights)
-                       if w >= 1e-6 or len(tr.hyps) == 1]
-        parts = tuple(([], []) for _ in PLANE_COLUMNS)  # (weighted means, covariances) a plane
-        for x, P, w in sources:
-            for (means, covs), (mean, cov) in zip(parts, self._plane_moments(x, P, h, wall)):
-                means.append((w, mean))
-                covs.append(cov)
+            fitted = self._plane_moments(fit.x, fit.P, h, wall)
+            if may_tumble:  # the fit's mean; the filter's covariance (it carries the tumbling
+                # all flight), widened by how far the two lie apart
+                model = min((fit.x, model), key=self.gyroscopic_stability)
+                planes = [
+                    None if f[0] is None or m is None
+                    else (f[0], m[1] + np.outer(f[0] - m[0], f[0] - m[0]))
+                    for f, m in zip(fitted, planes)
+                ]
+            else:
+                planes = [None if f[0] is None else f for f in fitted]
         return (
-            self._prediction(*parts[0], model, (0.0, 0.0, 1.0), s.ground),
-            self._prediction(*parts[1], model, (0.0, 0.0, 1.0), h),
-            self._prediction(*parts[2], model, (wall[2], wall[3], 0.0)),
+            self._prediction(planes[0], model, (0.0, 0.0, 1.0), s.ground),
+            self._prediction(planes[1], model, (0.0, 0.0, 1.0), h),
+            self._prediction(planes[2], model, (wall[2], wall[3], 0.0)),
         )
+
+    def _mixture(self, tr: _Track, height: float, wall: np.ndarray) -> list:
+        """
+        Return the filters' moments on each plane, mixed by likelihood (:data:`PLANE_COLUMNS`).
+
+        [(mean, cov) or None where a point of a filter that counts missed the plane].
+        """
+        lls = np.array([hyp.loglik for hyp in tr.hyps])
+        weights = np.exp(lls - lls.max())
+        weights /= weights.sum()
+        parts = [[] for _ in PLANE_COLUMNS]
+        for hyp, w in zip(tr.hyps, weights):
+            if w < 1e-6 and len(tr.hyps) > 1:
+                continue
+            for part, moment in zip(parts, self._plane_moments(hyp.x, hyp.P, height, wall)):
+                part.append((w, moment))
+        out = []
+        for part in parts:
+            if not part or any(m[0] is None for _, m in part):
+                out.append(None)
+                continue
+            wsum = sum(w for w, _ in part)
+            mean = sum(w * m[0] for w, m in part) / wsum
+            out.append((mean, sum(w * (m[1] + np.outer(m[0] - mean, m[0] - mean))
+                                  for w, m in part) / wsum))
+        return out
 
     def _plane_moments(self, x, P, height: float, wall: np.ndarray) -> list:
         """
@@ -578,19 +609,17 @@ class FlightTracker:
             return None
         return refine(times, zs, x0, prior, s.noise, self.params, s.step, s.refine_iterations)
 
-    def _prediction(self, means, covs, model, normal, height: float = math.nan):
+    def _prediction(self, moments_, model, normal, height: float = math.nan):
         """
-        Mix the hypotheses' moments on one plane of unit ``normal``; None if a point missed it.
+        Return the prediction on one plane of unit ``normal`` from its (mean, cov), or None.
 
         Horizontal planes (z = ``height``) carry (time, x, y) moments, vertical ones (time, x,
         y, z). The model error's variance is added in the plane, with the tumbling term of the
-        state ``model`` the prediction is made from (the filter's best, or the batch fit).
+        state ``model`` (the filter's best, or the batch fit, whichever is less stable).
         """
-        if not means or any(m is None for _, m in means):
+        if moments_ is None:
             return None
-        wsum = sum(w for w, _ in means)
-        mean = sum(w * m for w, m in means) / wsum
-        cov = sum(w * (c + np.outer(m - mean, m - mean)) for (w, m), c in zip(means, covs)) / wsum
+        mean, cov = moments_
         t_land = float(mean[0])
         extra = self._accel_variance(model) * max(t_land, 0.0) ** 3 / 3.0
         n = np.asarray(normal, dtype=float)
