@@ -50,8 +50,14 @@ def landed_values(collector):
     return out
 
 
-def wait_until_quiet(collector, topic, quiet=0.5, timeout=15.0):
-    """Wait until ``topic`` has had messages and none for ``quiet`` [s] (all delivered)."""
+def wait_until_quiet(collector, topic, quiet=2.0, timeout=20.0):
+    """
+    Wait until ``topic`` has had messages and none for ``quiet`` [s] (all delivered).
+
+    2 s: a tracker that runs behind on a loaded machine (a batch fit at every fix) can pause
+    for half a second and more while it still has fixes to go (a clean-clone run took a
+    prediction 0.4 m short of the landing for the last one after a 0.5 s window).
+    """
     collector.wait_for(
         lambda: collector.arrivals[topic][-1:]
         and time.monotonic_ns() - collector.arrivals[topic][-1] > quiet * 1e9,
@@ -234,7 +240,7 @@ def test_hostile_fixes_never_crash_or_poison_the_tracker(start_node, collector):
             pub.publish(point(base + t - 0.025, truth.positions[k - 1] + rng.normal(0.0, 0.02, 3)))
         if k % 20 == 0:
             time.sleep(0.01)
-    wait_until_quiet(collector, qos.LANDING, quiet=1.0, timeout=30.0)  # the node may lag
+    wait_until_quiet(collector, qos.LANDING, timeout=30.0)  # the node may lag
     assert len(collector.get(qos.LANDING)) > 5, tracker.log()
     assert tracker.proc.poll() is None, tracker.log()
     assert 'Traceback' not in tracker.log() and 'internal error' not in tracker.log()
