@@ -17,7 +17,15 @@
 import math
 
 from football_ros.estimation import Camera, CameraSettings, FlightTracker, TrackerSettings
-from football_ros.estimation.motion import fly_through, propagate_points, X_H, X_KD, X_KL, X_S
+from football_ros.estimation.motion import (
+    fly_state,
+    fly_through,
+    propagate_points,
+    X_H,
+    X_KD,
+    X_KL,
+    X_S,
+)
 from football_ros.estimation.refine import Prior, refine
 from football_ros.physics import Flight, Release
 from hypothesis import given, settings
@@ -45,17 +53,14 @@ def _state(ball: str = 'american', spin_rpm: float = 600.0) -> tuple[FlightTrack
 def test_fly_through_matches_the_filters_propagation_and_flies_back_to_its_start():
     tracker, x = _state()
     times = np.arange(1, 61) / 60.0
-    pts = x[None, :].copy()
-    out = np.empty((1, times.size, 3))
-    fly_through(pts, times, tracker.params, 0.005, out)
+    end, out = fly_state(x, times, tracker.params, 0.005)
     ref = x[None, :].copy()
     for k, t in enumerate(times):  # the filter's own propagation, fix by fix
         propagate_points(ref, t - (times[k - 1] if k else 0.0), tracker.params, 0.005)
-        assert np.allclose(out[0, k], ref[0, :3], atol=1e-9, rtol=0.0)
-    assert np.allclose(pts, ref, atol=1e-9, rtol=0.0)
-    back = pts.copy()
-    fly_through(back, np.array([-1.0]), tracker.params, 0.005, np.empty((1, 1, 3)))
-    assert np.abs(back[0, :6] - x[:6]).max() < 1e-6  # RK4 backwards undoes it
+        assert np.allclose(out[k], ref[0, :3], atol=1e-9, rtol=0.0)
+    assert np.allclose(end, ref[0], atol=1e-9, rtol=0.0)
+    back = fly_state(end, [-1.0], tracker.params, 0.005)[0]
+    assert np.abs(back[:6] - x[:6]).max() < 1e-6  # RK4 backwards undoes it
     bad = x[None, :].copy()
     bad[0, 4] = math.nan
     out = np.zeros((1, 2, 3))
@@ -67,9 +72,7 @@ def test_the_fit_recovers_the_flown_state_from_a_perturbed_start():
     # Fixes flown by the filter's own model, without noise: the only error left is the fit's.
     tracker, truth = _state()
     times = np.arange(0, 90) / 60.0
-    pts = truth[None, :].copy()
-    zs = np.empty((1, times.size, 3))
-    fly_through(pts, times, tracker.params, 0.005, zs)
+    end, zs = fly_state(truth, times, tracker.params, 0.005)
     h1 = float(truth[X_H:X_H + 3] @ truth[X_S:X_S + 3])
     prior = Prior((h1, 0.19 * h1), 0.03, 0.3, ((X_KD, 1.0, 0.2), (X_KL, 1.0, 0.2)))
     start = truth.copy()
@@ -77,16 +80,16 @@ def test_the_fit_recovers_the_flown_state_from_a_perturbed_start():
     start[3:6] += (0.3, 0.3, -0.3)
     start[X_H:X_H + 3] *= 0.9
     start[X_KD] = 1.2
-    fit = refine(times, zs[0], start, prior, 0.02, tracker.params, 0.005, 25)
+    fit = refine(times, zs, start, prior, 0.02, tracker.params, 0.005, 25)
     assert fit is not None and fit.iterations <= 25
     assert fit.cost < 1e-6  # the fixes and the prior are met exactly at the truth
     assert np.abs(fit.x0[:6] - truth[:6]).max() < 1e-5
-    assert np.abs(fit.x[:6] - pts[0, :6]).max() < 1e-4
+    assert np.abs(fit.x[:6] - end[:6]).max() < 1e-4
     assert abs(fit.x[X_KD] - 1.0) < 1e-3 and abs(fit.x[X_KL] - 1.0) < 1e-3
     # A posterior, not a point: position at the last fix known to about a centimetre.
     sd = np.sqrt(np.diag(fit.P)[:3])
     assert np.all(sd > 1e-3) and np.all(sd < 0.03), sd
-    bad = zs[0].copy()
+    bad = zs.copy()
     bad[3, 1] = math.nan
     assert refine(times, bad, start, prior, 0.02, tracker.params, 0.005, 25) is None
 

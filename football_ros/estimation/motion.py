@@ -179,6 +179,19 @@ def fly_through(
             out[i, :, :] = np.nan
 
 
+def fly_state(x: np.ndarray, times: np.ndarray, params: np.ndarray, step: float) -> tuple:
+    """
+    Fly one state ``x`` (a point, time 0) through ``times`` (K,) [s] (:func:`fly_through`).
+
+    Returns its state at ``times[-1]`` and its positions (K, 3) [m]; NaN if it cannot be flown.
+    """
+    point = np.array(x, dtype=float)[None, :]
+    times = np.asarray(times, dtype=float)
+    out = np.empty((1, times.size, 3))
+    fly_through(point, times, params, step, out)
+    return point[0], out[0]
+
+
 @njit(cache=True)
 def _through(y: np.ndarray, plane: np.ndarray) -> float:
     """Signed distance [m] of the ball past the vertical ``plane`` (px, py, nx, ny)."""

@@ -42,7 +42,7 @@ import math
 
 import numpy as np
 
-from .motion import fly_through, N_X_WIND, X_H, X_KD, X_KL, X_R, X_S, X_V, X_W
+from .motion import fly_state, fly_through, N_X_WIND, X_H, X_KD, X_KL, X_R, X_S, X_V, X_W
 
 FD_STEP = np.array(
     [1e-4] * 3 + [1e-4] * 3 + [1e-5] * 2 + [1e-3] * 3 + [1e-4] * 2 + [1e-3] * 2
@@ -219,9 +219,8 @@ def refine(
         cov = np.linalg.inv(info / np.outer(d, d)) / np.outer(d, d)
     except np.linalg.LinAlgError:
         return None
-    mode = x[None, :].copy()  # the fit flown to the last fix; its covariance carried linearly
-    fly_through(mode, rel, params, step, np.empty((1, rel.size, 3)))
-    P = ends.T @ cov @ ends
+    mode = fly_state(x, rel, params, step)[0]  # the fit at the last fix; its covariance
+    P = ends.T @ cov @ ends  # carried linearly
     if not (np.all(np.isfinite(mode)) and np.all(np.isfinite(P))):
         return None
-    return Refined(x, mode[0], 0.5 * (P + P.T), cost, it)
+    return Refined(x, mode, 0.5 * (P + P.T), cost, it)

@@ -87,7 +87,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from .motion import (
-    fly_through,
+    fly_state,
     fly_to_planes,
     N_X,
     N_X_WIND,
@@ -505,28 +505,25 @@ class FlightTracker:
         if tr is None:
             return None, None, None
         fit = self._fit()
-        model = tr.best.x  # whose S_g sets the tumbling allowance
-        may_tumble = fit is not None and min(
-            self.gyroscopic_stability(fit.x), self.gyroscopic_stability(model)
-        ) < 1.0
-        if fit is None or may_tumble:
-            planes = self._mixture(tr, h, wall)
-        if fit is not None:  # the batch fit of every fix, once one hand is left
-            fitted = self._plane_moments(fit.x, fit.P, h, wall)
-            if may_tumble:  # the fit's mean; the filter's covariance (it carries the tumbling
-                # all flight), widened by how far the two lie apart
-                model = min((fit.x, model), key=self.gyroscopic_stability)
+        if fit is None:  # the filters, mixed by likelihood
+            planes, model = self._mixture(tr, h, wall), tr.best.x
+        else:  # the batch fit of every fix, once one hand is left
+            planes = self._plane_moments(fit.x, fit.P, h, wall)
+            # whichever is less stable sets the tumbling allowance
+            model = min((fit.x, tr.best.x), key=self.gyroscopic_stability)
+            if self.gyroscopic_stability(model) < 1.0:  # a kick that may tumble: the fit's
+                # mean, the filter's covariance (it carries the tumbling all flight), widened
+                # by how far the two lie apart
                 planes = [
-                    None if f[0] is None or m is None
+                    None if f is None or m is None
                     else (f[0], m[1] + np.outer(f[0] - m[0], f[0] - m[0]))
-                    for f, m in zip(fitted, planes)
+                    for f, m in zip(planes, self._mixture(tr, h, wall))
                 ]
-            else:
-                planes = [None if f[0] is None else f for f in fitted]
+        q = self._accel_variance(model)
         return (
-            self._prediction(planes[0], model, (0.0, 0.0, 1.0), s.ground),
-            self._prediction(planes[1], model, (0.0, 0.0, 1.0), h),
-            self._prediction(planes[2], model, (wall[2], wall[3], 0.0)),
+            self._prediction(planes[0], q, (0.0, 0.0, 1.0), s.ground),
+            self._prediction(planes[1], q, (0.0, 0.0, 1.0), h),
+            self._prediction(planes[2], q, (wall[2], wall[3], 0.0)),
         )
 
     def _mixture(self, tr: _Track, height: float, wall: np.ndarray) -> list:
@@ -546,7 +543,7 @@ class FlightTracker:
                 part.append((w, moment))
         out = []
         for part in parts:
-            if not part or any(m[0] is None for _, m in part):
+            if not part or any(m is None for _, m in part):
                 out.append(None)
                 continue
             wsum = sum(w for w, _ in part)
@@ -559,8 +556,8 @@ class FlightTracker:
         """
         Fly the sigma points of (``x``, ``P``) to the ground, noting the planes on the way.
 
-        [(mean, cov) of (time, x, y[, z]) or (None, None) where a point missed it] for the
-        landing, the height and the wall (:data:`PLANE_COLUMNS`).
+        [(mean, cov) of (time, x, y[, z]) or None where a point missed it] for the landing,
+        the height and the wall (:data:`PLANE_COLUMNS`).
         """
         s = self.settings
         pts, wm, wc = sigma_points(x, P, s.spread)
@@ -568,8 +565,7 @@ class FlightTracker:
         out = []
         for cols in PLANE_COLUMNS:
             found = flown[:, cols]
-            out.append(moments(found[:, :-1], wm, wc) if np.all(found[:, -1] == 1.0)
-                       else (None, None))
+            out.append(moments(found[:, :-1], wm, wc) if np.all(found[:, -1] == 1.0) else None)
         return out
 
     def _fit(self) -> Refined | None:
@@ -599,29 +595,27 @@ class FlightTracker:
         if tr.fit is not None and tr.fit[1] is not None and tr.fit[0][2] == hand:
             x0 = tr.fit[1].x0
         else:
-            pt = tr.best.x[None, :].copy()
-            fly_through(pt, np.array([times[0] - tr.t]), self.params, s.step, np.empty((1, 1, 3)))
-            x0 = pt[0]
+            x0 = fly_state(tr.best.x, [times[0] - tr.t], self.params, s.step)[0]
+        if not np.all(np.isfinite(x0)):
+            return None
         prior = Prior((hand * self.nominal_h1, self.nominal_h1 * s.spin_sigma), s.axis_sigma,
                       s.rate_sigma, tr.prior)
         zs = np.array([tr.fixes[t] for t in times])
-        if not np.all(np.isfinite(x0)):
-            return None
         return refine(times, zs, x0, prior, s.noise, self.params, s.step, s.refine_iterations)
 
-    def _prediction(self, moments_, model, normal, height: float = math.nan):
+    def _prediction(self, moments_, q: float, normal, height: float = math.nan):
         """
         Return the prediction on one plane of unit ``normal`` from its (mean, cov), or None.
 
         Horizontal planes (z = ``height``) carry (time, x, y) moments, vertical ones (time, x,
-        y, z). The model error's variance is added in the plane, with the tumbling term of the
-        state ``model`` (the filter's best, or the batch fit, whichever is less stable).
+        y, z). The model error's variance q T^3 / 3 is added in the plane (``q``
+        [m^2/s^4/Hz] from :meth:`_accel_variance`, T the time to the plane).
         """
         if moments_ is None:
             return None
         mean, cov = moments_
         t_land = float(mean[0])
-        extra = self._accel_variance(model) * max(t_land, 0.0) ** 3 / 3.0
+        extra = q * max(t_land, 0.0) ** 3 / 3.0
         n = np.asarray(normal, dtype=float)
         in_plane = extra * (np.eye(3) - np.outer(n, n))
         if mean.size == 3:  # a horizontal plane

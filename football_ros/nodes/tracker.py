@@ -57,7 +57,7 @@ from . import qos
 from .params import declare_all, ParamSpec
 from .runner import run_node
 from ..estimation import FlightTracker, TrackerSettings
-from ..estimation.motion import fly_through, X_H, X_S, X_V
+from ..estimation.motion import fly_state, X_H, X_S, X_V
 from ..estimation.multi import MultiTracker
 from ..estimation.tracker import vertical_plane
 from ..physics.frames import attitude_with_axis, FIELD_FRAME
@@ -476,8 +476,7 @@ def _warm_up(settings: TrackerSettings) -> None:
     scratch.predict_planes(1.2, vertical_plane(10.0, 0.0, 0.0))
     scratch.predict_path(0.05)
     _, x, _ = scratch.estimate  # the batch fit's kernel (this short throw keeps both hands)
-    fly_through(x[None, :].copy(), np.array([-0.01]), scratch.params, settings.step,
-                np.empty((1, 1, 3)))
+    fly_state(x, [-0.01], scratch.params, settings.step)
     scratch.update(0.5 / 60.0, (0.2, 0.0, 1.9))  # a late fix: the roll-back path
 
 
