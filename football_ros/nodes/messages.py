@@ -427,3 +427,52 @@ def tf_message_bytes(items) -> bytes:
         parts.append(part)
         offset += len(part)
     return b''.join(parts)
+
+
+class TransformBatch:
+    """
+    tf2_msgs/TFMessage of many balls in one pass: the CDR laid out once, the numbers by numpy.
+
+    :meth:`encode` takes the children's frame names only when the set of children changes
+    (``key``); otherwise it copies the laid-out bytes and writes every stamp and pose with two
+    array assignments (no Python work per ball). Bit for bit what rclpy serializes (tested).
+    """
+
+    def __init__(self) -> None:
+        self._key = None
+        self._template = b''
+        self._stamp_at = np.empty(0, dtype=np.int64)  # index of each sec in the int32 view
+        self._pose_at = np.empty(0, dtype=np.int64)  # index of each pose in the float64 view
+
+    def encode(self, key, children, frame_id: str, stamp: Time, poses: np.ndarray) -> bytes:
+        """
+        Serialize transforms ``frame_id`` -> each child at one ``stamp``.
+
+        ``children``: a function returning the child frame names (called when ``key``, any
+        hashable naming the set, differs from the last call's); ``poses`` (N, 7): x, y, z [m],
+        qx, qy, qz, qw per child, in their order.
+        """
+        if self._key != (key, frame_id):
+            self._layout(children(), frame_id)
+            self._key = (key, frame_id)
+        buf = bytearray(self._template)
+        if len(self._pose_at):
+            words = np.frombuffer(buf, dtype='<i4', offset=4, count=(len(buf) - 4) // 4)
+            words[self._stamp_at] = stamp.sec
+            words[self._stamp_at + 1] = stamp.nanosec
+            doubles = np.frombuffer(buf, dtype='<f8', offset=4, count=(len(buf) - 4) // 8)
+            doubles[self._pose_at[:, None] + np.arange(7)] = poses
+        return bytes(buf)
+
+    def _layout(self, children: list[str], frame_id: str) -> None:
+        parts, stamps, poses = [_CDR_HEADER, _COUNT.pack(len(children))], [], []
+        offset = 4  # CDR offset (after the encapsulation header) of the first transform
+        for child in children:
+            frames = _frames_part((frame_id, child), offset + 8)
+            stamps.append(offset // 4)
+            poses.append((offset + 8 + len(frames)) // 8)
+            parts += [bytes(8), frames, bytes(56)]
+            offset += 64 + len(frames)
+        self._template = b''.join(parts)
+        self._stamp_at = np.array(stamps, dtype=np.int64)
+        self._pose_at = np.array(poses, dtype=np.int64)

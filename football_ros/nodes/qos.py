@@ -135,3 +135,18 @@ ORDER = REQUEST
 def entity_topic(entity: str, leaf: str) -> str:
     """State topic of a spawned entity: football/<entity>/<leaf> (leaf 'pose' or 'odom')."""
     return f'football/{entity}/{leaf}'
+
+
+SERVICE_DEPTH = 1000
+"""Requests a service (and the SimulateSteps action's goal, cancel and result services) keeps
+waiting: rclpy's default of 10 drops a burst of callers beyond it without an answer."""
+
+
+def service_qos() -> QoSProfile:
+    """Services' QoS: as rclpy's services default (reliable, volatile), SERVICE_DEPTH deep."""
+    return QoSProfile(
+        history=HistoryPolicy.KEEP_LAST,
+        depth=SERVICE_DEPTH,
+        reliability=ReliabilityPolicy.RELIABLE,
+        durability=DurabilityPolicy.VOLATILE,
+    )

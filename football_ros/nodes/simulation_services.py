@@ -15,17 +15,20 @@
 """
 The simulator's simulation_interfaces services and SimulateSteps action (private names).
 
-A thin adapter: requests are checked here and carried out on the node's
-:class:`football_ros.simulation.world.World` under the node's world lock; every request gets
-one answer, a refusal with the interface's Result code and a message naming the field. The
-simulator node calls :class:`SimulationServices` once; the service names are in qos.py and
-msg_docs/simulation_interfaces.md describes them.
+A thin adapter: requests are checked here and carried out as operations of the node's
+:class:`football_ros.simulation.core.Simulation` (which takes its own lock); every request
+gets one answer, a refusal with the interface's Result code and a message naming the field.
+Every service and the action keep ``qos.SERVICE_DEPTH`` requests waiting (a burst of callers is
+queued, not dropped). The simulator node calls :class:`SimulationServices` once; the service
+names are in qos.py (at root names too with ``root_services``) and
+msg_docs/simulation_interfaces.md describes them, with the frames they use.
 """
 
 from __future__ import annotations
 
 from concurrent.futures import ThreadPoolExecutor
 import math
+import time
 import traceback
 
 from geometry_msgs.msg import Vector3
@@ -67,7 +70,14 @@ from . import qos
 from ..physics.presets import PRESETS
 from ..physics.release import InitialState
 from ..requests import capped, FlightOrder
+from ..simulation.core import PLAYING, STOPPED
 from ..simulation.world import check_pose, EntityError, MAX_FLIGHT_S, URI_SCHEME
+
+WORLD_FRAMES = ('', 'world')
+"""Frame ids that name the world frame besides the node's frame_id (the standard's default)."""
+CHUNK_SECONDS = 0.02
+"""A SimulateSteps goal steps in chunks of about this much CPU [s] (feedback and cancel
+between chunks), estimated from the last chunk's cost per ball-step."""
 
 FEATURES = (
     SimulatorFeatures.SPAWNING,
@@ -95,8 +105,6 @@ FEATURES = (
 """Exactly what works (GetSimulatorFeatures)."""
 MAX_SPAWN_REQUESTS = 1000
 """Most spawn requests of one SpawnEntities call (the largest max_entities)."""
-MAX_FEEDBACK = 20
-"""Most feedback messages of one SimulateSteps goal (one per chunk of steps)."""
 RESET_SCOPES = ResetSimulation.Request.SCOPE_TIME | ResetSimulation.Request.SCOPE_STATE | (
     ResetSimulation.Request.SCOPE_SPAWNED
 )
@@ -136,11 +144,34 @@ def _xyz(v) -> list[float]:
     return [v.x, v.y, v.z]
 
 
+def _rotate(q, v) -> np.ndarray:
+    """Rotate vector ``v`` by the unit quaternion ``q`` (x, y, z, w)."""
+    x, y, z, w = q
+    u = np.array([x, y, z])
+    v = np.asarray(v, dtype=float)
+    return v + 2.0 * np.cross(u, np.cross(u, v) + w * v)
+
+
+def _compose(q1, q2) -> np.ndarray:
+    """Quaternion product q1 * q2 (x, y, z, w)."""
+    x1, y1, z1, w1 = q1
+    x2, y2, z2, w2 = q2
+    return np.array([
+        w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
+        w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
+        w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2,
+        w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2,
+    ])
+
+
 class SimulationServices:
     """Owns the simulation_interfaces services and action of a simulator node."""
 
-    def __init__(self, node) -> None:
+    def __init__(self, node, root_names: bool = False) -> None:
         self._node = node
+        self._sim = node.sim
+        depth = qos.service_qos()
+        prefixes = ('',) + (('/',) if root_names else ())
         for srv_type, name, handler in (
             (GetSimulatorFeatures, qos.GET_SIMULATOR_FEATURES, self._features),
             (GetSpawnables, qos.GET_SPAWNABLES, self._spawnables),
@@ -158,17 +189,27 @@ class SimulationServices:
             (SetSimulationState, qos.SET_SIMULATION_STATE, self._set_simulation_state),
             (StepSimulation, qos.STEP_SIMULATION, self._step),
         ):
-            node.create_service(srv_type, name, self._answering(handler))
+            for prefix in prefixes:
+                full = name if not prefix else prefix + name.rsplit('/', 1)[-1]
+                node.create_service(srv_type, full, self._answering(handler), qos_profile=depth)
         self._goal_running = False  # one SimulateSteps goal at a time (executor thread)
         self._stepper = ThreadPoolExecutor(1, thread_name_prefix='simulate-steps')
-        self._action = ActionServer(
-            node,
-            SimulateSteps,
-            qos.SIMULATE_STEPS,
-            execute_callback=self._simulate_steps,
-            goal_callback=self._accept_goal,
-            cancel_callback=lambda _goal: CancelResponse.ACCEPT,
-        )
+        self._step_cost = 1e-6  # CPU seconds per ball-step of the last chunk (chunk sizing)
+        self._actions = [
+            ActionServer(
+                node,
+                SimulateSteps,
+                name if not prefix else prefix + name.rsplit('/', 1)[-1],
+                execute_callback=self._simulate_steps,
+                goal_callback=self._accept_goal,
+                cancel_callback=lambda _goal: CancelResponse.ACCEPT,
+                goal_service_qos_profile=depth,
+                result_service_qos_profile=depth,
+                cancel_service_qos_profile=depth,
+            )
+            for name in (qos.SIMULATE_STEPS,)
+            for prefix in prefixes
+        ]
 
     def _answering(self, handler):
         """Wrap a handler: a Refusal or any error becomes the response's Result, once."""
@@ -201,8 +242,9 @@ class SimulationServices:
         response.features.custom_info = (
             'football_ros simulator: balls as entities, uris '
             + ', '.join(URI_SCHEME + b for b in PRESETS)
-            + '; SetEntityState throws (pose and twist in field; body x = spin axis); '
-            'see msg_docs/simulation_interfaces.md'
+            + f"; world frame '{self._node.frame_id}' (also named 'world' or ''); "
+            'SetEntityState throws (pose and twist in the header frame: the world or an '
+            'entity; body x = the long axis); see msg_docs/simulation_interfaces.md'
         )
 
     def _spawnables(self, request, response) -> None:
@@ -226,14 +268,40 @@ class SimulationServices:
                 f'{", ".join(str(s)[:64] for s in request.sources[:8])}'
             )
 
-    def _check_frame(self, frame_id: str, code: int) -> None:
+    def _reference(self, frame_id: str, code: int):
+        """
+        Return the reference of a header frame: None for the world, else the entity's state.
+
+        The world: '', 'world' or the node's frame_id; an entity: its name or its TF frame
+        (child_frame_id/name). Refusal(code) for any other frame.
+        """
         node = self._node
-        if frame_id not in ('', node.frame_id):
+        if frame_id in WORLD_FRAMES or frame_id == node.frame_id:
+            return None
+        name = frame_id
+        prefix = node.child_frame_id + '/'
+        if frame_id.startswith(prefix):
+            name = frame_id[len(prefix):]
+        try:
+            return self._sim.entity_state(name)
+        except EntityError:
             raise Refusal(
                 code,
-                f"header.frame_id '{capped(frame_id, 64)}' is not the world frame "
-                f"'{node.frame_id}' (or empty)",
-            )
+                f"header.frame_id '{capped(frame_id, 64)}' is neither the world frame "
+                f"('{node.frame_id}', 'world' or empty) nor an entity's frame",
+            ) from None
+
+    def _in_world(self, header, pose, code: int) -> tuple[list, list, object]:
+        """Return a pose in a header's frame as (position, orientation) in the world, reference."""
+        ref = self._reference(header.frame_id, code)
+        q = pose.orientation
+        position, orientation = _xyz(pose.position), [q.x, q.y, q.z, q.w]
+        if ref is None:
+            return position, orientation, None
+        position = _finite(position, 'pose.position')
+        orientation = _finite(orientation, 'pose.orientation')
+        world_position = ref.position + _rotate(ref.orientation, position)
+        return world_position.tolist(), _compose(ref.orientation, orientation).tolist(), ref
 
     def _spawn(self, request, response) -> None:
         response.entity_name = self._spawn_one(
@@ -286,18 +354,16 @@ class SimulationServices:
             )
         if namespace:
             raise Refusal(
-                SpawnEntity.Response.NAMESPACE_INVALID,
+                Result.RESULT_FEATURE_UNSUPPORTED,
                 'entity_namespace is not supported (topics are football/<name>/...): leave it '
                 'empty',
             )
-        self._check_frame(pose.header.frame_id, SpawnEntity.Response.INVALID_POSE)
-        q = pose.pose.orientation
-        with node._world_lock:
+        position, orientation, _ref = self._in_world(
+            pose.header, pose.pose, SpawnEntity.Response.INVALID_POSE
+        )
+        with self._sim.lock:  # spawned and its publishers made before any tick shows it
             try:
-                with node._lock:
-                    entity = node._world.spawn(
-                        name, uri, _xyz(pose.pose.position), [q.x, q.y, q.z, q.w], allow_renaming
-                    )
+                entity = self._sim.spawn(name, uri, position, orientation, allow_renaming)
             except EntityError as exc:
                 raise Refusal(
                     _SPAWN_CODES.get(exc.reason, Result.RESULT_OPERATION_FAILED), str(exc)
@@ -309,30 +375,20 @@ class SimulationServices:
         return entity.name
 
     def _delete(self, request, response) -> None:
-        node = self._node
-        with node._world_lock:
-            try:
-                with node._lock:
-                    entity = node._world.delete(request.entity)
-            except EntityError as exc:
-                code = Result.RESULT_NOT_FOUND if exc.reason == 'not_found' else (
-                    Result.RESULT_OPERATION_FAILED
-                )
-                raise Refusal(code, str(exc)) from None
-            node.remove_entity_publishers(entity)
-
-    def _get(self, name: str):
         try:
-            return self._node._world.get(name)
+            entity = self._sim.delete(request.entity)
         except EntityError as exc:
-            raise Refusal(Result.RESULT_NOT_FOUND, str(exc)) from None
+            code = Result.RESULT_NOT_FOUND if exc.reason == 'not_found' else (
+                Result.RESULT_OPERATION_FAILED
+            )
+            raise Refusal(code, str(exc)) from None
+        self._node.remove_entity_publishers([entity])
 
-    def _select(self, filters) -> list:
-        """Return the entities passing an EntityFilters (Refusal: what is not supported)."""
+    def _filters(self, filters) -> dict:
+        """Return an EntityFilters as Simulation.select's arguments (Refusal: unsupported)."""
         categories = [c.category for c in filters.categories]
         if categories and EntityCategory.CATEGORY_DYNAMIC_OBJECT not in categories:
-            return []
-        tags = tuple(filters.tags.tags)
+            return None
         mode = filters.tags.filter_mode
         if mode not in (TagsFilter.FILTER_MODE_ANY, TagsFilter.FILTER_MODE_ALL):
             raise Refusal(
@@ -359,35 +415,41 @@ class SimulationServices:
             )
         elif bounds.type != Bounds.TYPE_EMPTY:
             raise Refusal(Result.RESULT_OPERATION_FAILED, f'unknown bounds type {bounds.type}')
+        return {
+            'pattern': filters.filter,
+            'tags': tuple(filters.tags.tags),
+            'all_tags': mode == TagsFilter.FILTER_MODE_ALL,
+            'sphere': sphere,
+            'box': box,
+        }
+
+    def _select(self, filters, states: bool) -> list:
+        arguments = self._filters(filters)
+        if arguments is None:
+            return []
         try:
-            return self._node._world.select(
-                filters.filter,
-                tags,
-                filters.tags.filter_mode == TagsFilter.FILTER_MODE_ALL,
-                sphere,
-                box,
-            )
+            return self._sim.select(**arguments, states=states)
         except EntityError as exc:
             raise Refusal(Result.RESULT_OPERATION_FAILED, str(exc)) from None
 
     def _entities(self, request, response) -> None:
-        with self._node._lock:
-            response.entities = [e.name for e in self._select(request.filters)]
+        response.entities = self._select(request.filters, states=False)
 
     def _info(self, request, response) -> None:
-        with self._node._lock:
-            entity = self._get(request.entity)
-            response.info.category.category = EntityCategory.CATEGORY_DYNAMIC_OBJECT
-            response.info.description = (
-                f'{entity.ball_name} ball ({entity.uri}), {entity.condition}'
-            )
-            response.info.tags = self._node._world.tags(entity)
+        try:
+            uri, condition, tags = self._sim.describe(request.entity)
+        except EntityError as exc:
+            raise Refusal(Result.RESULT_NOT_FOUND, str(exc)) from None
+        response.info.category.category = EntityCategory.CATEGORY_DYNAMIC_OBJECT
+        response.info.description = f'{uri[len(URI_SCHEME):]} ball ({uri}), {condition}'
+        response.info.tags = tags
 
     def _bounds(self, request, response) -> None:
         """GetEntityBounds: the ball's axis-aligned box in its body frame (x = long axis)."""
-        with self._node._lock:
-            entity = self._get(request.entity)
-        preset = PRESETS[entity.ball_name]
+        try:
+            preset = PRESETS[self._sim.ball_of(request.entity)]
+        except EntityError as exc:
+            raise Refusal(Result.RESULT_NOT_FOUND, str(exc)) from None
         half_length, radius = 0.5 * preset.length, 0.5 * preset.diameter
         response.bounds = Bounds(
             type=Bounds.TYPE_BOX,
@@ -397,63 +459,74 @@ class SimulationServices:
             ],
         )
 
-    def entity_state(self, entity) -> EntityState:
-        """Return an entity's EntityState now: pose and twist in the world frame (lock held)."""
+    def entity_state(self, values) -> EntityState:
+        """
+        Return the EntityState of EntityValues: pose, twist and acceleration in the world.
+
+        header.frame_id is the world frame; the twist and acceleration are observed in it
+        and expressed in its axes (as Gazebo reads them), not in the body frame.
+        """
         node = self._node
-        position, orientation, velocity, omega = entity.state()
         msg = EntityState(header=mb.header(node.stamp_now(), node.frame_id))
-        msg.pose = mb.pose_of(position, orientation)
-        msg.twist = mb.twist_of(velocity, omega)
+        msg.pose = mb.pose_of(values.position, values.orientation)
+        msg.twist = mb.twist_of(values.velocity, values.angular_velocity)
+        msg.acceleration.linear = mb.vector3(values.acceleration)
         return msg
 
     def _state(self, request, response) -> None:
-        with self._node._lock:
-            response.state = self.entity_state(self._get(request.entity))
+        try:
+            values = self._sim.entity_state(request.entity)
+        except EntityError as exc:
+            raise Refusal(Result.RESULT_NOT_FOUND, str(exc)) from None
+        response.state = self.entity_state(values)
 
     def _states(self, request, response) -> None:
-        with self._node._lock:
-            entities = self._select(request.filters)
-            response.entities = [e.name for e in entities]
-            response.states = [self.entity_state(e) for e in entities]
+        values = self._select(request.filters, states=True)
+        response.entities = [v.name for v in values]
+        response.states = [self.entity_state(v) for v in values]
 
     def _set_state(self, request, response) -> None:
         node = self._node
         state = request.state
-        self._check_frame(state.header.frame_id, SetEntityState.Response.INVALID_POSE)
-        pose, twist = state.pose, state.twist
-        q = pose.orientation
-        position, orientation = _xyz(pose.position), [q.x, q.y, q.z, q.w]
-        velocity = _finite(_xyz(twist.linear), 'twist.linear')
-        omega = _finite(_xyz(twist.angular), 'twist.angular')
+        position, orientation, ref = self._in_world(
+            state.header, state.pose, SetEntityState.Response.INVALID_POSE
+        )
+        velocity = _finite(_xyz(state.twist.linear), 'twist.linear')
+        omega = _finite(_xyz(state.twist.angular), 'twist.angular')
+        if ref is not None:  # observed in the entity's frame: its axes and its motion
+            velocity = ref.velocity + _rotate(ref.orientation, velocity)
+            omega = ref.angular_velocity + _rotate(ref.orientation, omega)
         try:
             position, orientation = check_pose(position, orientation)
         except EntityError as exc:
             raise Refusal(SetEntityState.Response.INVALID_POSE, str(exc)) from None
-        with node._world_lock:
-            with node._lock:
-                entity = self._get(request.entity)
-            if not velocity.any() and not omega.any():
-                with node._lock:
-                    node._world.place(entity, position, orientation)
-                    node._ahead = None
-                return
-            try:
-                initial = InitialState.from_rigid_body(position, velocity, orientation, omega)
-                order = FlightOrder(
-                    entity.name,
-                    entity.ball_name,
-                    {},
-                    'paper' if node.model == 'release' else node.model,
-                    'linear',
-                    initial,
-                )
-                flight = order.flight(node.integration_step)
-            except (ValueError, ArithmeticError) as exc:
-                raise Refusal(
-                    Result.RESULT_OPERATION_FAILED,
-                    f"entity '{entity.name}' cannot fly this state: {capped(str(exc))}",
-                ) from None
-            node.throw_entity(entity, order, flight)
+        try:
+            ball = self._sim.ball_of(request.entity)
+        except EntityError as exc:
+            raise Refusal(Result.RESULT_NOT_FOUND, str(exc)) from None
+        if not velocity.any() and not omega.any():
+            self._sim.place(request.entity, position, orientation)
+            return
+        try:
+            initial = InitialState.from_rigid_body(position, velocity, orientation, omega)
+            order = FlightOrder(
+                request.entity,
+                ball,
+                {},
+                'paper' if node.model == 'release' else node.model,
+                'linear',
+                initial,
+            )
+            flight = order.flight(node.integration_step)
+        except (ValueError, ArithmeticError) as exc:
+            raise Refusal(
+                Result.RESULT_OPERATION_FAILED,
+                f"entity '{request.entity}' cannot fly this state: {capped(str(exc))}",
+            ) from None
+        try:
+            node.throw_entity(request.entity, order, flight)
+        except EntityError as exc:  # deleted meanwhile
+            raise Refusal(Result.RESULT_NOT_FOUND, str(exc)) from None
 
     # --- simulation ------------------------------------------------------------------------
     def _reset(self, request, response) -> None:
@@ -473,7 +546,7 @@ class SimulationServices:
         )
 
     def _get_simulation_state(self, _request, response) -> None:
-        response.state.state = self._node.simulation_state()
+        response.state.state = self._sim.state
 
     def _set_simulation_state(self, request, response) -> None:
         node = self._node
@@ -494,7 +567,7 @@ class SimulationServices:
                 else Result.RESULT_OPERATION_FAILED
             )
             raise Refusal(code, f'state {target}: only STOPPED (0), PLAYING (1), PAUSED (2)')
-        if target == node.simulation_state():
+        if target == self._sim.state:
             raise Refusal(
                 SetSimulationState.Response.ALREADY_IN_TARGET_STATE,
                 f'the simulation is already in state {target}',
@@ -506,10 +579,16 @@ class SimulationServices:
         return int(math.ceil(MAX_FLIGHT_S / self._node.integration_step))
 
     def _check_steps(self, steps: int) -> None:
-        if self._node.simulation_state() == SimulationState.STATE_PLAYING:
+        state = self._sim.state
+        if state == PLAYING:
             raise Refusal(
                 Result.RESULT_OPERATION_FAILED,
                 'the simulation is playing: pause it first (SetSimulationState PAUSED)',
+            )
+        if state == STOPPED:
+            raise Refusal(
+                Result.RESULT_OPERATION_FAILED,
+                'the simulation is stopped: pause it first (SetSimulationState PAUSED)',
             )
         if steps > self.max_steps():
             raise Refusal(
@@ -534,12 +613,12 @@ class SimulationServices:
 
     async def _simulate_steps(self, goal_handle):
         """
-        Step ``steps`` in chunks (at most MAX_FEEDBACK, one feedback each), cancelable.
+        Step ``steps`` in chunks of about CHUNK_SECONDS of CPU, one feedback each, cancelable.
 
         The chunks run on the stepping thread, so that the executor serves cancel requests (and
         every other request) meanwhile; a cancel or a change to PLAYING stops the run at the
         next chunk boundary (a step boundary), the states after the steps done are published
-        and the result says how many ran. The states are published once, at the end.
+        and the result says how many ran. A goal that fits one chunk is one compiled pass.
         """
         try:
             return await self._run_goal(goal_handle)
@@ -585,29 +664,32 @@ class SimulationServices:
         """
         Step a goal's chunks (stepping thread); return the steps done and why it stopped early.
 
-        Feedback after each chunk (rclpy's goal handle publishes from any thread); the states
-        after the last chunk are published once.
+        A chunk is as many steps as fit CHUNK_SECONDS at the last chunk's cost per ball-step;
+        feedback after each (rclpy's goal handle publishes from any thread) unless it was the
+        last; the states are published after each chunk.
         """
-        node = self._node
-        chunk = max(1, -(-steps // MAX_FEEDBACK))
-        done, stop, publish = 0, None, None
-        try:
-            while done < steps:
-                if goal_handle.is_cancel_requested:
-                    stop = 'canceled'
-                    break
-                if node.simulation_state() == SimulationState.STATE_PLAYING:
-                    stop = 'playing'
-                    break
-                n = min(chunk, steps - done)
-                publish = node.step_world(n, False)
-                done += n
+        sim = self._sim
+        done, stop = 0, None
+        while done < steps:
+            if goal_handle.is_cancel_requested:
+                stop = 'canceled'
+                break
+            if sim.state == PLAYING:
+                stop = 'playing'
+                break
+            balls = max(1, sim.flying_count())
+            n = min(steps - done, max(1, int(CHUNK_SECONDS / (self._step_cost * balls))))
+            start = time.thread_time()
+            self._node.step_world(n)
+            self._step_cost = max(1e-8, (time.thread_time() - start) / (n * balls))
+            done += n
+            if done < steps:
                 goal_handle.publish_feedback(
                     SimulateSteps.Feedback(completed_steps=done, remaining_steps=steps - done)
                 )
-        finally:
-            if publish is not None:
-                publish()  # the states after the last chunk, once
+        goal_handle.publish_feedback(
+            SimulateSteps.Feedback(completed_steps=done, remaining_steps=steps - done)
+        )
         return done, stop
 
     def _in_worker(self, fn, *args) -> Future:

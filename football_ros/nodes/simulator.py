@@ -43,6 +43,7 @@ Topics, frames, units and QoS: msg_docs/.
 
 from __future__ import annotations
 
+import collections
 import gc
 import math
 import os
@@ -78,7 +79,9 @@ from ..physics.flight import BallSample, Flight
 from ..physics.frames import BODY_FRAME, FIELD_FRAME
 from ..physics.release import RPM
 from ..requests import capped, FlightOrder, OrderError
+from ..simulation.core import Frame, PAUSED, PLAYING, Simulation, STATE_NAMES, STOPPED
 from ..simulation.world import (  # noqa: F401  (MAX_*: the limits, documented here too)
+    DEFAULT_ENTITY,
     Entity,
     FlightRun,
     landed_text,
@@ -95,9 +98,9 @@ MAX_STEPS_PER_SECOND = 2.0e5
 """Largest real_time_factor / integration_step [RK4 steps per wall second] (about 0.2 s of CPU
 per wall second at 0.85 us a step); larger combinations are refused (parameter callback)."""
 RIVAL_CHECK_PERIOD_S = 1.0
-SUBSCRIBERS_CHECK_NS = 100_000_000
-"""Wall time [ns] between two counts of an entity topic's subscribers (the count is an rmw
-graph query; the entities' topics of a tick are skipped or sent on the last count)."""
+SUBSCRIBER_CHECKS_PER_TICK = 10
+"""Spawned entities whose topics' subscribers are counted per tick, in turn (each count is an
+rmw graph query; a topic nobody subscribes to is not published)."""
 LOG_THROTTLE_S = 0.1
 """Lines a client can trigger at will (pause, reset, orders) are logged at most this often
 each; every event still reaches /diagnostics (bounded by MAX_EVENTS)."""
@@ -199,6 +202,14 @@ PARAMETERS = (
         (1, 1000),
         guard='allow_reconfigure',
     ),
+    ParamSpec(
+        'root_services',
+        False,
+        'Also offer the simulation_interfaces services and action at root names '
+        '(/spawn_entity, /step_simulation, ...; as Isaac Sim and O3DE name them), besides '
+        '~/<name>',
+        read_only=True,
+    ),
 )
 PUBLISH_TF = ParamSpec(
     'publish_tf',
@@ -291,30 +302,25 @@ class SimulatorNode(Node):
         self._clock_pub = self.create_publisher(Clock, qos.CLOCK, qos.CLOCK_QOS)
         self._ack_pub = self.create_publisher(DiagnosticStatus, qos.FLIGHT_ACK, qos.ORDER)
         self.create_subscription(String, qos.FLIGHT_ORDER, self._on_order, qos.ORDER)
-        self.create_service(Trigger, qos.RESET_SERVICE, self._on_reset)
-        self.create_service(SetBool, qos.PAUSE_SERVICE, self._on_pause)
+        self.create_service(Trigger, qos.RESET_SERVICE, self._on_reset,
+                            qos_profile=qos.service_qos())
+        self.create_service(SetBool, qos.PAUSE_SERVICE, self._on_pause,
+                            qos_profile=qos.service_qos())
         self._state_msgs = mb.StateMessages()
         self._clock_msg = Clock()
 
-        self._lock = threading.Lock()
-        self._world = World(self.max_entities)
-        # Held by the pacer for a whole tick and by the simulation_interfaces services that
-        # change entities or step: taken before self._lock, never inside it.
-        self._world_lock = threading.RLock()
-        self._stopped = False  # SetSimulationState STOPPED (paused and reset)
-        # name -> pose and odom publishers, EntityMessages, their last subscriber count
+        self.sim = Simulation(self.max_entities, self.integration_step)
+        self._tf = mb.TransformBatch()
+        # name -> pose and odom publishers, EntityMessages, [spare, pose wanted, odom wanted]
         self._entity_pubs: dict[str, tuple] = {}
-        self._last_order: FlightOrder | None = None
-        self._paused = False
-        self._ahead = None  # (run, t, sample): the next tick's sample, integrated ahead
-        self._sim_clock_ns = 0
-        self._events = self._world.events  # (level, event, message) to report
+        self._wanted = np.zeros(0, dtype=bool)  # row -> somebody subscribes to its topics
+        self._check_row = 0  # the last row whose subscribers were counted
         self.stats = {'ticks': 0, 'overruns': 0, 'skipped': 0, 'max_late_ms': 0.0}
         self._overruns_reported = 0
         self._rivals: tuple[str, ...] = ()
         self._sim_services = None
         if SimulationServices is not None:
-            self._sim_services = SimulationServices(self)
+            self._sim_services = SimulationServices(self, self.root_services)
         else:  # pragma: no cover - a ROS without simulation_interfaces
             self.get_logger().warning(
                 'simulation_interfaces is not installed: no spawn/step/... services'
@@ -341,31 +347,24 @@ class SimulatorNode(Node):
         """Check the whole new combination first (ranges: the descriptors), then apply it."""
         values = {spec.name: getattr(self, spec.name) for spec in PARAMETERS}
         values.update({p.name: p.value for p in params if p.name in values})
-        with self._lock:
-            run = self._run
-        flying = run is not None and run.ended is None and not run.landed_reported
+        run = self._run
+        flying = run is not None and run.flying
         reason = check_parameters(values, run.flight.step if flying else None)
         if reason:
             return SetParametersResult(successful=False, reason=reason)
-        with self._lock:
-            for p in params:  # the hooks' parameters (publish_tf, observation_*) included
-                if p.name == 'use_sim_time':
-                    self._use_sim_time = bool(p.value)
-                else:
-                    setattr(self, p.name, p.value)
-            self._world.max_entities = int(self.max_entities)
-            for _entity, run in self._world.runs():
-                self._rebase(run)
+        for p in params:  # the hooks' parameters (publish_tf, observation_*) included
+            if p.name == 'use_sim_time':
+                self._use_sim_time = bool(p.value)
+            else:
+                setattr(self, p.name, p.value)
+        self.sim.max_entities = int(self.max_entities)
+        self.sim.step = float(self.integration_step)
         return SetParametersResult(successful=True)
 
     @property
     def _run(self) -> FlightRun | None:
         """Return the default entity's flight run (the release node's ball)."""
-        return self._world.default.run
-
-    def _rebase(self, run: FlightRun) -> None:
-        """Keep the flown time and continue with the current rate and real-time factor."""
-        run.rebase(self.real_time_factor / self.publish_rate, self.trail_length)
+        return self.sim.run_of(DEFAULT_ENTITY)
 
     def _on_order(self, msg: String) -> None:
         """
@@ -415,25 +414,27 @@ class SimulatorNode(Node):
             )
         )
 
-    def _start(self, order: FlightOrder, flight: Flight) -> None:
+    def _start(self, order: FlightOrder, flight: Flight, entity: str = DEFAULT_ENTITY) -> None:
+        """Fly ``flight`` as ``entity`` (the default one: the release node's ball) from now on."""
         modes = flight.modes
         v = order.initial.velocity
+        who = f"flight '{order.request_id}'" if entity == DEFAULT_ENTITY else f"entity '{entity}'"
         text = (
-            f"flight '{order.request_id}': {order.ball_name} released at "
-            f'{np.linalg.norm(v):.2f} m/s, '
+            f'{who}: {order.ball_name} released at {np.linalg.norm(v):.2f} m/s, '
             f'{math.degrees(modes.flight_path_angle):.1f} deg, {order.initial.spin / RPM:.0f} rpm'
             f' ({"stable" if modes.stable else "gyroscopically UNSTABLE"}, equilibrium sideslip '
             f'{math.degrees(modes.equilibrium_sideslip):.2f} deg)'
         )
-        with self._lock:
-            replaced = self._run is not None and self._run.flight.landing_time is None
-            run = FlightRun(order.request_id, flight, order)
-            self._rebase(run)
-            self._world.throw(self._world.default, run)
-            self._last_order = order
-            self._events.append(('OK' if modes.stable else 'WARN', 'released', text))
+        label = order.request_id if entity == DEFAULT_ENTITY else entity
+        trail = collections.deque(maxlen=max(self.trail_length, 1))
+        run = FlightRun(label, flight, order, trail=trail)
+        previous = self.sim.run_of(entity)
+        self.sim.throw(entity, run, order)
+        self.sim.report('OK' if modes.stable else 'WARN', 'released', text, label)
+        if entity != DEFAULT_ENTITY:
+            return
         log = self.get_logger()  # each line at most 1 / LOG_THROTTLE_S a second (hammering)
-        if replaced:
+        if previous is not None and previous.flying:
             log.info(
                 'the flight in the air is replaced by a new release',
                 throttle_duration_sec=LOG_THROTTLE_S,
@@ -444,8 +445,7 @@ class SimulatorNode(Node):
             log.warning(text, throttle_duration_sec=LOG_THROTTLE_S)
 
     def _on_reset(self, _request, response):
-        with self._lock:
-            order = self._last_order
+        order = self.sim.last_order
         if order is None:
             response.success, response.message = (
                 False,
@@ -469,8 +469,7 @@ class SimulatorNode(Node):
         return None if self.model == 'release' else self.model
 
     def _on_pause(self, request, response):
-        with self._lock:
-            self._paused, self._stopped = bool(request.data), False
+        self.sim.set_state(PAUSED if request.data else PLAYING)
         response.success = True
         response.message = 'paused' if request.data else 'running'
         self.get_logger().info(
@@ -496,8 +495,7 @@ class SimulatorNode(Node):
                 names.remove(me)
             others.update(f'{name} ({topic})' for name in names)
         rivals = tuple(sorted(others))
-        with self._lock:
-            before, self._rivals = self._rivals, rivals
+        before, self._rivals = self._rivals, rivals
         if rivals != before and rivals:
             self.get_logger().warning(
                 'another node publishes the same topics, the streams will '
@@ -541,13 +539,13 @@ class SimulatorNode(Node):
                 while next_due <= now:
                     self._guarded_tick(wall0 + (next_due - mono0), period_ns)
                     next_due += period_ns
-                with self._lock:
-                    events = list(self._events)
-                    self._events.clear()
-                if events:
-                    self._publish_diagnostics(events)
+                self.sim.integrate_ahead()  # the next tick's pass, now that this one is out
+                events, dropped = self.sim.drain_events()
+                if events or dropped:
+                    self._log_events(events)
+                    self._publish_diagnostics(events, dropped)
                 if now >= next_diag:
-                    self._publish_diagnostics(None)
+                    self._publish_diagnostics(None, 0)
                     next_diag = now + int(1e9 / self.diagnostics_rate)
             except Exception:
                 if not self.context.ok():  # Ctrl-C / SIGTERM shut rclpy down under us: just stop
@@ -556,6 +554,19 @@ class SimulatorNode(Node):
                     f'pacing error (the pacer continues):\n{traceback.format_exc()}'
                 )
 
+    def _log_events(self, events) -> None:
+        """Log the default ball's landing, guard and data-range events (released: at the order)."""
+        log = self.get_logger()
+        for level, event, text, _label in events:
+            if event == 'released':
+                continue
+            if level == 'ERROR':
+                log.error(text, throttle_duration_sec=LOG_THROTTLE_S)
+            elif level == 'WARN':
+                log.warning(text, throttle_duration_sec=LOG_THROTTLE_S)
+            else:
+                log.info(text, throttle_duration_sec=LOG_THROTTLE_S)
+
     def _guarded_tick(self, wall_stamp_ns: int, period_ns: int) -> None:
         """One tick; an exception ends the flight in the air (ERROR) and pacing goes on."""
         try:
@@ -563,11 +574,8 @@ class SimulatorNode(Node):
         except Exception as exc:
             if not self.context.ok():
                 raise
-            with self._lock:
-                run = self._run
             text = f'{type(exc).__name__}: {exc}'[:300]
-            if run is not None and run.ended is None:
-                self._end_flight(run, f'internal error while flying ({text})')
+            if self.sim.end_flights(f'internal error while flying ({text})'):
                 self.get_logger().error(traceback.format_exc())
             else:
                 self._log_error_limited(f'tick failed: {traceback.format_exc()}')
@@ -578,7 +586,7 @@ class SimulatorNode(Node):
             self._last_error_log = now
             self.get_logger().error(text)
 
-    def _stamp_ns(self, wall_stamp_ns: int) -> int:
+    def _stamp_ns(self, wall_stamp_ns: int, clock_ns: int) -> int:
         """
         Stamp of a tick.
 
@@ -586,153 +594,104 @@ class SimulatorNode(Node):
         wall-clock time the tick was due.
         """
         if self.publish_clock:
-            return self._sim_clock_ns
+            return clock_ns
         if self._use_sim_time:
             return self.get_clock().now().nanoseconds
         return wall_stamp_ns
 
     def _tick(self, wall_stamp_ns: int, period_ns: int) -> None:
-        with self._world_lock:
-            with self._lock:
-                self.stats['ticks'] += 1
-                if not self._paused:
-                    self._sim_clock_ns += int(period_ns * self.real_time_factor)
-                stamp_ns = self._stamp_ns(wall_stamp_ns)
-                publish_clock = self.publish_clock
-                run_t = self._select_run(wall_stamp_ns)
-                items = self._select_entities(wall_stamp_ns)
-            stamp = mb.time_msg(stamp_ns)
-            if publish_clock:
+        sim = self.sim
+        with sim.lock:
+            self.stats['ticks'] += 1
+            frame = sim.tick(wall_stamp_ns, period_ns, self.real_time_factor, self.hold_rate)
+            stamp = mb.time_msg(self._stamp_ns(wall_stamp_ns, frame.clock_ns))
+            if self.publish_clock:
                 self._clock_msg.clock = stamp
                 self._clock_pub.publish(self._clock_msg)
-            self._tick_default(run_t, stamp, wall_stamp_ns)
-            if items[0] or items[1]:
-                self._tick_entities(items, stamp, wall_stamp_ns)
+            if frame.default_t is not None or sim.world.default.run is None:
+                self._observation.tick(sim.world.default.run, stamp, frame.default_t)
+            self._publish_frame(frame, stamp, wall_stamp_ns)
 
-    def _tick_default(self, run_t, stamp, wall_stamp_ns: int) -> None:
-        """Tick the default entity: today's single-ball topics, markers and camera."""
-        for _attempt in range(2):  # a release that replaces the flight meanwhile: its first tick
-            if run_t is None:
-                return
-            run, t = run_t
-            self._observation.tick(run, stamp, t)  # simulated camera (observation_hook.py)
-            ahead, self._ahead = self._ahead, None
-            if ahead is not None and ahead[0] is run and ahead[1] == t:
-                sample = ahead[2]
-            else:  # outside the lock: many steps at a high real-time factor
-                sample = run.flight.sample(t)
-            problem = run.runaway(sample)
-            if problem:
-                self._end_flight(run, problem)
-                return
-            landed_now = False
-            with self._lock:
-                if self._run is not run:
-                    run_t = self._select_run(wall_stamp_ns)
-                    continue
-                at_rest = run.landed_reported  # a held landed state (the landing has the impact)
-                self._world.default.last = sample
-                text = run.mark_landed(sample, wall_stamp_ns)
-                if text:
-                    landed_now = True
-                    self._events.append(('OK', 'landed', text))
-            break
-        else:
-            return
-        if landed_now:
-            self.get_logger().info(text)
-        self._check_validity(run, sample)
-        self._publish_state(run, sample, stamp, at_rest)
-        self._maybe_publish_markers(run, sample, stamp, wall_stamp_ns, force=landed_now)
-        self._integrate_ahead(run)
-
-    def _select_entities(self, wall_stamp_ns: int) -> tuple[list, list[Entity]]:
+    def _publish_frame(self, frame: Frame, stamp, wall_ns: int) -> None:
         """
-        Return the spawned entities this tick publishes (lock held by the caller).
+        Publish a frame (the simulation's lock held).
 
-        The flights (entity, run, time [s]) unless paused; the entities at rest (their spawn
-        or placed pose) at once after a spawn, place or reset, then at ``hold_rate``, paused
-        or not.
+        The default ball's topics and markers, the spawned balls' pose and odom (only topics
+        somebody subscribes to), one /tf for all.
         """
-        flights, rest = [], []
-        for entity in self._world.entities.values():
-            if not entity.spawned:
-                continue
-            run = entity.run
-            if run is None:
-                if entity.rest_due(wall_stamp_ns, self.hold_rate):
-                    rest.append(entity)
-            elif not self._paused:
-                t = run.select(wall_stamp_ns, self.hold_rate)
-                if t is not None:
-                    flights.append((entity, run, t))
-        return flights, rest
-
-    def _tick_entities(self, items, stamp, wall_stamp_ns: int) -> None:
-        """
-        Tick the spawned entities: one kernel call for all flights, then pose, odom and one TF.
-
-        ``items``: :meth:`_select_entities`. World lock held: no entity is deleted or thrown
-        meanwhile.
-        """
-        flights, rest = items
-        held = [run.landed_reported for _entity, run, _t in flights]
-        samples = self._world.sample([(run, t) for _entity, run, t in flights])
-        publish = []
-        with self._lock:
-            for (entity, run, _t), sample, at_rest in zip(flights, samples, held):
-                if self._world.judge(entity, run, sample, wall_stamp_ns):
-                    publish.append((entity, at_rest))
-        publish.extend((entity, True) for entity in rest)
-        self._publish_entities(publish, stamp)
-
-    def _publish_entities(self, items, stamp) -> None:
-        """
-        Publish (entity, at_rest) on football/<name>/pose and .../odom, and one /tf for all.
-
-        The messages go out serialized (mb.EntityMessages: CDR encoded by hand, the frame
-        strings once); a topic nobody subscribes to is skipped (volatile QoS: nobody could see
-        the difference; its subscribers are counted every ``SUBSCRIBERS_CHECK_NS``, so a new
-        one gets its first message within that); /tf carries every entity's transform in one
-        TFMessage.
-        """
-        transforms = []
-        with_tf = self._tf_pub is not None and self.publish_tf
+        rows = self.sim.world.rows
+        if frame.default is not None:
+            run = rows[0].run
+            self._publish_state(run, frame.default, stamp, frame.default_held)
+            if not frame.default_held:
+                self._maybe_publish_markers(run, frame.default, stamp, wall_ns,
+                                            force=frame.default.landed)
+        if frame.shown.size:
+            self._publish_entities(frame, rows, stamp)
         ns = stamp.sec * 1_000_000_000 + stamp.nanosec
-        now = time.monotonic_ns()
-        for entity, at_rest in items:
+        if self._tf_pub is None or not self.publish_tf or not frame.shown.size:
+            return
+        clock, last_ns = self._tf_last
+        if clock == self.publish_clock and ns <= last_ns:
+            return  # tf2 refuses a repeated or older stamp for a frame
+        self._tf_last = (self.publish_clock, ns)
+        key = (self.sim.world.rows_version, frame.shown.tobytes(), self.child_frame_id)
+        child = self.child_frame_id
+
+        def children() -> list[str]:
+            return [child if k == 0 else f'{child}/{rows[k].name}' for k in frame.shown]
+
+        self._tf_pub.publish(self._tf.encode(key, children, self.frame_id, stamp, frame.pose))
+
+    def _publish_entities(self, frame: Frame, rows, stamp) -> None:
+        """
+        Publish the spawned balls of a frame on football/<name>/pose and .../odom.
+
+        Only topics somebody subscribes to: the subscriber counts (an rmw graph query each) are
+        refreshed for at most ``SUBSCRIBER_CHECKS_PER_TICK`` entities a tick, in turn, so a new
+        subscriber gets its first message within max_entities / that many ticks; the frame's
+        rows of subscribed entities are found with one array lookup.
+        """
+        self._refresh_subscribers(rows)
+        for j in np.flatnonzero(self._wanted[frame.shown]):
+            entity = rows[frame.shown[j]]
             pubs = self._entity_pubs.get(entity.name)
-            if pubs is None:
+            if pubs is None or not entity.spawned:
                 continue
             pose_pub, odom_pub, msgs, outs = pubs
             frames = (self.frame_id, f'{self.child_frame_id}/{entity.name}')
             if msgs.frame_ids != frames:
                 msgs.frames(*frames)
-            if now - outs[0] >= SUBSCRIBERS_CHECK_NS:  # outs: [counted at [ns], pose, odom]
-                outs[:] = (now, pose_pub.get_subscription_count() > 0,
-                           odom_pub.get_subscription_count() > 0)
-            _, pose_out, odom_out = outs
-            tf_out = with_tf and ns > msgs.tf_ns  # tf2 refuses a repeated stamp for a frame
-            if not (pose_out or odom_out or tf_out):
+            pose = frame.pose[j].tolist()
+            if outs[1]:
+                pose_pub.publish(msgs.pose(stamp, pose[:3], pose[3:]))
+            if outs[2]:
+                twist = frame.twist[j].tolist()
+                odom_pub.publish(msgs.odom(stamp, pose[:3], pose[3:], twist[:3], twist[3:]))
+
+    def _refresh_subscribers(self, rows) -> None:
+        """Count the subscribers of a few entities' topics (in turn) and mark the wanted rows."""
+        n = len(rows)
+        if self._wanted.size < n:
+            self._wanted = np.concatenate((self._wanted, np.zeros(n, dtype=bool)))
+        if n <= 1:
+            return
+        for _ in range(min(SUBSCRIBER_CHECKS_PER_TICK, n - 1)):
+            self._check_row = self._check_row % (n - 1) + 1  # rows 1..n-1 (0: the default)
+            entity = rows[self._check_row]
+            pubs = self._entity_pubs.get(entity.name)
+            if pubs is None:
+                self._wanted[self._check_row] = False
                 continue
-            position, orientation, velocity, omega = entity.state()
-            position, orientation = position.tolist(), orientation.tolist()
-            if pose_out:
-                pose_pub.publish(msgs.pose(stamp, position, orientation))
-            if odom_out:
-                if at_rest:
-                    velocity = omega = (0.0, 0.0, 0.0)
-                odom_pub.publish(msgs.odom(stamp, position, orientation, velocity, omega))
-            if tf_out:
-                msgs.tf_ns = ns
-                transforms.append((msgs, stamp, position, orientation))
-        if transforms:
-            self._tf_pub.publish(mb.tf_message_bytes(transforms))
+            outs = pubs[3]
+            outs[1] = pubs[0].get_subscription_count() > 0
+            outs[2] = pubs[1].get_subscription_count() > 0
+            self._wanted[self._check_row] = outs[1] or outs[2]
 
     # --- simulation_interfaces (simulation_services.py calls these, executor thread) ---------
     def add_entity_publishers(self, entity: Entity) -> None:
         """
-        Create a spawned entity's state publishers (world lock held).
+        Create a spawned entity's state publishers (its topics counted at once).
 
         Without rclpy's default QoS-event handlers: each would be a waitable of the node, and
         the executor's cost per wake-up grows with the square of their number (hundreds of
@@ -746,165 +705,62 @@ class SimulatorNode(Node):
             for msg_type, leaf in ((PoseStamped, 'pose'), (Odometry, 'odom'))
         )
         msgs = mb.EntityMessages(self.frame_id, f'{self.child_frame_id}/{entity.name}')
-        self._entity_pubs[entity.name] = pubs + (msgs, [-(2**62), False, False])
+        self._entity_pubs[entity.name] = pubs + (msgs, [0, False, False])
 
-    def remove_entity_publishers(self, entity: Entity) -> None:
-        """Destroy a deleted entity's publishers (world lock held)."""
-        for pub in self._entity_pubs.pop(entity.name, ())[:2]:
-            self.destroy_publisher(pub)
+    def remove_entity_publishers(self, entities) -> None:
+        """Destroy deleted entities' publishers."""
+        for entity in entities:
+            for pub in self._entity_pubs.pop(entity.name, ())[:2]:
+                self.destroy_publisher(pub)
 
     def stamp_now(self):
-        """
-        Return the stamp of a message sent now: simulated clock, /clock or wall clock.
+        """Return the stamp of a message sent now: simulated clock, /clock or wall clock."""
+        return mb.time_msg(self._stamp_ns(time.time_ns(), self.sim.clock_ns))
 
-        Takes no lock (one integer read), so callers may hold the node's lock.
-        """
-        return mb.time_msg(self._stamp_ns(time.time_ns()))
-
-    def throw_entity(self, entity: Entity, order: FlightOrder, flight: Flight) -> None:
-        """Fly ``flight`` as ``entity`` from now on (the default entity: as a release)."""
-        if not entity.spawned:
-            self._start(order, flight)
-            return
-        run = FlightRun(entity.name, flight, order)
-        self._rebase(run)
-        modes = flight.modes
-        text = (
-            f"entity '{entity.name}' thrown at {np.linalg.norm(order.initial.velocity):.2f} m/s "
-            f'({"stable" if modes.stable else "gyroscopically UNSTABLE"})'
-        )
-        with self._lock:
-            self._world.throw(entity, run)
-            self._events.append(('OK' if modes.stable else 'WARN', 'released', text))
+    def throw_entity(self, name: str, order: FlightOrder, flight: Flight) -> None:
+        """Fly ``flight`` as entity ``name`` from now on (the default entity: as a release)."""
+        self._start(order, flight, name)
 
     def reset_world(self, clock: bool, state: bool, spawned: bool) -> None:
         """Reset: the clock to 0, entities back to their spawn poses, spawned ones deleted."""
-        with self._world_lock:
-            with self._lock:
-                doomed = [e for e in self._world.entities.values() if e.spawned] if spawned else []
-                self._world.reset(state=state, spawned=spawned)
-                if state:
-                    self._ahead = None
-                if clock:
-                    self._sim_clock_ns = 0
-                    self._tf_last = (None, -1)
-            for entity in doomed:
-                self.remove_entity_publishers(entity)
+        self.remove_entity_publishers(self.sim.reset(clock, state, spawned))
+        if clock:
+            self._tf_last = (None, -1)
         scopes = (('time', clock), ('state', state), ('spawned', spawned))
         self.get_logger().info(
             'reset: ' + ', '.join(k for k, v in scopes if v), throttle_duration_sec=LOG_THROTTLE_S
         )
 
-    def simulation_state(self) -> int:
-        """simulation_interfaces SimulationState: STOPPED 0, PLAYING 1, PAUSED 2."""
-        with self._lock:
-            return 0 if self._stopped else (2 if self._paused else 1)
-
     def set_simulation_state(self, target: int) -> None:
         """Play (1), pause (2) or stop (0: pause and reset everything)."""
-        if target == 0:
-            with self._lock:
-                self._paused = True
-            self.reset_world(clock=True, state=True, spawned=True)
-        with self._lock:
-            self._paused, self._stopped = target != 1, target == 0
+        self.remove_entity_publishers(self.sim.set_state(target))
+        if target == STOPPED:
+            self._tf_last = (None, -1)
         self.get_logger().info(
-            f'simulation {("stopped", "playing", "paused")[target]}',
-            throttle_duration_sec=LOG_THROTTLE_S,
+            f'simulation {STATE_NAMES[target]}', throttle_duration_sec=LOG_THROTTLE_S
         )
 
-    def step_world(self, n_steps: int, publish: bool = True):
+    def step_world(self, n_steps: int) -> None:
         """
         Lock-step: advance every flight by exactly ``n_steps`` integration steps (paused).
 
-        The simulated clock advances by the same; with ``publish`` the new states are
-        published stamped with it (publish_clock) and /clock with it. Without, returns a
-        function that publishes them (SimulateSteps publishes its last chunk's states).
+        One compiled pass for every ball; the simulated clock advances by the same and the new
+        states are published once, stamped with it (publish_clock), with /clock.
         """
         if n_steps <= 0:
-            return None
+            return
         wall_ns = time.time_ns()
-        with self._world_lock:
-            with self._lock:
-                self._ahead = None
-                held = {e.name for e, run in self._world.runs() if run.landed_reported}
-            out = self._world.step(n_steps, self.integration_step, wall_ns)
-            with self._lock:
-                self._sim_clock_ns += int(round(n_steps * self.integration_step * 1e9))
-                self._stopped = False
-                stamp = mb.time_msg(self._stamp_ns(wall_ns))
-        if not publish:
-            return lambda: self._publish_step(out, held, stamp)
-        self._publish_step(out, held, stamp)
-        return None
-
-    def _publish_step(self, out, held: set, stamp) -> None:
-        """Publish a lock-step's states (and /clock with publish_clock), under the world lock."""
-        with self._world_lock:
+        sim = self.sim
+        with sim.lock:
+            frame = sim.step_n(n_steps, wall_ns)
+            stamp = mb.time_msg(self._stamp_ns(wall_ns, frame.clock_ns))
             if self.publish_clock:
                 self._clock_msg.clock = stamp
                 self._clock_pub.publish(self._clock_msg)
-            extras = []
-            for entity, sample in out:
-                if self._world.entities.get(entity.name) is not entity:
-                    continue  # deleted (or reset) since the step
-                if entity.spawned:
-                    extras.append((entity, entity.name in held))
-                elif entity.run is not None:
-                    self._publish_state(entity.run, sample, stamp, entity.name in held)
-            self._publish_entities(extras, stamp)
-
-    def _integrate_ahead(self, run: FlightRun) -> None:
-        """
-        Sample the next tick's time now, after publishing.
-
-        The next tick then publishes at its deadline whatever the integration costs. Used by
-        the next tick only if it flies the same run at the same time. Not while the simulated
-        camera is on: it captures at times before the next tick's, and a flight only
-        integrates forward.
-        """
-        with self._lock:
-            if (
-                self._run is not run
-                or run.landed_reported
-                or run.ended is not None
-                or self.observation_rate > 0.0
-            ):
-                return
-            t = run.time
-        self._ahead = (run, t, run.flight.sample(t))
-
-    def _select_run(self, wall_stamp_ns: int) -> tuple[FlightRun, float] | None:
-        """Return the run to publish this tick and its time [s], or None (lock held by caller)."""
-        run = self._run
-        if run is None or self._paused:
-            return None
-        t = run.select(wall_stamp_ns, self.hold_rate)
-        return None if t is None else (run, t)
-
-    def _check_validity(self, run: FlightRun, sample: BallSample) -> None:
-        """Warn once per flight when the total angle leaves the data range of a form in force."""
-        text = run.left_validity(sample)
-        if text is None:
-            return
-        with self._lock:
-            self._events.append(('WARN', 'validity', text))
-        self.get_logger().warning(text)
-
-    def _end_flight(self, run: FlightRun, reason: str) -> None:
-        """
-        End ``run`` with an ERROR event (log line + /diagnostics).
-
-        Nothing more is published for it until the next release or reset.
-        """
-        with self._lock:
-            text = run.end(reason)
-            if text is None:
-                return
-            self._events.append(('ERROR', 'error', text))
-        self.get_logger().error(text)
+            self._publish_frame(frame, stamp, wall_ns)
 
     def _publish_state(self, run: FlightRun, sample: BallSample, stamp, at_rest: bool) -> None:
+        """Publish the default ball's state topics (its /tf goes with the frame's)."""
         msgs = self._state_msgs
         msgs.fill(sample, stamp, self.frame_id, self.child_frame_id, at_rest)
         self._pubs[qos.POSE].publish(msgs.pose)
@@ -916,38 +772,16 @@ class SimulatorNode(Node):
             self._pubs[qos.AERO_ANGLES_LINEAR].publish(msgs.aero_angles_linear)
         elif not run.linear_diverged:  # the closed form overflowed (an unstable ball, late)
             run.linear_diverged = True
-            with self._lock:
-                self._events.append(
-                    (
-                        'WARN',
-                        'linear_diverged',
-                        f"flight '{run.label}': the linear prediction "
-                        f'overflowed at t = {sample.t:.3f} s; aero_angles_linear '
-                        'is not published for the rest of this flight',
-                    )
-                )
+            self.sim.report(
+                'WARN',
+                'linear_diverged',
+                f"flight '{run.label}': the linear prediction overflowed at t = {sample.t:.3f} "
+                's; aero_angles_linear is not published for the rest of this flight',
+                run.label,
+            )
         quasi = msgs.aero_angles_quasi_steady.vector
         if math.isfinite(quasi.x + quasi.y + quasi.z):
             self._pubs[qos.AERO_ANGLES_QUASI_STEADY].publish(msgs.aero_angles_quasi_steady)
-        self._publish_tf(sample, stamp)
-
-    def _publish_tf(self, sample: BallSample, stamp) -> None:
-        """
-        TF hook: one transform per published state.
-
-        Tf2 rejects a repeated or older stamp for a frame, so a stamp that does not advance
-        on the same clock is skipped.
-        """
-        ns = stamp.sec * 1_000_000_000 + stamp.nanosec
-        clock, last_ns = self._tf_last
-        if (
-            self._tf_pub is None
-            or not self.publish_tf
-            or (clock == self.publish_clock and ns <= last_ns)
-        ):
-            return
-        self._tf_last = (self.publish_clock, ns)
-        self._tf_pub.publish(mb.tf_message(sample, stamp, self.frame_id, self.child_frame_id))
 
     def _maybe_publish_markers(
         self, run: FlightRun, sample: BallSample, stamp, wall_ns: int, force: bool
@@ -958,23 +792,25 @@ class SimulatorNode(Node):
         if not force and last is not None and wall_ns - last < 1e9 / self.marker_rate:
             return
         run.last_marker_ns = wall_ns
-        with self._lock:
-            trail = run.trail
-            trail.append(mb.point(sample.position))
-            run.trail_count += 1
-            points = mb.decimated(trail, run.trail_count - len(trail))
+        trail = run.trail
+        if trail.maxlen != max(self.trail_length, 1):
+            run.trail = trail = collections.deque(trail, maxlen=max(self.trail_length, 1))
+        trail.append(mb.point(sample.position))
+        run.trail_count += 1
+        points = mb.decimated(trail, run.trail_count - len(trail))
         ball = run.flight.ball
         self._markers_pub.publish(
             mb.markers(sample, points, stamp, self.frame_id, ball.length, ball.diameter)
         )
 
-    def _publish_diagnostics(self, events) -> None:
-        with self._lock:
-            run, paused, stats, rivals = self._run, self._paused, dict(self.stats), self._rivals
-            dropped, self._events.dropped = self._events.dropped, 0
-            stamp = mb.time_msg(
-                self._sim_clock_ns if self.publish_clock else self.get_clock().now().nanoseconds
-            )
+    def _publish_diagnostics(self, events, dropped: int) -> None:
+        sim = self.sim
+        run = self._run
+        stats, rivals = dict(self.stats), self._rivals
+        paused = sim.state != PLAYING
+        stamp = mb.time_msg(
+            sim.clock_ns if self.publish_clock else self.get_clock().now().nanoseconds
+        )
         values = {
             'publish_rate': self.publish_rate,
             'real_time_factor': self.real_time_factor,
@@ -997,16 +833,16 @@ class SimulatorNode(Node):
             )
             if run.ended is not None:
                 level, message = 'ERROR', f"flight '{run.label}' ended: {run.ended}"
-            elif flight.landing_time is not None:
-                landing = flight.state_at(flight.landing_time)
+            elif run.landing is not None:
+                landing = run.landing
                 values.update(
                     {
-                        'time_of_flight': flight.landing_time,
-                        'landing_x': float(landing[0]),
-                        'landing_y': float(landing[1]),
+                        'time_of_flight': landing.t,
+                        'landing_x': float(landing.position[0]),
+                        'landing_y': float(landing.position[1]),
                     }
                 )
-                message = landed_text(landing, flight.landing_time)
+                message = landed_text(landing.position, landing.t)
             else:
                 message = f'flying: t = {run.time:.3f} s'
             if not flight.modes.stable and level == 'OK':
@@ -1014,13 +850,13 @@ class SimulatorNode(Node):
         if paused:
             message = 'paused; ' + message
         statuses = []
-        for ev_level, event, text in events or []:
+        for ev_level, event, text, label in events or []:
             statuses.append(
                 mb.diagnostic_status(
                     self.diagnostic_name + ' event',
                     ev_level,
                     text,
-                    dict(values, event=event),
+                    dict(values, event=event, **({'flight_id': label} if label else {})),
                     self.hardware_id,
                 )
             )
@@ -1067,13 +903,13 @@ def _warm_up() -> None:
     from ..physics.precompile import compile_ahead
 
     compile_ahead()  # every kernel of the nodes and commands (compiled once, then loaded)
-    flight = Flight.from_release(Release())
-    world = World()
-    entity = world.spawn('warm_up', 'football_ros://american', [0, 0, 0], [0, 0, 0, 1])
-    world.throw(entity, FlightRun('warm_up', Flight.from_release(Release())))
-    world.sample([(entity.run, 0.0105)])  # the world's kernel (kernel.advance_many)
-    flight.sample(0.0105)
-    sample = flight.sample(10.0)
+    sim = Simulation()
+    sim.spawn('warm_up', 'football_ros://american', [0, 0, 0], [0, 0, 0, 1])
+    for name in (DEFAULT_ENTITY, 'warm_up'):
+        sim.throw(name, FlightRun('warm_up', Flight.from_release(Release())))
+    frame = sim.tick(0, 10_000_000, 1.0, 1.0)  # the world's kernel (kernel.advance_many)
+    mb.TransformBatch().encode(0, lambda: ['a', 'b'], FIELD_FRAME, mb.time_msg(0), frame.pose)
+    sample = Flight.from_release(Release()).sample(10.0)
     mb.StateMessages().fill(sample, mb.time_msg(0), FIELD_FRAME, BODY_FRAME)
     mb.odometry(sample, mb.time_msg(0), FIELD_FRAME, BODY_FRAME)
 

@@ -224,6 +224,50 @@ def crossed_ground(before: np.ndarray, after: np.ndarray, ground: float) -> bool
     return before[R + 2] >= ground and after[R + 2] <= ground and after[V + 2] < 0.0
 
 
+@njit(cache=True, nogil=True)
+def march(
+    y: np.ndarray, done: int, target: int, dt: float, params: np.ndarray, ground: float,
+    nxt: np.ndarray, work: np.ndarray,
+) -> tuple:
+    """
+    Whole RK4 steps of ``dt`` [s] in place from ``y`` (``done`` steps flown) up to ``target``.
+
+    Stops early, before the step that would cross z = ``ground`` moving down. Returns (steps
+    flown, crossed). ``nxt`` (N_STATE,), ``work`` (5, N_STATE): caller-owned scratch. The one
+    march every fixed-step flight takes (:class:`~football_ros.physics.flight.Flight`,
+    :func:`propagate`, the simulator's many-ball kernel).
+    """
+    while done < target:
+        rk4_step_with(y, dt, params, nxt, work)
+        if crossed_ground(y, nxt, ground):
+            return done, True
+        y[:] = nxt
+        done += 1
+    return done, False
+
+
+@njit(cache=True, nogil=True)
+def finish(
+    y: np.ndarray, rest: float, params: np.ndarray, ground: float, crossed: bool,
+    out: np.ndarray, work: np.ndarray,
+) -> float:
+    """
+    Take the partial step of ``rest`` [s] from a marched ``y`` into ``out``, or land.
+
+    Returns NaN, or the landing's time [s] after ``y`` when the step crosses z = ``ground``
+    (``crossed``: :func:`march` found that the next whole step does): ``out`` is then the
+    landing state (z = ground exactly).
+    """
+    if not crossed:
+        rk4_step_with(y, rest, params, out, work)
+        if not crossed_ground(y, out, ground):
+            return math.nan
+    tau = landing_time_in_step(y, rest, params, ground)
+    rk4_step_with(y, tau, params, out, work)
+    out[R + 2] = ground
+    return tau
+
+
 @njit(cache=True, nogil=True)  # the release node predicts beside its executor
 def propagate(
     y0: np.ndarray,
@@ -250,19 +294,18 @@ def propagate(
     n_steps = 0
     for k in range(n_max):
         t_sample = k * sample_period
-        while (n_steps + 1) * dt <= t_sample + 1e-12:
-            rk4_step_with(y, dt, params, nxt, work)
-            if crossed_ground(y, nxt, ground):
-                return finish_with_landing(times, states, k, y, n_steps * dt, dt, params, ground)
-            y[:] = nxt
-            n_steps += 1
-        rk4_step_with(y, t_sample - n_steps * dt, params, nxt, work)
-        if crossed_ground(y, nxt, ground):
-            return finish_with_landing(
-                times, states, k, y, n_steps * dt, t_sample - n_steps * dt, params, ground
-            )
+        target = int(math.floor((t_sample + 1e-12) / dt))
+        while (target + 1) * dt <= t_sample + 1e-12:  # the float test decides, as it always did
+            target += 1
+        while target > 0 and target * dt > t_sample + 1e-12:
+            target -= 1
+        n_steps, crossed = march(y, n_steps, target, dt, params, ground, nxt, work)
+        rest = dt if crossed else t_sample - n_steps * dt
+        tau = finish(y, rest, params, ground, crossed, states[k], work)
+        if not math.isnan(tau):
+            times[k] = n_steps * dt + tau
+            return times[: k + 1], states[: k + 1], True
         times[k] = t_sample
-        states[k] = nxt
     return times, states, False
 
 

@@ -277,32 +277,38 @@ class Flight:
         """
         State vector at time ``t`` [s] after release (t never decreasing between calls).
 
-        Whole steps are committed, the remainder is a partial step. After the landing the
-        landing state is returned; ``landing_time`` is then set.
+        Whole steps are committed, the remainder is a partial step (one compiled march,
+        :func:`~football_ros.physics.dynamics.march`). After the landing the landing state is
+        returned; ``landing_time`` is then set.
         """
         if self._landing_state is not None:
             return self._landing_state
         nxt = np.empty(dyn.N_STATE)
+        work = np.empty((5, dyn.N_STATE))
         target = int(math.floor(t / self.step + 1e-9))
-        while self._steps < target:
-            dyn.rk4_step(self._y, self.step, self.params, nxt)
-            if dyn.crossed_ground(self._y, nxt, ground):
-                return self._land(self.step, ground)
-            self._y[:] = nxt
-            self._steps += 1
-        dyn.rk4_step(self._y, t - self._steps * self.step, self.params, nxt)
-        if dyn.crossed_ground(self._y, nxt, ground):
-            return self._land(t - self._steps * self.step, ground)
-        return nxt
-
-    def _land(self, step: float, ground: float) -> np.ndarray:
-        tau = dyn.landing_time_in_step(self._y, step, self.params, ground)
+        self._steps, crossed = dyn.march(
+            self._y, self._steps, target, self.step, self.params, ground, nxt, work
+        )
+        rest = self.step if crossed else t - self._steps * self.step
         state = np.empty(dyn.N_STATE)
-        dyn.rk4_step(self._y, tau, self.params, state)
-        state[dyn.R + 2] = ground
-        self.landing_time = self._steps * self.step + tau
-        self._landing_state = state
+        tau = dyn.finish(self._y, rest, self.params, ground, crossed, state, work)
+        if not math.isnan(tau):
+            self.landing_time = self._steps * self.step + tau
+            self._landing_state = state
         return state
+
+    def theory_angles(self, t: float, state: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """
+        Alpha, beta [rad] of the linear theory frozen at release and of the quasi-steady one.
+
+        At ``t`` [s] after release, ``state`` the flight's state then (times never decreasing
+        between calls: the quasi-steady integrals advance with them).
+        """
+        alpha, beta = self.modes.aero_angles(t)
+        quasi = self._quasi_steady.update(
+            t, state[dyn.V:dyn.V + 3] - self.wind, float(state[dyn.H1])
+        )
+        return np.array([float(alpha), float(beta)]), quasi
 
     def sample(self, t: float, ground: float = 0.0) -> 'BallSample':
         """Return the ball at ``t`` [s] after release (or at its landing, once landed)."""
@@ -310,10 +316,7 @@ class Flight:
         landed = self.landing_time is not None
         t_state = self.landing_time if landed else t
         d = dyn.describe(state[None, :], self.params)[0]
-        alpha_lin, beta_lin = self.modes.aero_angles(t_state)
-        quasi = self._quasi_steady.update(
-            t_state, state[dyn.V:dyn.V + 3] - self.wind, float(state[dyn.H1])
-        )
+        linear, quasi = self.theory_angles(t_state, state)
         return BallSample(
             t=t_state,
             position=state[dyn.R:dyn.R + 3].copy(),
@@ -322,7 +325,7 @@ class Flight:
             axis=d[dyn.D_AXIS:dyn.D_AXIS + 3],
             angular_velocity=d[dyn.D_OMEGA:dyn.D_OMEGA + 3],
             aero_angles=d[dyn.D_ALPHA:dyn.D_DELTA + 1],
-            aero_angles_linear=np.array([float(alpha_lin), float(beta_lin)]),
+            aero_angles_linear=linear,
             landed=landed,
             aero_angles_quasi_steady=quasi,
         )

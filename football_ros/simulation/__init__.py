@@ -13,12 +13,14 @@
 # limitations under the License.
 
 """
-The simulator's ROS-free half: a world of named balls, each a flight run (no ROS imports).
+The whole simulation without ROS: the world of balls, its clock, play / pause / stop and steps.
 
-Layer: above physics (it imports only :mod:`football_ros.physics`), below the nodes
-(:mod:`football_ros.nodes.simulator` paces, publishes and serves it).
+:class:`Simulation` (core.py) is what the simulator node serves; :class:`World` (world.py)
+keeps every ball's numbers in arrays that one compiled pass (kernel.py) advances; names.py
+matches name filters in linear time. Layer: above physics, below the nodes.
 """
 
+from .core import EntityValues, Frame, PAUSED, PLAYING, Simulation, STOPPED  # noqa: F401
 from .world import (  # noqa: F401
     DEFAULT_ENTITY,
     Entity,

@@ -235,29 +235,15 @@ def advance_many(
             )
             continue
         for b in members[:count]:  # as Flight.state_at
-            y = states[b]
-            while done[b] < targets[b]:
-                dyn.rk4_step_with(y, steps[b], params[b], nxt, scratch)
-                if dyn.crossed_ground(y, nxt, ground):
-                    crossed[b] = True
-                    break
-                y[:] = nxt
-                done[b] += 1
+            done[b], crossed[b] = dyn.march(
+                states[b], done[b], targets[b], steps[b], params[b], ground, nxt, scratch
+            )
     for b in range(n_balls):  # the partial step, or the landing, per ball (as Flight.state_at)
-        y = states[b]
-        p = params[b]
         dt = steps[b]
-        landing_times[b] = np.nan
-        landed = crossed[b]
-        rest = dt if landed else times[b] - done[b] * dt
-        dyn.rk4_step_with(y, rest, p, nxt, scratch)
-        if landed or dyn.crossed_ground(y, nxt, ground):
-            tau = dyn.landing_time_in_step(y, rest, p, ground)
-            dyn.rk4_step_with(y, tau, p, nxt, scratch)
-            nxt[dyn.R + 2] = ground
-            landing_times[b] = done[b] * dt + tau
-        out[b] = nxt
-        described[b] = dyn.describe(out[b:b + 1], p)[0]
+        rest = dt if crossed[b] else times[b] - done[b] * dt
+        tau = dyn.finish(states[b], rest, params[b], ground, crossed[b], out[b], scratch)
+        landing_times[b] = np.nan if math.isnan(tau) else done[b] * dt + tau
+        described[b] = dyn.describe(out[b:b + 1], params[b])[0]
 
 
 @njit(cache=True)

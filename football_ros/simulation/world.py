@@ -15,15 +15,15 @@
 """
 A world of named balls, each an entity that may carry a flight run (no ROS).
 
-:class:`FlightRun` is one flight in the air with its bookkeeping: the time flown (ticks of
-``tick_dt`` simulated seconds since the last rebase, plus the time flown before it), the
-runaway guard, the data-range check, the landed detection and the trail of the markers.
 :class:`World` holds the entities by name (the default entity ``football`` always exists; the
-others are spawned, up to a limit), validates names and poses, filters entities, advances
-every flight in lock-step by whole integration steps and resets; what happens is queued as
-events (level, event, text) for /diagnostics, at most ``MAX_EVENTS`` of them.
+others are spawned, up to a limit), validates names and poses, filters entities, and keeps
+every ball's numbers in arrays (one row an entity) that one compiled call advances for all
+balls in the air: real-time ticks (:meth:`World.fly`) and lock-step (:meth:`World.advance`)
+take the same path, the default ball's included. :class:`FlightRun` is a flight's
+bookkeeping (its Flight, label, trail, the guard's verdict). What happens is queued as events
+(level, event, text) for /diagnostics, at most ``MAX_EVENTS`` of them.
 
-The world is not thread-safe: its user (the simulator node) holds one lock around changes.
+Not thread-safe: :class:`football_ros.simulation.core.Simulation` holds one lock around it.
 Everything is in ``field`` and SI.
 """
 
@@ -36,7 +36,7 @@ import re
 
 import numpy as np
 
-from . import kernel
+from . import kernel, names
 from ..physics import dynamics as dyn, limits
 from ..physics.aero import max_valid_delta, out_of_validity
 from ..physics.flight import BallSample, Flight
@@ -54,13 +54,10 @@ RUNAWAY_FACTOR = 10.0
 """A speed or angular rate this many times the bound the release allows is a runaway."""
 NAME_PATTERN = re.compile(r'[A-Za-z][A-Za-z0-9_]{0,62}')
 """An entity name: a letter, then up to 62 letters, digits or underscores (a topic token)."""
-MAX_FILTER_CHARS = 256
-"""Longest name filter (regular expression) of :meth:`World.select`."""
 URI_SCHEME = 'football_ros://'
 """Spawnable URIs: this scheme and a ball preset (``football_ros://american``)."""
 MAX_POSITION_M = 1.0e4
 """Largest coordinate of a spawn or entity pose [m]."""
-_NESTED_QUANTIFIER = re.compile(r'\)\s*[*+?{]')
 
 
 class EntityError(ValueError):
@@ -72,7 +69,7 @@ class EntityError(ValueError):
 
 
 class Events(collections.deque):
-    """Bounded event queue (level, event, message); counts what it had to drop."""
+    """Bounded event queue (level, event, message, flight label); counts what it dropped."""
 
     def __init__(self) -> None:
         super().__init__(maxlen=MAX_EVENTS)
@@ -84,22 +81,25 @@ class Events(collections.deque):
         super().append(item)
 
 
-@dataclass
+AT_REST, FLYING, LANDED, ENDED = 0, 1, 2, 3
+"""An entity's condition (:attr:`World.status`): at rest, flying, landed, or ended by the guard."""
+CONDITIONS = ('at rest', 'flying', 'landed', 'ended')
+POSE_WIDTH = 7
+"""A row of :attr:`World.pose`: position x, y, z [m], orientation x, y, z, w."""
+
+
+@dataclass(eq=False)
 class FlightRun:
     """
-    One flight in the air and its bookkeeping.
+    One flight's bookkeeping: its label (the release's id), the Flight and the order it came from.
 
-    ``label`` names it in events (the release's id), ``order`` is whatever the user built it
-    from (opaque here).
+    The flight's numbers (state, time flown, condition) live in the world's arrays, in the row
+    of the entity that flies it; ``time`` and ``ended`` read them there.
     """
 
     label: str
     flight: Flight
     order: object = None
-    ticks: int = 0
-    tick_dt: float = 0.0  # simulated seconds per tick for this run
-    time_offset: float = 0.0  # simulated seconds flown before the last rebase
-    landed_reported: bool = False
     last_hold_ns: int = 0
     last_marker_ns: int | None = None
     trail: collections.deque = field(default_factory=lambda: collections.deque(maxlen=500))
@@ -107,49 +107,25 @@ class FlightRun:
     ended: str | None = None  # why the guard ended the flight (ERROR), None while fine
     linear_diverged: bool = False  # the linear prediction overflowed (unstable ball)
     bounds: tuple[float, float] | None = None  # runaway speed [m/s] and rate [rad/s]
-    valid_delta: float | None = None  # largest total angle inside the data ranges [rad]
-    validity_warned: bool = False  # the flight left a data range (warned once)
-    # Integrated by the world's kernel (spawned balls) instead of Flight.sample: the committed
-    # state after ``done`` whole steps, and the landing sample once landed.
-    batched: bool = False
-    y: np.ndarray | None = None
-    done: int = 0
-    landing: BallSample | None = None
-    cleared: BallSample | None = None  # the sample the batch guard found fine (judge skips)
+    landing: BallSample | None = None  # the landing sample, once landed
+    entity: 'Entity | None' = field(default=None, repr=False)  # who flies it (World.throw)
 
     @property
     def time(self) -> float:
-        """Return the simulated seconds flown since the release."""
-        return self.time_offset + self.ticks * self.tick_dt
+        """Return the simulated seconds flown since the release (the latest state's)."""
+        entity = self.entity
+        if entity is None or entity.run is not self:
+            return self.landing.t if self.landing is not None else 0.0
+        return float(entity.world.flown[entity.slot])
+
+    @property
+    def landed_reported(self) -> bool:
+        return self.landing is not None
 
     @property
     def flying(self) -> bool:
-        """In the air: neither landed (reported) nor ended by the guard."""
-        return self.ended is None and not self.landed_reported
-
-    def rebase(self, tick_dt: float, trail_length: int) -> None:
-        """Keep the time flown and go on with ``tick_dt`` [s] of flight per tick."""
-        self.time_offset, self.ticks = self.time, 0
-        self.tick_dt = tick_dt
-        if self.trail.maxlen != max(trail_length, 1):
-            self.trail = collections.deque(self.trail, maxlen=max(trail_length, 1))
-
-    def select(self, wall_ns: int, hold_rate: float) -> float | None:
-        """
-        Return the flight time [s] this tick publishes (and count the tick), or None.
-
-        None once ended, and for a landed ball except every 1 / ``hold_rate`` [s] of wall
-        time (``wall_ns``), when the landed state is held.
-        """
-        if self.ended is not None:
-            return None
-        if self.landed_reported:
-            if hold_rate <= 0 or wall_ns - self.last_hold_ns < 1e9 / hold_rate:
-                return None
-            self.last_hold_ns = wall_ns
-        t = self.time
-        self.ticks += 1
-        return t
+        """In the air: neither landed nor ended by the guard."""
+        return self.ended is None and self.landing is None
 
     def runaway(self, sample: BallSample) -> str | None:
         """Why ``sample`` must not be published (the flight then ends), or None."""
@@ -187,34 +163,18 @@ class FlightRun:
             return f'no landing within {MAX_FLIGHT_S:g} s of simulated flight'
         return None
 
-    def left_validity(self, sample: BallSample) -> str | None:
-        """
-        Return the warning text the first time the total angle leaves a data range, else None.
-
-        The text lists :func:`football_ros.physics.aero.out_of_validity` (once per flight).
-        """
-        if self.validity_warned:
-            return None
+    def validity_text(self, sample: BallSample) -> str:
+        """Return the warning for a total angle past a data range (lists which)."""
         flight = self.flight
-        if self.valid_delta is None:
-            self.valid_delta = max_valid_delta(flight.model, flight.moment, flight.aero)
-        delta = float(sample.aero_angles[2])
-        if delta <= self.valid_delta:
-            return None
-        self.validity_warned = True
         return (
             f"flight '{self.label}' left the data range at t = {sample.t:.3f} s: "
             + '; '.join(
-                out_of_validity(delta, flight.model, flight.moment, flight.aero, flight.ball)
+                out_of_validity(
+                    float(sample.aero_angles[2]), flight.model, flight.moment, flight.aero,
+                    flight.ball,
+                )
             )
         )
-
-    def mark_landed(self, sample: BallSample, wall_ns: int) -> str | None:
-        """Return the landed event's text when ``sample`` is the landing (once), else None."""
-        if not sample.landed or self.landed_reported:
-            return None
-        self.landed_reported, self.last_hold_ns = True, wall_ns
-        return f"flight '{self.label}' " + landed_text(sample.position, sample.t)
 
     def end(self, reason: str) -> str | None:
         """End the flight (the guard); return the ERROR event's text, None if already ended."""
@@ -245,64 +205,64 @@ def landed_text(position, time_of_flight: float) -> str:
     )
 
 
-@dataclass
+@dataclass(eq=False)
 class Entity:
     """
-    A ball in the world: at rest at ``rest_pose`` or flying ``run``.
+    A ball in the world: at rest at ``rest_pose`` or flying ``run``; its numbers are the world's.
 
     ``rest_pose``: (position [m], orientation x, y, z, w) in ``field``, the spawn pose (or
-    where SetEntityState put it at rest). ``last``: the latest sample of the run.
+    where SetEntityState put it at rest). ``slot``: its row in the world's arrays.
     """
 
     name: str
     ball_name: str
     rest_pose: tuple[np.ndarray, np.ndarray]
+    world: 'World' = field(repr=False)
+    slot: int = 0
     spawned: bool = True
     run: FlightRun | None = None
-    last: BallSample | None = None
     spawn_pose: tuple[np.ndarray, np.ndarray] | None = None
-    rest_shown_ns: int | None = None  # wall time its rest pose was last published; None: due
 
     @property
     def uri(self) -> str:
         return URI_SCHEME + self.ball_name
 
-    def rest_due(self, wall_ns: int, hold_rate: float) -> bool:
-        """
-        Tell whether this tick publishes the rest pose (and count it as published).
-
-        At rest only: at once after a spawn, place or reset, then every 1 / ``hold_rate`` [s]
-        of wall time ``wall_ns`` (0 = only once), as a landed ball is held.
-        """
-        if self.run is not None:
-            return False
-        last = self.rest_shown_ns
-        if last is not None and (hold_rate <= 0 or wall_ns - last < 1e9 / hold_rate):
-            return False
-        self.rest_shown_ns = wall_ns
-        return True
-
-    def state(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """Position [m], orientation (x, y, z, w), velocity [m/s], angular velocity [rad/s]."""
-        sample = self.last if self.run is not None else None
-        if sample is None:
-            position, orientation = self.rest_pose
-            return position.copy(), orientation.copy(), np.zeros(3), np.zeros(3)
-        if sample.landed:  # at rest on the ground
-            return sample.position, sample.orientation, np.zeros(3), np.zeros(3)
-        return sample.position, sample.orientation, sample.velocity, sample.angular_velocity
+    @property
+    def status(self) -> int:
+        """AT_REST, FLYING, LANDED or ENDED."""
+        return int(self.world.status[self.slot])
 
     @property
     def condition(self) -> str:
         """'at rest', 'flying', 'landed' or 'ended' (the guard ended its flight)."""
-        run = self.run
-        if run is None:
-            return 'at rest'
-        if run.ended is not None:
-            return 'ended'
-        if run.landed_reported or (self.last is not None and self.last.landed):
-            return 'landed'
-        return 'flying'
+        return CONDITIONS[self.status]
+
+    @property
+    def last(self) -> BallSample | None:
+        """The latest state of its flight as a sample (None at rest or before the first)."""
+        return None if self.run is None else self.world.sample_of(self)
+
+    def state(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Position [m], orientation (x, y, z, w), velocity [m/s], angular velocity [rad/s]."""
+        world, k = self.world, self.slot
+        status = world.status[k]
+        if status == AT_REST:
+            position, orientation = self.rest_pose
+            return position.copy(), orientation.copy(), np.zeros(3), np.zeros(3)
+        pose = world.pose[k]
+        if status == LANDED:  # at rest on the ground
+            return pose[:3].copy(), pose[3:].copy(), np.zeros(3), np.zeros(3)
+        twist = world.twist[k]
+        return pose[:3].copy(), pose[3:].copy(), twist[:3].copy(), twist[3:].copy()
+
+    def acceleration(self) -> np.ndarray:
+        """Return the model's linear acceleration [m/s^2] in ``field`` now (0 at rest)."""
+        world, k = self.world, self.slot
+        if world.status[k] != FLYING or self.run is None:
+            return np.zeros(3)
+        rate = np.empty(dyn.N_STATE)
+        dyn.derivative(world.full[k], world.params[k], rate)
+        return rate[dyn.V:dyn.V + 3].copy()
 
 
 def check_pose(position, orientation) -> tuple[np.ndarray, np.ndarray]:
@@ -330,31 +290,90 @@ def check_pose(position, orientation) -> tuple[np.ndarray, np.ndarray]:
     return p, q / norm
 
 
+@dataclass
+class Computed:
+    """A kernel pass over rows ``slots`` at flight times ``times`` [s], not yet committed."""
+
+    version: int
+    slots: np.ndarray
+    times: np.ndarray
+    out: np.ndarray
+    described: np.ndarray
+    landing: np.ndarray
+    fine: np.ndarray
+
+
 class World:
     """
     Named entities (balls), the default one included, at most ``max_entities`` of them.
 
-    Names follow :data:`NAME_PATTERN`; the default entity cannot be deleted.
+    Every entity owns one row of the world's arrays (structure of arrays, in ``field``, SI):
+    ``pose`` (N, 7) and ``twist`` (N, 6) of its latest state, ``status``, ``flown`` (flight
+    time of that state [s]) and ``next_t`` (the flight time the next real-time tick shows);
+    flights also ``y`` (the committed state after ``done`` whole steps of ``steps``),
+    ``params``, ``full`` (the latest state vector) and ``described``. All flying balls advance
+    in one :func:`kernel.advance_many` call; only balls with an event (landed, ended, left a data
+    range) cost Python work. Names follow :data:`NAME_PATTERN`; the default entity (row 0) cannot
+    be deleted. Not thread-safe: :class:`football_ros.simulation.core.Simulation` holds its lock.
     """
 
     def __init__(self, max_entities: int = 100, default_ball: str = 'american') -> None:
         self.max_entities = max(1, int(max_entities))
         self.events = Events()
         self.entities: dict[str, Entity] = {}
+        self.rows: list[Entity] = []  # row -> entity
+        self.version = 0  # changes with every change that a computed pass must not outlive
+        self.rows_version = 0  # changes when an entity is added or removed (rows renumbered)
+        self._capacity = 0
+        self._grow(16)
         self._default_ball = default_ball
-        self._add_default()
+        self._add(DEFAULT_ENTITY, default_ball, (np.zeros(3), np.array([0.0, 0.0, 0.0, 1.0])),
+                  spawned=False)
         self._counter = 0
-        self._batch: tuple | None = None  # (runs, their y, arrays) of the last kernel call
 
-    def _add_default(self) -> None:
-        rest = (np.zeros(3), np.array([0.0, 0.0, 0.0, 1.0]))
-        self.entities[DEFAULT_ENTITY] = Entity(
-            DEFAULT_ENTITY, self._default_ball, rest, spawned=False, spawn_pose=rest
-        )
+    @property
+    def size(self) -> int:
+        return len(self.rows)
+
+    def _grow(self, capacity: int) -> None:
+        n = self._capacity
+        arrays = {
+            'pose': (POSE_WIDTH,), 'twist': (6,), 'status': (), 'flown': (), 'next_t': (),
+            'shown_ns': (), 'y': (dyn.N_STATE,), 'full': (dyn.N_STATE,), 'done': (),
+            'steps': (), 'params': (dyn.N_PARAM,), 'bounds': (2,), 'origins': (3,),
+            'valid_delta': (), 'warned': (), 'described': (dyn.N_DESCRIBE,),
+        }
+        dtypes = {'status': np.int8, 'shown_ns': np.int64, 'done': np.int64, 'warned': bool}
+        for name, shape in arrays.items():
+            new = np.zeros((capacity, *shape), dtype=dtypes.get(name, float))
+            if n:
+                new[:n] = getattr(self, name)[:n]
+            setattr(self, name, new)
+        self.steps[n:] = 1.0
+        self._capacity = capacity
+
+    def _add(self, name: str, ball: str, pose, spawned: bool) -> Entity:
+        if self.size == self._capacity:
+            self._grow(2 * self._capacity)
+        entity = Entity(name, ball, pose, self, self.size, spawned=spawned, spawn_pose=pose)
+        self.rows.append(entity)
+        self.entities[name] = entity
+        self.rows_version += 1
+        self._rest(entity, pose)
+        return entity
+
+    def _rest(self, entity: Entity, pose) -> None:
+        """Put ``entity`` at rest at ``pose`` (its flight dropped), due to be shown at once."""
+        k = entity.slot
+        entity.rest_pose, entity.run = pose, None
+        self.status[k], self.shown_ns[k] = AT_REST, -1
+        self.pose[k, :3], self.pose[k, 3:] = pose
+        self.twist[k] = 0.0
+        self.version += 1
 
     @property
     def default(self) -> Entity:
-        return self.entities[DEFAULT_ENTITY]
+        return self.rows[0]
 
     def get(self, name: str) -> Entity:
         """Return the entity called ``name``; EntityError('not_found') otherwise."""
@@ -413,9 +432,7 @@ class World:
             if not allow_renaming:
                 raise EntityError('name_not_unique', f"an entity named '{name}' exists")
             name = self._fresh(name[:50])
-        entity = Entity(name, ball, pose, spawned=True, spawn_pose=pose)
-        self.entities[name] = entity
-        return entity
+        return self._add(name, ball, pose, spawned=True)
 
     def _fresh(self, stem: str) -> str:
         while True:
@@ -432,12 +449,29 @@ class World:
                 'default',
                 f"the default entity '{name}' cannot be deleted (ResetSimulation clears it)",
             )
-        del self.entities[name]
+        self._remove(entity)
         return entity
+
+    def _remove(self, entity: Entity) -> None:
+        """Drop ``entity``: the last row moves into its row."""
+        k, last = entity.slot, self.size - 1
+        if k != last:
+            moved = self.rows[last]
+            for name in ('pose', 'twist', 'status', 'flown', 'next_t', 'shown_ns', 'y', 'full',
+                         'done', 'steps', 'params', 'bounds', 'origins', 'valid_delta', 'warned',
+                         'described'):
+                array = getattr(self, name)
+                array[k] = array[last]
+            moved.slot = k
+            self.rows[k] = moved
+        self.rows.pop()
+        del self.entities[entity.name]
+        self.version += 1
+        self.rows_version += 1
 
     def select(
         self,
-        pattern: str = '',
+        pattern=None,
         tags: tuple[str, ...] = (),
         all_tags: bool = False,
         sphere: tuple[np.ndarray, float] | None = None,
@@ -446,28 +480,19 @@ class World:
         """
         Return the entities that pass every filter given.
 
-        Name matching ``pattern`` (a regular expression, searched), any (``all_tags``: all)
-        of ``tags`` (see :meth:`tags`), the ball overlapping the ``sphere`` (centre [m],
-        radius [m]) or the axis-aligned ``box`` (two corners [m]).
-
-        Raises EntityError('filter') for a bad or too costly pattern (groups followed by a
-        quantifier are refused: they can backtrack exponentially).
+        Name matching ``pattern`` (an object with ``search(name)``, e.g. from
+        :func:`football_ros.simulation.names.compile_filter`; a string is compiled by it), any
+        (``all_tags``: all) of ``tags`` (see :meth:`tags`), the ball overlapping the ``sphere``
+        (centre [m], radius [m]) or the axis-aligned ``box`` (two corners [m]).
         """
-        regex = None
-        if pattern:
-            if len(pattern) > MAX_FILTER_CHARS or _NESTED_QUANTIFIER.search(pattern):
-                raise EntityError(
-                    'filter',
-                    f'filter must be a regular expression of at most {MAX_FILTER_CHARS} '
-                    'characters without a quantified group',
-                )
+        if isinstance(pattern, str):
             try:
-                regex = re.compile(pattern)
-            except (re.error, RecursionError, OverflowError) as exc:
-                raise EntityError('filter', f'filter is not a regular expression: {exc}') from None
+                pattern = names.compile_filter(pattern)
+            except names.FilterError as exc:
+                raise EntityError('filter', str(exc)) from None
         out = []
-        for entity in self.entities.values():
-            if regex is not None and not regex.search(entity.name):
+        for entity in self.rows:
+            if pattern is not None and not pattern.search(entity.name):
                 continue
             if tags:
                 have = set(self.tags(entity))
@@ -495,167 +520,219 @@ class World:
         return [entity.ball_name, 'football_ros']
 
     def runs(self) -> list[tuple[Entity, FlightRun]]:
-        """Entities with a flight run, in order (the default first)."""
-        return [(e, e.run) for e in self.entities.values() if e.run is not None]
+        """Entities with a flight run, in row order (the default first)."""
+        return [(e, e.run) for e in self.rows if e.run is not None]
 
     def place(self, entity: Entity, position, orientation) -> None:
         """Put ``entity`` at rest at a pose (its flight, if any, is dropped)."""
-        entity.rest_pose = check_pose(position, orientation)
-        entity.run, entity.last, entity.rest_shown_ns = None, None, None
+        self._rest(entity, check_pose(position, orientation))
 
     def throw(self, entity: Entity, run: FlightRun) -> None:
-        """
-        Make ``entity`` fly ``run`` from now on (its previous flight is dropped).
+        """Make ``entity`` fly ``run`` from its release on (its previous flight is dropped)."""
+        flight, k = run.flight, entity.slot
+        if run.bounds is None:
+            run.bounds = runaway_bounds(flight)
+        run.entity, entity.run = entity, run
+        self.y[k] = self.full[k] = flight.y0
+        self.done[k], self.steps[k], self.params[k] = 0, flight.step, flight.params
+        self.bounds[k], self.origins[k] = run.bounds, flight.initial.position
+        self.flown[k] = self.next_t[k] = 0.0
+        self.status[k], self.warned[k] = FLYING, False
+        self.valid_delta[k] = max_valid_delta(flight.model, flight.moment, flight.aero)
+        self.pose[k, :3] = flight.initial.position
+        self.pose[k, 3:] = flight.initial.attitude
+        self.twist[k] = 0.0
+        self.version += 1
 
-        A spawned entity's run is integrated by :func:`kernel.advance_many` (pose and twist
-        only); the default entity's by :meth:`Flight.sample` (with the linear theory's
-        angles, which its topics carry).
-        """
-        run.batched = entity.spawned
-        if run.batched:
-            run.y, run.done, run.landing = run.flight.y0.copy(), 0, None
-        entity.run, entity.last = run, None
-
-    def sample(self, items: list[tuple[FlightRun, float]]) -> list[BallSample]:
-        """
-        Sample each run at its flight time [s] (never decreasing between calls per run).
-
-        Batched runs go through one :func:`kernel.advance_many` call; their samples carry no
-        linear-theory angles (NaN).
-        """
-        out: list[BallSample | None] = [None] * len(items)
-        batch = []
-        for k, (run, t) in enumerate(items):
-            if not run.batched:
-                out[k] = run.flight.sample(t)
-            elif run.landing is not None:
-                out[k] = run.landing
-            else:
-                batch.append(k)
-        if batch:
-            runs = [items[k][0] for k in batch]
-            states, steps, params, bounds, origins = self._batch_arrays(runs)
-            done = np.array([r.done for r in runs], dtype=np.int64)
-            times = np.array([items[k][1] for k in batch], dtype=float)
-            n = len(batch)
-            new = np.empty_like(states)
-            described = np.empty((n, dyn.N_DESCRIBE))
-            landing_times = np.empty(n)
-            kernel.advance_many(
-                states, done, steps, params, times, 0.0, new, described, landing_times
-            )
-            fine = kernel.runaway_free(new, described, landing_times, times, bounds, origins,
-                                       MAX_DISTANCE_M, MAX_FLIGHT_S)
-            nan2 = np.full(2, np.nan)
-            for j, (k, run) in enumerate(zip(batch, runs)):
-                run.done = int(done[j])  # run.y: row j of states, advanced in place
-                landed = not math.isnan(landing_times[j])
-                d = described[j]
-                sample = BallSample(  # views of this call's arrays: nothing else writes them
-                    t=float(landing_times[j]) if landed else float(times[j]),
-                    position=new[j, dyn.R:dyn.R + 3],
-                    velocity=new[j, dyn.V:dyn.V + 3],
-                    orientation=d[dyn.D_ORIENT:dyn.D_ORIENT + 4],
-                    axis=d[dyn.D_AXIS:dyn.D_AXIS + 3],
-                    angular_velocity=d[dyn.D_OMEGA:dyn.D_OMEGA + 3],
-                    aero_angles=d[dyn.D_ALPHA:dyn.D_DELTA + 1],
-                    aero_angles_linear=nan2,
-                    landed=landed,
-                    aero_angles_quasi_steady=nan2,
-                )
-                run.cleared = sample if fine[j] else None
-                if landed:
-                    run.landing = sample
-                out[k] = sample
-        return out
-
-    def _batch_arrays(self, runs: list[FlightRun]) -> tuple:
-        """
-        Return the kernel's arrays of ``runs``: states, steps, params, runaway bounds, origins.
-
-        Kept from the last call while the same runs come in the same order, each run's ``y``
-        still the row it was given (the kernel advances the rows in place); else stacked anew
-        and each ``y`` made a view of its row.
-        """
-        last = self._batch
-        if last is not None and len(last[0]) == len(runs) and all(
-                a is b and a.y is y for a, b, y in zip(runs, last[0], last[1])):
-            return last[2]
-        for run in runs:
-            if run.bounds is None:
-                run.bounds = runaway_bounds(run.flight)
-        states = np.stack([run.y for run in runs])
-        for j, run in enumerate(runs):
-            run.y = states[j]
-        arrays = (
-            states,
-            np.array([run.flight.step for run in runs]),
-            np.stack([run.flight.params for run in runs]),
-            np.array([run.bounds for run in runs]),
-            np.array([run.flight.initial.position for run in runs]),
-        )
-        self._batch = (list(runs), [run.y for run in runs], arrays)
-        return arrays
-
-    def judge(self, entity: Entity, run: FlightRun, sample: BallSample, wall_ns: int) -> bool:
-        """
-        Apply the guard, the landing and the data-range check to a new sample of a run.
-
-        Queues the events; returns False when the guard ended the flight (the sample must not
-        be published), else True (``entity.last`` is then the sample).
-        """
-        problem = None if run.cleared is sample else run.runaway(sample)
-        if problem:
-            text = run.end(problem)
+    def end_all(self, reason: str) -> int:
+        """End every flight in the air with an ERROR event; return how many."""
+        rows = self.flying()
+        for k in rows:
+            run = self.rows[k].run
+            self.status[k] = ENDED
+            text = run.end(reason)
             if text:
-                self.events.append(('ERROR', 'error', text))
-            return False
-        entity.last = sample
-        text = run.mark_landed(sample, wall_ns)
-        if text:
-            self.events.append(('OK', 'landed', text))
-        warning = run.left_validity(sample)
-        if warning:
-            self.events.append(('WARN', 'validity', warning))
-        return True
+                self.events.append(('ERROR', 'error', text, run.label))
+        self.version += 1
+        return int(rows.size)
+
+    def flying(self) -> np.ndarray:
+        """Rows of the balls in the air."""
+        return np.flatnonzero(self.status[:self.size] == FLYING)
+
+    def compute(self, slots: np.ndarray, times: np.ndarray) -> Computed:
+        """
+        Integrate rows ``slots`` to flight times ``times`` [s] (one kernel call), uncommitted.
+
+        Only whole steps are committed to ``y`` (as :meth:`Flight.state_at` does), so a pass
+        may be computed ahead and thrown away: the next pass to the same times gives the same.
+        """
+        n = slots.size
+        states, done = self.y[slots], self.done[slots]
+        out = np.empty((n, dyn.N_STATE))
+        described = np.empty((n, dyn.N_DESCRIBE))
+        landing = np.empty(n)
+        if n:
+            kernel.advance_many(states, done, self.steps[slots], self.params[slots], times, 0.0,
+                                out, described, landing)
+            self.y[slots], self.done[slots] = states, done
+        fine = kernel.runaway_free(out, described, landing, times, self.bounds[slots],
+                                   self.origins[slots], MAX_DISTANCE_M, MAX_FLIGHT_S)
+        return Computed(self.version, slots, times, out, described, landing, fine)
+
+    def commit(self, c: Computed, wall_ns: int) -> np.ndarray:
+        """
+        Judge and keep a computed pass; return the rows that show a new state.
+
+        The guard (a runaway ends the flight, ERROR), the landing (OK) and the data range (WARN,
+        once a flight) are queued as events; nothing else costs per-ball Python work.
+        """
+        if not c.slots.size:
+            return c.slots
+        keep = np.ones(c.slots.size, dtype=bool)
+        for j in np.flatnonzero(~c.fine):  # the compiled guard fired: the exact rule decides
+            entity = self.rows[c.slots[j]]
+            problem = entity.run.runaway(self._sample(c, j))
+            if problem:
+                keep[j] = False
+                self.status[c.slots[j]] = ENDED
+                text = entity.run.end(problem)
+                if text:
+                    self.events.append(('ERROR', 'error', text, entity.run.label))
+        slots, out, described = c.slots[keep], c.out[keep], c.described[keep]
+        landing = c.landing[keep]
+        self.flown[slots] = np.where(np.isnan(landing), c.times[keep], landing)
+        self.full[slots] = out
+        self.described[slots] = described
+        self.pose[slots, :3] = out[:, dyn.R:dyn.R + 3]
+        self.pose[slots, 3:] = described[:, dyn.D_ORIENT:dyn.D_ORIENT + 4]
+        self.twist[slots, :3] = out[:, dyn.V:dyn.V + 3]
+        self.twist[slots, 3:] = described[:, dyn.D_OMEGA:dyn.D_OMEGA + 3]
+        for k in slots[~np.isnan(landing)]:
+            entity = self.rows[k]
+            self.status[k], self.shown_ns[k] = LANDED, wall_ns
+            entity.run.landing = sample = self.sample_of(entity)
+            self.events.append(('OK', 'landed', f"flight '{entity.run.label}' "
+                                + landed_text(sample.position, sample.t), entity.run.label))
+        left = (described[:, dyn.D_DELTA] > self.valid_delta[slots]) & ~self.warned[slots]
+        for k in slots[left]:
+            self.warned[k] = True
+            run = self.rows[k].run
+            text = run.validity_text(self.sample_of(self.rows[k]))
+            self.events.append(('WARN', 'validity', text, run.label))
+        return slots
+
+    def fly(self, dt: float, wall_ns: int, ahead: Computed | None = None) -> np.ndarray:
+        """
+        Show every ball in the air at its next time, then move that on by ``dt`` [s] of flight.
+
+        One real-time tick; returns the rows shown (a pass computed ahead is used if current).
+        """
+        slots = self.flying()
+        if (ahead is None or ahead.version != self.version
+                or not np.array_equal(ahead.slots, slots)):
+            ahead = self.compute(slots, self.next_t[slots])
+        shown = self.commit(ahead, wall_ns)
+        self.next_t[slots] += dt
+        return shown
+
+    def ahead(self) -> Computed:
+        """Compute the next tick's pass now (see :meth:`fly`)."""
+        slots = self.flying()
+        return self.compute(slots, self.next_t[slots])
+
+    def advance(self, n_steps: int, step: float, wall_ns: int) -> np.ndarray:
+        """
+        Lock-step: every ball in the air ``n_steps`` integration steps of ``step`` [s] on.
+
+        Returns the rows shown; the next real-time tick shows the same time.
+        """
+        slots = self.flying()
+        times = self.next_t[slots] + n_steps * step
+        shown = self.commit(self.compute(slots, times), wall_ns)
+        self.next_t[slots] = times
+        return shown
 
     def step(self, n_steps: int, step: float, wall_ns: int) -> list[tuple[Entity, BallSample]]:
         """
-        Advance every flight in the air by exactly ``n_steps`` integration steps of ``step`` [s].
+        :meth:`advance`, then (entity, sample) for every flight the guard has not ended.
 
-        Returns (entity, sample) for every entity with a run the guard has not ended, at its
-        new time (a landed ball: its landing). Guard, landing and data-range events are
-        queued as in real time.
+        At its new time, or its landing.
         """
-        moving, out = [], []
-        for entity, run in self.runs():
-            if run.ended is not None:
-                continue
-            if run.landed_reported:
-                out.append((entity, entity.last))
-                continue
-            run.time_offset, run.ticks = run.time + n_steps * step, 0
-            moving.append((entity, run))
-        samples = self.sample([(run, run.time) for _entity, run in moving])
-        for (entity, run), sample in zip(moving, samples):
-            if self.judge(entity, run, sample, wall_ns):
-                out.append((entity, sample))
-        return out
+        self.advance(n_steps, step, wall_ns)
+        return [(e, self.sample_of(e)) for e, run in self.runs() if run.ended is None]
 
-    def reset(self, state: bool, spawned: bool) -> None:
+    def due(self, wall_ns: int, hold_rate: float, landed: bool = True) -> np.ndarray:
         """
-        Reset the entities (the clock is the user's).
+        Rows whose resting state this tick shows again (and count them as shown).
+
+        At rest (a spawned ball) or ``landed``: at once after a spawn, place or reset, then
+        every 1 / ``hold_rate`` [s] of wall time ``wall_ns`` (0 = only once). The default
+        entity at rest is not shown.
+        """
+        n = self.size
+        status, shown = self.status[:n], self.shown_ns[:n]
+        if n == 1 and status[0] != LANDED:  # the default ball alone, not landed: nothing
+            return np.empty(0, dtype=np.int64)
+        resting = (status == AT_REST) | ((status == LANDED) if landed else False)
+        resting[0] &= status[0] == LANDED
+        if hold_rate > 0:
+            ready = (shown < 0) | (wall_ns - shown >= 1e9 / hold_rate)
+        else:
+            ready = shown < 0
+        rows = np.flatnonzero(resting & ready)
+        shown[rows] = wall_ns
+        return rows
+
+    def _sample(self, c: Computed, j: int) -> BallSample:
+        out, d = c.out[j], c.described[j]
+        landed = not math.isnan(c.landing[j])
+        return _sample(float(c.landing[j]) if landed else float(c.times[j]), out, d, landed)
+
+    def sample_of(self, entity: Entity, theory: bool = False) -> BallSample:
+        """
+        Return the latest state of ``entity`` as a sample.
+
+        ``theory``: with its flight's linear-theory angles (advances the quasi-steady theory:
+        call with non-decreasing times), else NaN.
+        """
+        k = entity.slot
+        t, y = float(self.flown[k]), self.full[k]
+        theory_angles = None
+        if theory and entity.run is not None:
+            theory_angles = entity.run.flight.theory_angles(t, y)
+        return _sample(t, y, self.described[k], self.status[k] == LANDED, theory_angles)
+
+    def reset(self, state: bool, spawned: bool) -> list[Entity]:
+        """
+        Reset the entities (the clock is the user's); return the entities deleted.
 
         ``spawned`` deletes every spawned entity; ``state`` puts every entity back at rest at
         its spawn pose (flights dropped).
         """
-        if spawned:
-            for name in [n for n, e in self.entities.items() if e.spawned]:
-                del self.entities[name]
+        doomed = [e for e in self.rows if e.spawned] if spawned else []
+        for entity in doomed:
+            self._remove(entity)
         if state:
-            for entity in self.entities.values():
-                entity.rest_pose = entity.spawn_pose
-                entity.run, entity.last, entity.rest_shown_ns = None, None, None
+            for entity in self.rows:
+                self._rest(entity, entity.spawn_pose)
+        return doomed
+
+
+def _sample(t: float, y: np.ndarray, d: np.ndarray, landed: bool, theory=None) -> BallSample:
+    linear, quasi = theory if theory is not None else (np.full(2, np.nan), np.full(2, np.nan))
+    return BallSample(
+        t=t,
+        position=y[dyn.R:dyn.R + 3].copy(),
+        velocity=y[dyn.V:dyn.V + 3].copy(),
+        orientation=d[dyn.D_ORIENT:dyn.D_ORIENT + 4].copy(),
+        axis=d[dyn.D_AXIS:dyn.D_AXIS + 3].copy(),
+        angular_velocity=d[dyn.D_OMEGA:dyn.D_OMEGA + 3].copy(),
+        aero_angles=d[dyn.D_ALPHA:dyn.D_DELTA + 1].copy(),
+        aero_angles_linear=linear,
+        landed=bool(landed),
+        aero_angles_quasi_steady=quasi,
+    )
 
 
 def _brief(value, limit: int = 64) -> str:
