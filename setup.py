@@ -53,6 +53,8 @@ setup(
         'dask[distributed]>=2024.1',
         'pyarrow>=14',
         'tqdm>=4.60',
+        # The simulator's entity name filters in linear time (football_ros/simulation/names.py).
+        'google-re2>=1.1',
     ],
     extras_require={
         # ROS 2 Jazzy from PyPI wheels, for machines without /opt/ros (never with a real install).
