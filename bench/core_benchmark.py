@@ -1,0 +1,420 @@
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The simulator against its own core: how much of its CPU is the physics.
+
+    .venv/bin/python bench/core_benchmark.py [--draws 3] [--hogs 2] [--balls 1 100]
+        [--rt-balls 1000] [--seconds 4] [--soak 60]
+
+Every figure is a ratio to a baseline measured in the same run, ``--draws`` times, with
+``--hogs`` busy-loop processes beside it (a loaded machine):
+
+- Lock-step: the simulator's CPU (its process, /proc, less its idle pacing) per StepSimulation
+  (1000 steps) and per SimulateSteps goal (1000 steps) with N balls in the air, over the bare
+  core's CPU for the same steps in this process (``Simulation.step_n(1000)``). The floor: a
+  do-nothing rclpy server with the same services and action (it answers at once), measured the
+  same way; "less floor" is (simulator - floor) / core. The default ball's lock-step (flown by
+  a flight order) beside a spawned ball's.
+- Real time at 100 Hz: the simulator's CPU (cores) with ``--rt-balls`` balls in the air and a
+  /tf subscriber (and the /tf messages received per tick published), with nobody subscribed (and
+  the physics' share: the core's kernel pass for those balls in this process over the
+  simulator's CPU per tick), and with 100 balls and every per-ball topic subscribed.
+- Soak (``--soak`` s): 100 balls re-thrown every 10 s at 100 Hz with a /tf subscriber: the
+  simulator's RSS growth and late ticks beside the bare pacing loop's (no ROS, no work) over
+  the same time.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+from pathlib import Path
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+REPO = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(REPO / 'bench'))
+sys.path.insert(0, str(REPO))
+
+import entities_benchmark as eb  # noqa: E402
+from football_ros.nodes import qos  # noqa: E402
+from football_ros.physics import Flight  # noqa: E402
+from football_ros.requests import FlightOrder  # noqa: E402
+from football_ros.simulation import core  # noqa: E402
+from football_ros.simulation.world import DEFAULT_ENTITY, FlightRun  # noqa: E402
+from results import recorded  # noqa: E402
+from simulation_interfaces.msg import SimulationState  # noqa: E402
+from std_msgs.msg import String  # noqa: E402
+
+STEPS = 1000
+REPEATS = 7
+
+
+def bare_core(balls: int, default: bool = False) -> float:
+    """Median CPU seconds of ``Simulation.step_n(STEPS)`` with ``balls`` lobs in the air."""
+    sim = core.Simulation(max_entities=balls + 1)
+    names = [DEFAULT_ENTITY] if default else []
+    for k in range(0 if default else balls):
+        names.append(sim.spawn(f'b{k}', 'football_ros://american', [0, 0.5 * k, 0],
+                               [0, 0, 0, 1]).name)
+    for name in names:
+        sim.throw(name, FlightRun(name, Flight.from_release(eb.LOCK_STEP_LOB)))
+    sim.set_state(core.PAUSED)
+    sim.step_n(1, 0)
+    times = []
+    for _ in range(REPEATS):
+        start = time.thread_time()
+        sim.step_n(STEPS, 0)
+        times.append(time.thread_time() - start)
+    return statistics.median(times)
+
+
+def bare_tick(balls: int, seconds: float = 2.0) -> float:
+    """CPU seconds of the core's kernel pass of one 100 Hz tick for ``balls`` lobs (no ROS)."""
+    sim = core.Simulation(max_entities=balls + 1)
+    for k in range(balls):
+        sim.spawn(f'b{k}', 'football_ros://american', [0, 0.5 * k, 0], [0, 0, 0, 1])
+        sim.throw(f'b{k}', FlightRun(f'b{k}', Flight.from_release(eb.LOCK_STEP_LOB)))
+    sim.tick(0, 10_000_000, 1.0, 1.0)
+    n, spent, start = 0, 0.0, time.monotonic()
+    while time.monotonic() - start < seconds:
+        sim.tick(0, 10_000_000, 1.0, 1.0)  # takes the pass computed ahead
+        before = time.thread_time()
+        sim.integrate_ahead()  # the next tick's pass: the physics
+        spent += time.thread_time() - before
+        n += 1
+    return spent / n
+
+
+def idle_rate(pid: int, seconds: float = 2.0) -> float:
+    """CPU seconds per second of process ``pid`` while nothing is asked of it."""
+    cpu = eb.cpu_ns(pid)
+    time.sleep(seconds)
+    return (eb.cpu_ns(pid) - cpu) * 1e-9 / seconds
+
+
+def per_call(bench, pid: int, call, idle: float) -> float:
+    """Mean CPU seconds of process ``pid`` per ``call()`` (REPEATS calls), its idle CPU removed."""
+    call()  # discovery and first-use costs outside the figure
+    cpu, wall = eb.cpu_ns(pid), time.monotonic()
+    for _ in range(REPEATS):
+        call()
+    cpu = (eb.cpu_ns(pid) - cpu) * 1e-9 - idle * (time.monotonic() - wall)
+    return cpu / REPEATS
+
+
+def lock_step_phase(pid: int, balls: list[int]) -> dict:
+    """The simulator's (or the floor server's, balls [0]) CPU per call, in a fresh client."""
+    bench = eb.Bench()
+    out = {}
+    idle = idle_rate(pid)
+    if balls == [0]:  # the floor: a server that answers at once
+        out['step'] = per_call(bench, pid, lambda: bench.step(STEPS), idle)
+        out['action'] = per_call(bench, pid, lambda: bench.simulate_steps(STEPS), idle)
+        return out
+    for n in balls:
+        bench.set_state(SimulationState.STATE_PAUSED)
+        bench.reset()
+        bench.spawn_and_throw(n, eb.LOCK_STEP_LOB)
+        out[f'step {n}'] = per_call(bench, pid, lambda: bench.step(STEPS), idle)
+        out[f'action {n}'] = per_call(bench, pid, lambda: bench.simulate_steps(STEPS), idle)
+        bench.reset()
+    # The default ball (a flight order, as the release node sends) stepped the same way.
+    bench.set_state(SimulationState.STATE_PAUSED)
+    bench.orders.publish(String(data=FlightOrder.from_release('bench', eb.LOCK_STEP_LOB).to_json()))
+    bench.spin(1.0)
+    out['step default'] = per_call(bench, pid, lambda: bench.step(STEPS), idle)
+    bench.reset()
+    bench.set_state(SimulationState.STATE_PLAYING)
+    return out
+
+
+def realtime_phase(pid: int, balls: int, seconds: float, subscribed: str) -> dict:
+    """Simulator CPU (cores) with ``balls`` flying; ``subscribed``: 'none', 'tf' or 'all'."""
+    bench = eb.Bench()
+    bench.set_state(SimulationState.STATE_PAUSED)
+    bench.reset()
+    bench.spawn_and_throw(balls, eb.LOCK_STEP_LOB)
+    received = [0]
+    if subscribed == 'tf':
+        def count(_msg) -> None:
+            received[0] += 1
+        bench.node.create_subscription(eb.TFMessage, qos.TF, count, qos.TF_QOS, raw=True)
+    elif subscribed == 'all':
+        _subs, received = bench.count_all(
+            balls, lambda k, leaf: qos.TF if k is None else qos.entity_topic(f'b{k}', leaf))
+    bench.spin(2.0)  # discovery, and the simulator's turn through the subscriber counts
+    bench.set_state(SimulationState.STATE_PLAYING)
+    bench.spin(0.5)
+    late, skipped = bench.late_ticks()
+    received[0] = 0
+    cpu, wall = eb.cpu_ns(pid), time.monotonic()
+    bench.spin(seconds)
+    cpu = (eb.cpu_ns(pid) - cpu) * 1e-9 / (time.monotonic() - wall)
+    got = received[0]
+    late2, skipped2 = bench.late_ticks()
+    out = {'cores': cpu, 'late': late2 - late, 'skipped': skipped2 - skipped,
+           'received': got, 'expected_per_s': 100.0 * (1 if subscribed == 'tf' else
+                                                        2 * balls + 1)}
+    bench.reset()
+    return out
+
+
+def soak_phase(pid: int, balls: int, seconds: float) -> dict:
+    """RSS growth [MB] and late ticks of the simulator over ``seconds`` with a /tf subscriber."""
+    bench = eb.Bench()
+    bench.reset()
+    bench.node.create_subscription(eb.TFMessage, qos.TF, lambda _m: None, qos.TF_QOS, raw=True)
+    bench.set_state(SimulationState.STATE_PAUSED)
+    bench.spawn_and_throw(balls, eb.LOCK_STEP_LOB)
+    bench.set_state(SimulationState.STATE_PLAYING)
+    bench.spin(5.0)
+    rss0 = rss_mb(pid)
+    late, skipped = bench.late_ticks()
+    end = time.monotonic() + seconds
+    while time.monotonic() < end:
+        bench.spin(min(10.0, max(0.0, end - time.monotonic())))
+        bench.set_state(SimulationState.STATE_PAUSED)
+        rethrow(bench, balls)
+        bench.set_state(SimulationState.STATE_PLAYING)
+    late2, skipped2 = bench.late_ticks()
+    return {'rss0': rss0, 'rss1': rss_mb(pid), 'late': late2 - late, 'skipped': skipped2 - skipped}
+
+
+def rethrow(bench, balls: int) -> None:
+    """Throw the spawned balls b0.. again from their release (SetEntityState)."""
+    st = eb.LOCK_STEP_LOB.initial_state()
+    for k in range(balls):
+        state = eb.EntityState()
+        p, o = state.pose.position, state.pose.orientation
+        p.x, p.y, p.z = 0.0, 0.5 * k, 0.0
+        o.x, o.y, o.z, o.w = st.attitude.tolist()
+        v, w = state.twist.linear, state.twist.angular
+        v.x, v.y, v.z = st.velocity.tolist()
+        w.x, w.y, w.z = st.angular_velocity().tolist()
+        bench.call(eb.SetEntityState, 'set_entity_state',
+                   eb.SetEntityState.Request(entity=f'b{k}', state=state))
+
+
+def rss_mb(pid: int) -> float:
+    for line in Path(f'/proc/{pid}/status').read_text().splitlines():
+        if line.startswith('VmRSS:'):
+            return int(line.split()[1]) / 1024.0
+    return float('nan')
+
+
+def floor_server() -> None:
+    """A do-nothing simulator: StepSimulation and SimulateSteps answered at once (the floor)."""
+    import rclpy
+    from rclpy.action import ActionServer
+    from rclpy.executors import ExternalShutdownException
+    from simulation_interfaces.action import SimulateSteps
+    from simulation_interfaces.srv import GetSimulationState, ResetSimulation, SetSimulationState
+    from simulation_interfaces.srv import StepSimulation
+
+    from simulation_interfaces.msg import Result
+
+    def answer(_request, response):
+        response.result.result = Result.RESULT_OK
+        return response
+
+    rclpy.init()
+    node = rclpy.create_node('football_simulator')
+    depth = qos.service_qos()
+    for srv_type in (StepSimulation, SetSimulationState, ResetSimulation, GetSimulationState):
+        name = {StepSimulation: 'step_simulation', SetSimulationState: 'set_simulation_state',
+                ResetSimulation: 'reset_simulation',
+                GetSimulationState: 'get_simulation_state'}[srv_type]
+        node.create_service(srv_type, f'~/{name}', answer, qos_profile=depth)
+
+    def execute(goal):
+        goal.succeed()
+        out = SimulateSteps.Result()
+        out.result.result = Result.RESULT_OK
+        return out
+
+    ActionServer(node, SimulateSteps, '~/simulate_steps', execute_callback=execute,
+                 goal_service_qos_profile=depth, result_service_qos_profile=depth,
+                 cancel_service_qos_profile=depth)
+    print('ready', flush=True)
+    try:
+        rclpy.spin(node)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+
+
+def run_phase(name: str, **options) -> dict:
+    """Run a phase in a fresh client process; return its JSON."""
+    argv = [sys.executable, __file__, '--no-record', '--phase', name, '--options',
+            json.dumps(options)]
+    out = subprocess.run(argv, capture_output=True, text=True, cwd=REPO, timeout=1800)
+    if out.returncode:
+        raise SystemExit(f'phase {name} failed:\n{out.stdout}\n{out.stderr}')
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def start(argv: list[str], log: Path) -> subprocess.Popen:
+    proc = subprocess.Popen(argv, stdout=open(log, 'w'), stderr=subprocess.STDOUT, cwd=REPO,
+                            env=dict(os.environ, PYTHONPATH=str(REPO)))
+    deadline = time.monotonic() + 180.0
+    while 'ready' not in log.read_text():
+        if proc.poll() is not None or time.monotonic() > deadline:
+            raise SystemExit(f'{argv} did not start:\n{log.read_text()}')
+        time.sleep(0.1)
+    return proc
+
+
+def stop(proc: subprocess.Popen) -> None:
+    proc.send_signal(2)
+    try:
+        proc.wait(timeout=10)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.wait()
+
+
+def simulator(tmp: Path, tag: str) -> subprocess.Popen:
+    return start([sys.executable, '-m', 'football_ros.cli', 'simulator', '--ros-args', '-p',
+                  'publish_rate:=100.0', '-p', 'max_entities:=1000', '-p', 'marker_rate:=0.0'],
+                 tmp / f'simulator-{tag}.log')
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
+    parser.add_argument('--draws', type=int, default=3)
+    parser.add_argument('--hogs', type=int, default=2, help='busy-loop processes beside it')
+    parser.add_argument('--balls', type=int, nargs='+', default=[1, 100],
+                        help='balls of the lock-step rows')
+    parser.add_argument('--rt-balls', type=int, default=1000, help='balls of the real-time rows')
+    parser.add_argument('--seconds', type=float, default=4.0, help='real-time window [s]')
+    parser.add_argument('--soak', type=float, default=60.0, help='soak [s], 0 = none')
+    parser.add_argument('--phase', help=argparse.SUPPRESS)
+    parser.add_argument('--options', help=argparse.SUPPRESS, default='{}')
+    args = parser.parse_args(argv)
+    if args.phase == 'floor_server':
+        floor_server()
+        return 0
+    if args.phase:
+        options = json.loads(args.options)
+        fn = {'lockstep': lock_step_phase, 'realtime': realtime_phase, 'soak': soak_phase,
+              'pace': lambda seconds: eb.pace(100.0, seconds, 0)}[args.phase]
+        print(json.dumps(fn(**options)))
+        return 0
+    if any(b < 1 for b in args.balls) or args.rt_balls < 1 or args.draws < 1 or args.hogs < 0:
+        parser.error('--balls, --rt-balls and --draws must be >= 1, --hogs >= 0')
+    hogs = [subprocess.Popen([sys.executable, '-c', 'while True: pass'])
+            for _ in range(args.hogs)]
+    draws = []
+    try:
+        with tempfile.TemporaryDirectory() as tmp:
+            tmp = Path(tmp)
+            for draw in range(args.draws):
+                row = {'core': {n: bare_core(n) for n in args.balls},
+                       'core default': bare_core(1, default=True),
+                       'physics': bare_tick(args.rt_balls)}
+                floor = start([sys.executable, __file__, '--no-record', '--phase', 'floor_server'],
+                              tmp / f'floor-{draw}.log')
+                try:
+                    row['floor'] = run_phase('lockstep', pid=floor.pid, balls=[0])
+                finally:
+                    stop(floor)
+                sim = simulator(tmp, str(draw))
+                try:
+                    row['sim'] = run_phase('lockstep', pid=sim.pid, balls=args.balls)
+                    row['rt'] = {
+                        case: run_phase('realtime', pid=sim.pid, balls=n,
+                                        seconds=args.seconds, subscribed=case.split()[1])
+                        for case, n in ((f'{args.rt_balls} tf', args.rt_balls),
+                                        (f'{args.rt_balls} none', args.rt_balls),
+                                        ('100 all', 100))
+                    }
+                    if args.soak > 0 and draw == 0:
+                        row['pace'] = run_phase('pace', seconds=args.soak)
+                        row['soak'] = run_phase('soak', pid=sim.pid, balls=100,
+                                                seconds=args.soak)
+                finally:
+                    stop(sim)
+                draws.append(row)
+    finally:
+        for hog in hogs:
+            hog.kill()
+            hog.wait()
+    report(draws, args)
+    return 0
+
+
+def _cells(values, fmt='{:.2f}') -> str:
+    return ' / '.join(fmt.format(v) for v in values)
+
+
+def report(draws: list[dict], args) -> None:
+    print(f'{args.draws} draws (cells: draw 1 / 2 / ...), {args.hogs} busy-loop processes beside '
+          'the benchmark; CPU = the process\'s user + system time.')
+    print()
+    print(f'Lock-step, {STEPS} steps of 1 ms per call (CPU ms per call; ratios to the bare core '
+          'measured in the same draw)')
+    print('| call | balls | bare core ms | floor ms (do-nothing server) | simulator ms '
+          '| simulator / core | (simulator - floor) / core |')
+    print('|---|---|---|---|---|---|---|')
+    for kind, key in (('StepSimulation', 'step'), ('SimulateSteps', 'action')):
+        for n in args.balls:
+            core_ms = [d['core'][n] * 1e3 for d in draws]
+            floor_ms = [d['floor'][key] * 1e3 for d in draws]
+            sim_ms = [d['sim'][f'{key} {n}'] * 1e3 for d in draws]
+            print(f'| {kind} | {n} | {_cells(core_ms, "{:.3f}")} | {_cells(floor_ms)} '
+                  f'| {_cells(sim_ms)} | {_cells([s / c for s, c in zip(sim_ms, core_ms)])} '
+                  f'| {_cells([(s - f) / c for s, f, c in zip(sim_ms, floor_ms, core_ms)])} |')
+    default = [d['sim']['step default'] / d['sim']['step 1'] for d in draws
+               if 1 in args.balls]
+    if default:
+        print(f'| StepSimulation, the default ball (a flight order) / a spawned ball | 1 | | | '
+              f'| {_cells(default)} | |')
+    print()
+    print(f'Real time at 100 Hz ({args.seconds:g} s windows; cores = simulator CPU s per s)')
+    print('| balls | subscribed | cores | late ticks | skipped | messages received / published '
+          '| physics share (kernel pass / simulator CPU per tick) |')
+    print('|---|---|---|---|---|---|---|')
+    for case in draws[0]['rt']:
+        n, sub = case.split()
+        cores = [d['rt'][case]['cores'] for d in draws]
+        late = [d['rt'][case]['late'] for d in draws]
+        skipped = [d['rt'][case]['skipped'] for d in draws]
+        share = ''
+        if sub == 'none' and int(n) == args.rt_balls:
+            share = _cells([d['physics'] * 100.0 / d['rt'][case]['cores'] for d in draws])
+        delivered = ''
+        if sub != 'none':
+            delivered = _cells([d['rt'][case]['received'] / (args.seconds
+                                * d['rt'][case]['expected_per_s']) for d in draws])
+        print(f'| {n} | {sub} | {_cells(cores)} | {_cells(late, "{}")} '
+              f'| {_cells(skipped, "{}")} | {delivered} | {share} |')
+    soak = draws[0].get('soak')
+    if soak:
+        print()
+        print(f'Soak: 100 balls at 100 Hz re-thrown every 10 s, a /tf subscriber, '
+              f'{args.soak:g} s')
+        print('| RSS start MB | RSS end MB | growth MB | late ticks | skipped '
+              '| bare pacing loop late ticks (same length, same run) |')
+        print('|---|---|---|---|---|---|')
+        print(f"| {soak['rss0']:.1f} | {soak['rss1']:.1f} | {soak['rss1'] - soak['rss0']:.2f} "
+              f"| {soak['late']} | {soak['skipped']} | {draws[0]['pace']['late']} |")
+
+
+if __name__ == '__main__':
+    raise SystemExit(recorded('Simulation core (lock-step, real time, soak)', main))
