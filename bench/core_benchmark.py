@@ -120,7 +120,7 @@ def per_call(bench, pid: int, call, idle: float) -> float:
 
 
 def lock_step_phase(pid: int, balls: list[int]) -> dict:
-    """The simulator's (or the floor server's, balls [0]) CPU per call, in a fresh client."""
+    """Measure the simulator's (the floor server's: balls [0]) CPU per call, fresh client."""
     bench = eb.Bench()
     out = {}
     idle = idle_rate(pid)
@@ -137,7 +137,8 @@ def lock_step_phase(pid: int, balls: list[int]) -> dict:
         bench.reset()
     # The default ball (a flight order, as the release node sends) stepped the same way.
     bench.set_state(SimulationState.STATE_PAUSED)
-    bench.orders.publish(String(data=FlightOrder.from_release('bench', eb.LOCK_STEP_LOB).to_json()))
+    order = FlightOrder.from_release('bench', eb.LOCK_STEP_LOB)
+    bench.orders.publish(String(data=order.to_json()))
     bench.spin(1.0)
     out['step default'] = per_call(bench, pid, lambda: bench.step(STEPS), idle)
     bench.reset()
@@ -146,7 +147,7 @@ def lock_step_phase(pid: int, balls: list[int]) -> dict:
 
 
 def realtime_phase(pid: int, balls: int, seconds: float, subscribed: str) -> dict:
-    """Simulator CPU (cores) with ``balls`` flying; ``subscribed``: 'none', 'tf' or 'all'."""
+    """Measure the simulator's cores with ``balls`` flying; ``subscribed``: none, tf, all."""
     bench = eb.Bench()
     bench.set_state(SimulationState.STATE_PAUSED)
     bench.reset()
@@ -169,9 +170,9 @@ def realtime_phase(pid: int, balls: int, seconds: float, subscribed: str) -> dic
     cpu = (eb.cpu_ns(pid) - cpu) * 1e-9 / (time.monotonic() - wall)
     got = received[0]
     late2, skipped2 = bench.late_ticks()
+    per_tick = 1 if subscribed == 'tf' else 2 * balls + 1
     out = {'cores': cpu, 'late': late2 - late, 'skipped': skipped2 - skipped,
-           'received': got, 'expected_per_s': 100.0 * (1 if subscribed == 'tf' else
-                                                        2 * balls + 1)}
+           'received': got, 'expected_per_s': 100.0 * per_tick}
     bench.reset()
     return out
 
@@ -220,7 +221,7 @@ def rss_mb(pid: int) -> float:
 
 
 def floor_server() -> None:
-    """A do-nothing simulator: StepSimulation and SimulateSteps answered at once (the floor)."""
+    """Serve StepSimulation and SimulateSteps answered at once: the do-nothing floor."""
     import rclpy
     from rclpy.action import ActionServer
     from rclpy.executors import ExternalShutdownException
@@ -365,7 +366,7 @@ def _cells(values, fmt='{:.2f}') -> str:
 
 def report(draws: list[dict], args) -> None:
     print(f'{args.draws} draws (cells: draw 1 / 2 / ...), {args.hogs} busy-loop processes beside '
-          'the benchmark; CPU = the process\'s user + system time.')
+          "the benchmark; CPU = the process's user + system time.")
     print()
     print(f'Lock-step, {STEPS} steps of 1 ms per call (CPU ms per call; ratios to the bare core '
           'measured in the same draw)')

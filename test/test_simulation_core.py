@@ -18,7 +18,7 @@ import subprocess
 import sys
 
 from football_ros.physics import dynamics as dyn, Flight, Release
-from football_ros.simulation import core, names, world as wd
+from football_ros.simulation import core, world as wd
 from hypothesis import given, settings, strategies as st
 import numpy as np
 import pytest
