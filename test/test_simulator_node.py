@@ -158,10 +158,16 @@ def test_rate_real_time_and_hold_after_landing(start_node, collector):
     # are the ticks' deadlines, whole periods apart (a stall of over a second skips ticks).
     periods = np.diff(stamps) / 2_000_000
     assert np.all(periods >= 1) and np.allclose(periods, np.round(periods), rtol=0, atol=1e-6)
-    time.sleep(1.1)
-    held = collector.get(qos.AERO_ANGLES)[n_landed:]
-    assert 3 <= len(held) <= 7  # 5 Hz hold of the landed state
-    assert all(m.vector.x == collector.get(qos.AERO_ANGLES)[n_landed - 1].vector.x for m in held)
+    collector.wait_for(lambda: len(collector.get(qos.AERO_ANGLES)) >= n_landed + 4, 20.0,
+                       'held states')
+    msgs = collector.get(qos.AERO_ANGLES)
+    first = len(msgs) - 1  # the landing: the first of the trailing equal states
+    while first > 0 and msgs[first - 1].vector == msgs[-1].vector:
+        first -= 1
+    gaps = np.diff([stamp_ns(m) for m in msgs[first:]])
+    # Held at 5 Hz of the tick deadlines: 100 ticks of 2 ms apart (more if a stall skipped).
+    assert len(gaps) >= 3 and np.all(gaps >= 200_000_000), gaps
+    assert np.median(gaps) == 200_000_000, gaps
 
 
 def test_real_time_factor_and_clock(start_node, collector):
@@ -581,8 +587,11 @@ def test_publish_clock_stamps_equal_clock_and_odom_rests_after_landing(start_nod
     odoms = collector.get(qos.ODOM)
     clocks = {c.clock.sec * 1_000_000_000 + c.clock.nanosec for c in collector.get(qos.CLOCK)}
     stamps = [stamp_ns(o) for o in odoms]
-    matched = sum(s in clocks for s in stamps)
-    assert matched >= 0.95 * len(stamps), (matched, len(stamps))  # /clock is best effort
+    # Every /clock of the flight's ticks is an odometry's stamp (odometry is reliable and sent
+    # at every tick in the air; /clock is best effort, so only what arrived is compared).
+    flying = stamps[:n_flight]
+    during = {c for c in clocks if flying[0] <= c <= flying[-1]}
+    assert during and during <= set(flying), sorted(during - set(flying))[:5]
     assert all(s % 20_000_000 == 0 for s in stamps)  # 2 x 10 ms of simulated time per tick
     landing = odoms[n_flight - 1]
     held = odoms[n_flight:]

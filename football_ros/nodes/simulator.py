@@ -574,6 +574,8 @@ class SimulatorNode(Node):
         except Exception as exc:
             if not self.context.ok():
                 raise
+            if self._stop.is_set():  # shutting down: the node's handles may be gone already
+                return
             text = f'{type(exc).__name__}: {exc}'[:300]
             if self.sim.end_flights(f'internal error while flying ({text})'):
                 self.get_logger().error(traceback.format_exc())
@@ -889,7 +891,7 @@ class SimulatorNode(Node):
     def close(self) -> None:
         """Stop the pacing and stepping threads (called before the node is destroyed)."""
         self._stop.set()
-        self._thread.join(timeout=2.0)
+        self._thread.join(timeout=5.0)
         if self._sim_services is not None:
             self._sim_services.close()
 
