@@ -329,18 +329,11 @@ def _cmd_montecarlo(args: argparse.Namespace) -> int:
 
 def _cmd_compile(args: argparse.Namespace) -> int:
     from . import numba_cache_dir
-    from .physics.precompile import compile_ahead
+    from .tools.compile import compile_all
 
     where = numba_cache_dir() or 'beside the sources (__pycache__)'
     print(f'football-ros compile: numba kernels; cache: {where}', flush=True)
-    steps = compile_ahead(lambda line: print(line, flush=True) if not args.quiet else None)
-    from .simulation.kernel import warm_up as world_kernel
-    from .tools.fastcsv import warm_up as csv_writer
-
-    for warm_up in (world_kernel, csv_writer):  # the simulator's world, the Monte Carlo CSV
-        steps.append(warm_up())
-        if not args.quiet:
-            print(f'[+] {steps[-1].name}: {steps[-1].seconds:.1f} s', flush=True)
+    steps = compile_all(lambda line: print(line, flush=True) if not args.quiet else None)
     total = sum(step.seconds for step in steps)
     compiled = sum(step.compiled for step in steps)
     print(f'ready: {compiled} kernel(s) compiled, the rest loaded, in {total:.1f} s', flush=True)

@@ -221,21 +221,13 @@ def wobble(states, rows, params, consts):
 
 
 @njit(cache=True, error_model='numpy')
-def wobble_every(states, n, stride, params, consts):
-    """
-    Return :func:`wobble` over the rows 0, ``stride``, 2 ``stride``, ... < ``n`` and n - 1.
-
-    The rows of :func:`football_ros.planning.planner._wobble_rows`, without their array.
-    """
-    eqs = np.empty((0, 3))
-    return _wobble_every(states, n, stride, params, consts, eqs, False, states, 0, 0, 1)
-
-
-@njit(cache=True, error_model='numpy')
 def _wobble_every(states, n, stride, params, consts, eqs, reuse, other, n_other, n_grid,
                   other_stride):
     """
-    Return :func:`wobble_every`, keeping or reusing X_p of the rows j ``stride`` in ``eqs``.
+    Return :func:`wobble` over the rows 0, ``stride``, 2 ``stride``, ... < ``n`` and n - 1.
+
+    (The rows of :func:`football_ros.planning.planner._wobble_rows`, without their array.)
+    X_p of the rows j ``stride`` is kept in or reused from ``eqs``:
 
     ``reuse`` False: X_p of row j stride is written to ``eqs[j]`` (if it has that row). True:
     ``eqs[j]`` holds X_p of row j ``other_stride`` of ``other`` (its first ``n_other`` rows, at
@@ -284,7 +276,7 @@ def compare_wobbles(states, n, y0_aligned, dt_aligned, params, consts, stride, s
     """
     Return the wobble comparison of a checked plan [rad]: (wobble, delta, aligned ones).
 
-    :func:`wobble_every` of the first ``n`` rows of the checking flight's ``states`` (evenly
+    :func:`_wobble_every` of the first ``n`` rows of the checking flight's ``states`` (evenly
     stepped, the last at ``t_last`` [s]) and of the aligned release ``y0_aligned`` flown by
     :func:`fly` in steps of ``dt_aligned`` [s] (ground z = 0) to ``t_last``, the last step a
     partial one to it. Where the two flights share a row's velocity and spin (the paper's

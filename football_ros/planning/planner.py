@@ -1211,8 +1211,17 @@ def _gyroscopically_stable(sh: _Shooter, initial: InitialState) -> bool:
 
 
 def warm_up() -> None:
-    """Load (or, on a cold numba cache, compile) the planner's kernels: one short plan."""
-    plan([12.0, 0.0, 1.5], Release(position=(0.0, 0.0, 1.8), model='full'))
+    """
+    Load (or, on a cold numba cache, compile) the planner's kernels.
+
+    One short plan with the refined attitude (which also aims and checks the equilibrium
+    release) and :func:`wobble_of` of its release state.
+    """
+    base = Release(position=(0.0, 0.0, 1.8), model='full')
+    plan([12.0, 0.0, 1.5], base, attitude='refined')
+    sh = _Shooter(base, DEFAULT_STEP)
+    y0 = _state_vector(base.initial_state(), sh.ball.inertia_ratio)
+    wobble_of(np.array([0.0, DEFAULT_STEP]), np.stack([y0, y0]), sh.params)
 
 
 def _wrap(azim: float) -> float:
