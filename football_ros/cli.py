@@ -157,7 +157,15 @@ def _cmd_modes(args: argparse.Namespace) -> int:
 def _cmd_simulate(args: argparse.Namespace) -> int:
     from .tools.flightdata import write_sidecar
 
-    release = release_from_args(args)
+    if args.plan is not None:
+        from .tools.plan import release_from_plan
+
+        given = _given_release_options(args)
+        if given:
+            raise UsageError(f'--plan gives the release: drop {", ".join(given)}')
+        release = release_from_plan(args.plan)
+    else:
+        release = release_from_args(args)
     if not (0.0 < args.duration <= 600.0):
         raise UsageError(f'--duration must be in (0, 600] s, got {args.duration}')
     if not (0.0 < args.rate <= 100000.0):
@@ -195,6 +203,18 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         file=sys.stderr,
     )
     return 0
+
+
+def _given_release_options(args: argparse.Namespace) -> list[str]:
+    """Return the release options given on the command line (those not at their default)."""
+    scratch = argparse.ArgumentParser(add_help=False)
+    add_release_options(scratch)
+    defaults = vars(scratch.parse_args([]))
+    return [
+        f'--{name.replace("_", "-")}'
+        for name, value in defaults.items()
+        if getattr(args, name, value) != value
+    ]
 
 
 def simulate_warnings(release: Release, flight: 'Flight', trajectory) -> list[str]:
@@ -386,6 +406,11 @@ def build_parser() -> argparse.ArgumentParser:
         '--out',
         required=True,
         help='CSV file to write (and <out>.json beside it: the release, ball, model)',
+    )
+    p.add_argument(
+        '--plan',
+        metavar='PLAN.json',
+        help="fly the release of a 'plan --json' output (instead of the release options)",
     )
     p.set_defaults(func=_cmd_simulate)
     p = add('montecarlo', 'landing dispersion and wobble statistics of release errors')

@@ -227,9 +227,7 @@ def _wobble_every(states, n, stride, params, consts, eqs, reuse, other, n_other,
     Return :func:`wobble` over the rows 0, ``stride``, 2 ``stride``, ... < ``n`` and n - 1.
 
     (The rows of :func:`football_ros.planning.planner._wobble_rows`, without their array.)
-    X_p of the rows j ``stride`` is kept in or reused from ``eqs``:
-
-    ``reuse`` False: X_p of row j stride is written to ``eqs[j]`` (if it has that row). True:
+    X_p of the rows j ``stride`` is kept in or reused from ``eqs``: ``reuse`` False: X_p of row j stride is written to ``eqs[j]`` (if it has that row). True:
     ``eqs[j]`` holds X_p of row j ``other_stride`` of ``other`` (its first ``n_other`` rows, at
     the same time as row j stride of these ``n_grid`` evenly stepped ones) and is taken where
     this row's velocity and h1 agree with other's row to 1e-12 (relative): X_p depends on
