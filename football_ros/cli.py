@@ -218,42 +218,11 @@ def _given_release_options(args: argparse.Namespace) -> list[str]:
 
 
 def simulate_warnings(release: Release, flight: 'Flight', trajectory) -> list[str]:
-    """
-    Sentences about a simulated flight the user must know.
+    """Sentences about a simulated flight the user must know (:func:`flight_warnings`)."""
+    from .physics.modes import flight_warnings
 
-    A gyroscopically unstable release, and the model forms whose data range the flight's total
-    angle left.
-    """
-    import numpy as np
-
-    from .physics.aero import max_valid_delta, out_of_validity
-
-    out = []
-    modes = flight.modes
-    if not modes.stable:
-        out.append(
-            f'the release is gyroscopically UNSTABLE: spin {release.spin_rpm:g} rpm is '
-            f'below the critical {modes.critical_spin_rpm:.0f} rpm '
-            f'(S_g = {modes.gyroscopic_stability_factor:.2f} < 1); the ball tumbles and '
-            f'the linear theory does not apply'
-        )
-    delta = trajectory.aero_angles[:, 2]
-    if delta.size:
-        worst = int(np.argmax(delta))
-        worst_delta = float(delta[worst])
-        texts = out_of_validity(
-            worst_delta, release.model, release.moment, flight.aero, flight.ball
-        )
-        for text in texts:
-            out.append(f'{text}; largest at t = {trajectory.times[worst]:.2f} s')
-        limit = max_valid_delta(release.model, release.moment, flight.aero)
-        beyond = np.flatnonzero(delta > limit)
-        if texts and beyond.size:
-            out.append(
-                f'the flight first leaves the data range ({math.degrees(limit):g} deg) '
-                f'at t = {trajectory.times[beyond[0]]:.2f} s'
-            )
-    return out
+    return flight_warnings(release, flight.modes, trajectory.times,
+                           trajectory.aero_angles[:, 2], flight.aero, flight.ball)
 
 
 def check_output_file(path: str, option: str) -> None:
