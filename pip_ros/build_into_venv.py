@@ -146,7 +146,7 @@ def build(prefix: Path, packages: list[str]) -> None:
                 running = ', '.join(
                     f'{name} {_minutes(now - began)}' for name, began in state['running'].items()
                 )
-                percent = f', {state["percent"]}% of its build steps' if state['percent'] else ''
+                percent = f' (make at {state["percent"]} %)' if state['percent'] else ''
                 say(f'  colcon: still building {running or "..."}{percent}')
 
     beat = threading.Thread(target=heartbeat, daemon=True)
