@@ -777,8 +777,7 @@ def plot_case(case: Case, out_dir: Path) -> Path:
             phase = np.exp(1j * np.linspace(0.0, 2 * math.pi, 361))
             centre = 1j * m.equilibrium_sideslip
             for radius, style, label in (
-                (abs(m.c2), '-', "slow-mode circle: radius |C2| about s3p (the slow arrow's "
-                 'tip)'),
+                (abs(m.c2), '-', 'slow-mode circle: radius |C2| about s3p'),
                 (abs(m.c2) - abs(m.c1), ':', 'inner and outer circles: |C2| -+ |C1|'),
                 (abs(m.c2) + abs(m.c1), ':', None),
             ):
