@@ -119,6 +119,8 @@ def build(prefix: Path, packages: list[str]) -> None:
         PATH=f'{prefix / "bin"}{os.pathsep}{os.environ.get("PATH", "")}',
         PYTHONUNBUFFERED='1',
     )
+    # colcon's default adds make's load limit (-l cores), which on a busy machine runs one job
+    env.setdefault('MAKEFLAGS', f'-j{os.cpu_count() or 1}')
     work = prefix / 'pip_ros_build'
     log = work / 'colcon.log'
     work.mkdir(exist_ok=True)
