@@ -42,7 +42,7 @@ MODULE_TESTS: dict[str, tuple[str, ...]] = {
     'football_ros.physics.dynamics': ('test_physics.py', 'test_full_model.py'),
     'football_ros.physics.flight': ('test_physics.py', 'test_full_model.py'),
     'football_ros.physics.frames': ('test_physics.py', 'test_release_state.py'),
-    'football_ros.physics.limits': ('test_limits.py',),
+    'football_ros.physics.step_stability': ('test_step_stability.py',),
     'football_ros.physics.linear_theory': ('test_linear_scalar.py', 'test_physics.py'),
     'football_ros.physics.model_params': ('test_linear_scalar.py', 'test_physics.py'),
     'football_ros.physics.modes': ('test_physics.py', 'test_full_model.py'),
@@ -65,7 +65,7 @@ MODULE_TESTS: dict[str, tuple[str, ...]] = {
     'football_ros.planning.robustness': ('test_planner.py',),
     'football_ros.simulation': ('test_world.py',),
     'football_ros.simulation.kernel': ('test_world.py',),
-    'football_ros.simulation.world': ('test_world.py', 'test_limits.py'),
+    'football_ros.simulation.world': ('test_world.py', 'test_step_stability.py'),
     # layer 5: nodes
     'football_ros.nodes': ('test_topics.py',),
     'football_ros.nodes.console': ('test_cli.py', 'test_release_node.py'),

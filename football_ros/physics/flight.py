@@ -34,7 +34,7 @@ import numpy as np
 
 from . import dynamics as dyn
 from .aero import AeroModel
-from .limits import check_flyable
+from .step_stability import check_flyable
 from .linear_theory import LinearModes, quasi_steady_components, QuasiSteadyTracker
 from .modes import flown_model, flown_modes
 from .presets import BallPreset

@@ -63,7 +63,7 @@ from ..physics import dynamics as dyn
 from ..physics import frames
 from ..physics.aero import resolve
 from ..physics.flight import DEFAULT_STEP, Flight
-from ..physics.limits import check_flyable
+from ..physics.step_stability import check_flyable
 from ..physics.linear_theory import moment_slope, scalar_constants
 from ..physics.modes import flight_warnings
 from ..physics.release import (
@@ -311,7 +311,7 @@ def aligned_step(step: float, largest_step: float) -> float:
     Return the step [s] the aligned release's comparison flight takes (:data:`ALIGNED_STEP`).
 
     ``step`` [s] the simulator's, ``largest_step`` [s] the largest the step rules allow the
-    planned release (:func:`football_ros.physics.limits.check_flyable`; the aligned one turns
+    planned release (:func:`football_ros.physics.step_stability.check_flyable`; the aligned one turns
     no faster).
     """
     return ALIGNED_STEP if step < ALIGNED_STEP <= largest_step else step
@@ -1218,7 +1218,7 @@ def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear,
     Build the Release, fly it as :class:`Flight` flies it and check the miss (module docstring).
 
     The checking flight starts from the Release's own state (:meth:`Release.initial_state`),
-    passes the step rules of :func:`football_ros.physics.limits.check_flyable` and is flown by
+    passes the step rules of :func:`football_ros.physics.step_stability.check_flyable` and is flown by
     :func:`kernels.fly` (the real-time kernel's steps) to ``PAST_PLANE_STEPS`` past the target
     plane, or to its landing on z = 0, or 30 s (:func:`kernels.check_flight`, with its closest
     approach).

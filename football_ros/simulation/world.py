@@ -228,7 +228,7 @@ def runaway_bounds(flight: Flight) -> tuple[float, float]:
     """
     Speed [m/s] and angular rate [rad/s] past which a flight is a runaway.
 
-    RUNAWAY_FACTOR times the bounds of :mod:`football_ros.physics.limits` (ground speed <= air
+    RUNAWAY_FACTOR times the bounds of :mod:`football_ros.physics.step_stability` (ground speed <= air
     speed + wind; |w| <= transverse bound + |p|).
     """
     wind = flight.params[limits.dyn.P_WIND:limits.dyn.P_WIND + 3]
