@@ -62,9 +62,7 @@ def flops_per_step() -> int:
 
     12 derivatives; the stage sums over the tableau's non-zero coefficients (50 in A, 8 in b;
     a multiply and an add each), the stages on the 10 components the derivative reads (not the
-    position), the step on all 13. The batch kernel before issue 12 also summed the zero
-    weights and the positions' stages (3190 flop per step counted so): the fractions of peak
-    in the module docstring count this useful work for both kernels.
+    position), the step on all 13: the useful work the fractions of peak count.
     """
     from football_ros.physics import batch as bt
 
@@ -179,7 +177,7 @@ def kernel_census() -> dict:
 @njit(cache=True)
 def rhs_compiled(_t, y, k, g):
     """
-    The s/h equations (docs/physics.md section 2): y = (r, v, s, h), compiled.
+    Return y' of the s/h equations (docs/physics.md section 2): y = (r, v, s, h), compiled.
 
     r' = v, v' = (0, 0, -g), s' = h x s, h' = k |v| (v x s).
     """

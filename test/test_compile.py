@@ -24,7 +24,7 @@ import os
 import subprocess
 import sys
 
-AFTER = '''
+AFTER = """
 from football_ros.estimation.tracker import warm_up as tracker
 from football_ros.nodes import planner, release, simulator  # noqa: F401 (release: compile_ahead)
 from football_ros.physics import compile_ahead
@@ -39,25 +39,28 @@ tracker()
 csv_writer()
 loaded, compiled = cache_counts(PLACES)
 print('LOADED', loaded, 'COMPILED', compiled)
-'''
+"""
 
 
 def _index_files(folder) -> list[str]:
     return sorted(str(p.relative_to(folder)) for p in folder.rglob('*.nbi'))
 
 
-FIRST = '''
+FIRST = """
 from football_ros.physics.precompile import uncovered
 from football_ros.tools.compile import compile_all, PLACES
 
 steps = compile_all()
 print('COMPILED', sum(step.compiled for step in steps), 'UNCOVERED', *uncovered(PLACES))
-'''
+"""
 
 
 def _run(code: str, env: dict) -> list[str]:
+    # a cold compile of every kernel takes minutes on an idle machine and far longer on a busy
+    # one: the limit only stops a hung process
     proc = subprocess.run(
-        [sys.executable, '-c', code], capture_output=True, text=True, timeout=1800.0, env=env
+        [sys.executable, '-c', code], capture_output=True, text=True, timeout=4 * 3600.0,
+        env=env,
     )
     assert proc.returncode == 0, proc.stderr
     return proc.stdout.split()

@@ -55,7 +55,7 @@ def test_rows_at_flight_time_after_the_header_landing_last(monkeypatch, seed):
         (table.on_pose if second is pose else table.on_angles)(second)
         if k == 5:
             assert said == []  # nothing before the header
-            table.open()
+            table.show_header()
     table.finish()
     assert said[0].split() == ['t', '[s]', 'x', '[m]', 'y', '[m]', 'z', '[m]', 'alpha', '[deg]',
                                'beta', '[deg]']

@@ -30,8 +30,10 @@ import pytest
 
 def _write(path, flights):
     """
-    Write a rosbag2 folder (rosbags, no ROS): per flight (trajectory, rows kept, order JSON,
-    release stamp [s]) its order, then its football/odom rows, received in that order.
+    Write a rosbag2 folder (rosbags, no ROS) of ``flights``.
+
+    Per flight (trajectory, rows kept, order JSON or None, release stamp [s]): its order, then
+    its football/odom rows, received in that order.
     """
     from rosbags.rosbag2 import Writer
     from rosbags.typesys import get_typestore, Stores

@@ -394,7 +394,7 @@ def test_hard_cases_a_headwind_lofted_arc_a_slow_throw_and_a_steep_one():
 
 # --- the plan is never worse than the aligned release; refusals name their own limit ---------
 def _random_plans(seed: int, n: int):
-    """n random (target, base, objective) of both balls, slow lobs to long passes."""
+    """Yield n random (target, base, objective): both balls, slow lobs to long passes."""
     rng = np.random.default_rng(seed)
     for _ in range(n):
         ball = str(rng.choice(['american', 'rugby']))

@@ -12,7 +12,7 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""``football-ros plan``: its JSON flown by ``simulate --plan``, refusals, ``--throw`` to the nodes."""
+"""``football-ros plan``: its JSON flown by ``simulate --plan``, refusals, ``--throw``."""
 
 import csv
 import json
@@ -26,7 +26,7 @@ from football_ros.physics.presets import PRESETS
 from football_ros.physics.release import Release
 from football_ros.planning.planner import closest_approach
 from football_ros.tools.plan import release_from_plan
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings, strategies as hs
 import numpy as np
 import pytest
 import yaml
@@ -97,11 +97,11 @@ def test_simulate_plan_refuses_a_bad_file_naming_it(tmp_path):
 
 
 @settings(max_examples=200, deadline=None)
-@given(st.one_of(
-    st.binary(max_size=300),
-    st.dictionaries(st.sampled_from(Release.FIELDS + ('extra',)), st.one_of(
-        st.none(), st.booleans(), st.floats(), st.text(max_size=5),
-        st.lists(st.floats(), max_size=4), st.dictionaries(st.text(max_size=3), st.floats(),
+@given(hs.one_of(
+    hs.binary(max_size=300),
+    hs.dictionaries(hs.sampled_from(Release.FIELDS + ('extra',)), hs.one_of(
+        hs.none(), hs.booleans(), hs.floats(), hs.text(max_size=5),
+        hs.lists(hs.floats(), max_size=4), hs.dictionaries(hs.text(max_size=3), hs.floats(),
                                                            max_size=2))).map(
         lambda d: json.dumps(d).encode())))
 def test_release_from_plan_reads_any_file_or_names_the_fault(tmp_path_factory, raw):

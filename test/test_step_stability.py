@@ -92,7 +92,8 @@ def test_too_large_a_step_is_refused_naming_the_rate():
         spin_rpm=-3000, ball_params={'inertia_spin': 0.003, 'inertia_transverse': 0.0015}
     )
     h1 = 2.0 * 3000 * 2 * math.pi / 60
-    rates = step_stability.fastest_rates(Flight.from_release(release).params, release.initial_state())
+    rates = step_stability.fastest_rates(Flight.from_release(release).params,
+                                         release.initial_state())
     assert rates['angular rate'] == pytest.approx(
         0.5 * (h1 + math.sqrt(h1**2 + 4 * 0.0)), rel=0.01
     )
@@ -118,7 +119,8 @@ def test_pitch_damping_rate_of_the_full_model():
         * 27.4
         / (2 * ball.inertia_transverse)
     )
-    rates = step_stability.fastest_rates(Flight.from_release(release).params, release.initial_state())
+    rates = step_stability.fastest_rates(Flight.from_release(release).params,
+                                         release.initial_state())
     assert rates['pitch-damping rate'] == pytest.approx(expected, rel=1e-12)
     with pytest.raises(ReleaseError, match='pitch-damping rate'):
         Flight.from_release(release, 0.01)

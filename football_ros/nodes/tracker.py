@@ -56,7 +56,7 @@ from . import messages as mb
 from . import qos
 from .params import declare_all, ParamSpec
 from .runner import run_node
-from ..estimation import FlightTracker, TrackerSettings
+from ..estimation import TrackerSettings
 from ..estimation.motion import X_H, X_S, X_V
 from ..estimation.multi import MultiTracker
 from ..estimation.tracker import vertical_plane, warm_up

@@ -63,7 +63,6 @@ from ..physics import dynamics as dyn
 from ..physics import frames
 from ..physics.aero import resolve
 from ..physics.flight import DEFAULT_STEP, Flight
-from ..physics.step_stability import check_flyable
 from ..physics.linear_theory import moment_slope, scalar_constants
 from ..physics.modes import flight_warnings
 from ..physics.release import (
@@ -76,6 +75,7 @@ from ..physics.release import (
     ReleaseError,
     RPM,
 )
+from ..physics.step_stability import check_flyable
 
 OBJECTIVES = ('fastest', 'lowest_speed', 'flat', 'lofted')
 ATTITUDES = ('equilibrium', 'linear', 'refined', 'aligned')
@@ -220,25 +220,6 @@ class Plan:
 
 
 # --- the least-wobble attitude -------------------------------------------------------
-def equilibrium_axis(
-    params: np.ndarray, velocity: Sequence[float], h1: float, drift: bool = True
-) -> tuple[np.ndarray, np.ndarray]:
-    """
-    Return the least-wobble axis (unit) and its rate [1/s] in ``field`` at a release.
-
-    ``params``: kernel parameters (:func:`football_ros.physics.dynamics.make_params`, wind
-    included), ``velocity`` [m/s] in ``field``, ``h1`` = (I_s/I_t) p [rad/s]. The axis on the
-    local equilibrium X_p against the air, turning with the velocity frame (w_V = -g cos(Phi) /
-    U about e3) and with X_p' (K1 = K2 = 0 in the quasi-steady theory). ``drift=False``: the
-    frozen theory's C1 = C2 = 0 release (x_p = -F/C, no drift; for the paper's model the axis
-    at the equilibrium sideslip s3p, turning at w_V).
-    """
-    wind = tuple(float(w) for w in params[dyn.P_WIND:dyn.P_WIND + 3])
-    axis, rate = _equilibrium_axis(scalar_constants(params), wind, _vec(velocity), float(h1),
-                                   drift)
-    return np.array(axis), np.array(rate)
-
-
 def _vec(v) -> tuple[float, float, float]:
     """Plain-float 3-tuple of a vector."""
     return float(v[0]), float(v[1]), float(v[2])
@@ -252,28 +233,20 @@ def _cross(a, b) -> tuple[float, float, float]:
     return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
 
 
-def _equilibrium_axis(consts: tuple, wind: tuple, velocity: tuple, h1: float, drift: bool):
-    """
-    Return :func:`equilibrium_axis` in plain floats: (axis, rate) 3-tuples.
-
-    ``consts`` and ``wind`` from the kernel parameters (:func:`scalar_constants`, P_WIND);
-    compiled (:func:`kernels.release_axis`).
-    """
-    return kernels.release_axis(consts, wind, velocity, h1, drift)
-
-
 def equilibrium_attitude(
     params: np.ndarray, velocity: Sequence[float], h1: float, drift: bool = True
 ) -> dict[str, float]:
     """
     Return the least-wobble release attitude as release options (degrees, deg/s).
 
-    :func:`equilibrium_axis` expressed as the release options: angles against the ground
-    velocity, rates relative to ``field`` (:func:`football_ros.physics.release.release_states`).
+    The axis and rate of :func:`kernels.release_axis` (``params``: kernel parameters, wind
+    included; ``velocity`` [m/s] in ``field``; ``h1`` = (I_s/I_t) p [rad/s]) as the release
+    options: angles against the ground velocity, rates relative to ``field``
+    (:func:`football_ros.physics.release.release_states`).
     """
     velocity = _vec(velocity)
     wind = tuple(float(w) for w in params[dyn.P_WIND:dyn.P_WIND + 3])
-    axis, rate = _equilibrium_axis(scalar_constants(params), wind, velocity, float(h1), drift)
+    axis, rate = kernels.release_axis(scalar_constants(params), wind, velocity, float(h1), drift)
     return _options(velocity, axis, rate)
 
 
@@ -311,8 +284,8 @@ def aligned_step(step: float, largest_step: float) -> float:
     Return the step [s] the aligned release's comparison flight takes (:data:`ALIGNED_STEP`).
 
     ``step`` [s] the simulator's, ``largest_step`` [s] the largest the step rules allow the
-    planned release (:func:`football_ros.physics.step_stability.check_flyable`; the aligned one turns
-    no faster).
+    planned release (:func:`football_ros.physics.step_stability.check_flyable`; the aligned one
+    turns no faster).
     """
     return ALIGNED_STEP if step < ALIGNED_STEP <= largest_step else step
 
@@ -425,8 +398,8 @@ class _Shooter:
         ground = (vel[0] / speed, vel[1] / speed, vel[2] / speed)
         if self.mode == 'aligned':
             return vel, ground, (0.0, 0.0, 0.0), ''
-        axis, rate = _equilibrium_axis(self.consts, self.wind, vel, self.h1,
-                                       self.mode != 'linear')
+        axis, rate = kernels.release_axis(self.consts, self.wind, vel, self.h1,
+                                          self.mode != 'linear')
         wind = self.wind
         air = (vel[0] - wind[0], vel[1] - wind[1], vel[2] - wind[2])
         air_speed = math.sqrt(_dot(air, air))
@@ -1084,7 +1057,7 @@ def _plan(target, base, objective, max_speed, elevation_range, receiver, arrival
             f'the plan needs elevation {elev:.2f} deg outside elevation_range '
             f'[{lo_e:g}, {hi_e:g}] deg', 'elevation_range',
             _closest_reachable(sh, speed, (lo_e, hi_e)))
-    linear = _options(_direction(speed, elev, azim), *_equilibrium_axis(
+    linear = _options(_direction(speed, elev, azim), *kernels.release_axis(
         sh.consts, sh.wind, _direction(speed, elev, azim), sh.h1, False))
     mode = attitude
     if attitude == 'refined':
@@ -1218,7 +1191,8 @@ def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear,
     Build the Release, fly it as :class:`Flight` flies it and check the miss (module docstring).
 
     The checking flight starts from the Release's own state (:meth:`Release.initial_state`),
-    passes the step rules of :func:`football_ros.physics.step_stability.check_flyable` and is flown by
+    passes the step rules of :func:`football_ros.physics.step_stability.check_flyable` and is
+    flown by
     :func:`kernels.fly` (the real-time kernel's steps) to ``PAST_PLANE_STEPS`` past the target
     plane, or to its landing on z = 0, or 30 s (:func:`kernels.check_flight`, with its closest
     approach).

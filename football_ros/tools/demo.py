@@ -77,7 +77,7 @@ class _Table:
     the first tick gives (its flight time read from the flight's own path,
     :func:`football_ros.tools.flightdata.release_stamp`), so that late or skipped ticks keep
     their times. The held landed state (the same position again) is no row. Rows wait for the
-    header (:meth:`open`, once the release is accepted).
+    header (:meth:`show_header`, once the release is accepted).
     """
 
     PERIOD = 0.1  # flight time [s] between rows
@@ -95,7 +95,7 @@ class _Table:
         self._pending: str | None = None  # the newest tick's row, if not printed
         self._early: list[str] | None = []  # rows before the header
 
-    def open(self) -> None:
+    def show_header(self) -> None:
         """Print the header, then the rows that came before it."""
         _say('     t [s]     x [m]     y [m]     z [m]  alpha [deg]  beta [deg]')
         early, self._early = self._early, None
@@ -273,7 +273,7 @@ def run_demo(args: argparse.Namespace) -> int:
             time.sleep(0.5)
         if accepted is None:
             raise RuntimeError('the release node never saw the simulator')
-        table.open()
+        table.show_header()
         values = {kv.key: kv.value for kv in accepted.values}
         flight_end = time.monotonic() + float(values.get('time_of_flight', 'nan')) + 10.0
         landed_at = None

@@ -226,13 +226,12 @@ def load_csv(path: Path) -> FlightRecord:
 
 def release_stamp(stamps: np.ndarray, positions: np.ndarray, flight: Flight) -> float:
     """
-    Return the stamp [s] at which the samples (``stamps`` [s], ``positions`` (N, 3) [m]) of a
-    flight of ``flight`` were released.
+    Return the stamp [s] at which a flight of ``flight`` was released.
 
-    Each sample's flight time is read from its horizontal distance to the release point along
-    the flight's own path (the distance grows all flight long); the median of stamp less that
-    time over the first samples is returned. Without horizontal motion (a vertical throw):
-    the first stamp.
+    From its samples: ``stamps`` [s], ``positions`` (N, 3) [m] in ``field``. Each sample's
+    flight time is read from its horizontal distance to the release point along the flight's
+    own path (the distance grows all flight long); the median of stamp less that time over the
+    first samples is returned. Without horizontal motion (a vertical throw): the first stamp.
     """
     path = flight.simulate(rate=1000.0, duration=60.0)
     start = path.positions[0, :2]

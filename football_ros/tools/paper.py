@@ -36,12 +36,12 @@ import textwrap
 
 import numpy as np
 
+from .figures import angles_deg
 from ..physics import Flight, frames, get_preset, Release
 from ..physics.aero import VALIDITY
 from ..physics.frames import GRAVITY
 from ..physics.linear_theory import linear_modes, LinearModes, local_modes
 from ..physics.release import RPM
-from .figures import angles_deg
 
 MPH = 0.44704
 """One mile per hour [m/s]."""
@@ -330,7 +330,7 @@ def report_rows() -> list[Row]:  # noqa: C901 (one list, one row per printed num
             m.equilibrium_sideslip, 'within rounding',
         ),
         _row(
-            'american.g', "gravity g implied by the printed s3p = g cos(Phi) h1 / (M_alpha V)",
+            'american.g', 'gravity g implied by the printed s3p = g cos(Phi) h1 / (M_alpha V)',
             'm/s^2', '-', GRAVITY,
             f'the paper prints no g; its s3p 0.0617 with its own M_alpha = w_f w_s = '
             f'{pair_m:.2f}, h1 = w_f + w_s = {pair_h1:.3f}, V = 27.4 m/s and Phi = 30 deg '
