@@ -443,7 +443,7 @@ def test_plans_leaving_the_data_range_warn_as_simulate_does():
     from football_ros.cli import simulate_warnings
 
     base = Release(ball='rugby', spin_rpm=-280.0, position=(0.0, 0.0, 1.8), model='full')
-    p = plan([45.0, 0.0, 1.0], base, objective='lofted')
+    p = plan([30.0, 0.0, 1.0], base, objective='lofted')
     flight = Flight.from_release(p.release)
     flown = flight.simulate(rate=100.0, duration=p.arrival_time)
     expected = simulate_warnings(p.release, flight, flown)
