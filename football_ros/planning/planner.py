@@ -897,7 +897,9 @@ def plan(
         best = _plan(*args)
     if attitude != 'aligned' and wobble and best.aligned_wobble_deg < best.wobble_deg:
         args[1], args[8] = best.release, 'aligned'  # the aligned release of the same speed
-        aligned = _plan(*args)
+        if objective == 'fastest' and arrival_time is None and arrival_window is None:
+            args[2] = 'flat'  # at the speed planned (the fastest stable one), not max_speed
+        aligned = replace(_plan(*args), objective=best.objective)
         if aligned.wobble_deg <= best.wobble_deg:
             return replace(aligned, warnings=aligned.warnings + (
                 f'the aligned release wobbles less ({aligned.wobble_deg:.1f} deg) than the '
