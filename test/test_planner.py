@@ -74,7 +74,11 @@ def test_hidden_targets_flown_by_flight_pass_within_1cm(model):
         assert miss < 0.01, (target, p.release)
         assert p.miss_m < 0.01
         assert abs(t_arr - p.arrival_time) < 2e-3
-        assert p.release.speed == pytest.approx(35.0)
+        # the fastest gyroscopically stable release: max_speed unless that one tumbles
+        if Flight.from_release(p.release.replace(speed=35.0)).modes.stable:
+            assert p.release.speed == pytest.approx(35.0)
+        else:
+            assert p.release.speed < 35.0 and Flight.from_release(p.release).modes.stable
 
 
 def test_planner_kernel_takes_the_real_time_kernel_steps_and_stops_past_the_plane():
@@ -385,7 +389,8 @@ def test_hard_cases_a_headwind_lofted_arc_a_slow_throw_and_a_steep_one():
     # axis goes along the air velocity, turning with it, and the plan says so.
     slow = plan([7.0, 0.2, 1.4], base, objective='lowest_speed')
     assert slow.release.speed < 12.0 and flown_miss(slow)[0] < 0.01
-    assert any('beyond the linear theory' in w for w in slow.warnings)
+    assert any('beyond the linear theory' in w or 'aligned release wobbles less' in w
+               for w in slow.warnings)
     # The lofted arc at 20 m/s to 8 m needs about 84 deg: the elevation limit is named.
     with pytest.raises(PlanError, match='elevation_range') as info:
         plan([8.3, -1.2, 2.3], base, objective='lofted')

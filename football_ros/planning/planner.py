@@ -835,7 +835,7 @@ def _closest_reachable(sh: _Shooter, speed: float, elev_range) -> np.ndarray:
     """
     Return the point nearest to the target of the paths flown at ``speed`` toward it.
 
-    A scan of 15 elevations in ``elev_range`` (from 0 deg up), then the best one refined
+    A scan of 15 elevations in ``elev_range`` (from 0 deg up, if it reaches 0), the best refined
     between its neighbours (bounded scalar search, to 0.01 deg).
     """
     from scipy.optimize import minimize_scalar
@@ -847,7 +847,7 @@ def _closest_reachable(sh: _Shooter, speed: float, elev_range) -> np.ndarray:
         dist, _, point = closest_approach(times, states, sh.target)
         return dist, point
 
-    grid = np.linspace(max(elev_range[0], 0.0), elev_range[1], 15)
+    grid = np.linspace(min(max(elev_range[0], 0.0), elev_range[1]), elev_range[1], 15)
     dists = [reach(e)[0] for e in grid]
     k = int(np.argmin(dists))
     lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, len(grid) - 1)]
