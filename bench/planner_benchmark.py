@@ -41,7 +41,7 @@ import time
 from football_ros.physics import Flight, Release
 from football_ros.physics import frames
 from football_ros.physics.flight import DEFAULT_STEP
-from football_ros.physics.limits import check_flyable
+from football_ros.physics.step_stability import check_flyable
 from football_ros.planning import compare_arcs, hit_probability, plan, PlanError, wilson
 from football_ros.planning import kernels, planner, wobble_of
 from football_ros.planning.planner import _vacuum_elevation, closest_approach

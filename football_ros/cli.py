@@ -157,7 +157,15 @@ def _cmd_modes(args: argparse.Namespace) -> int:
 def _cmd_simulate(args: argparse.Namespace) -> int:
     from .tools.flightdata import write_sidecar
 
-    release = release_from_args(args)
+    if args.plan is not None:
+        from .tools.plan import release_from_plan
+
+        given = _given_release_options(args)
+        if given:
+            raise UsageError(f'--plan gives the release: drop {", ".join(given)}')
+        release = release_from_plan(args.plan)
+    else:
+        release = release_from_args(args)
     if not (0.0 < args.duration <= 600.0):
         raise UsageError(f'--duration must be in (0, 600] s, got {args.duration}')
     if not (0.0 < args.rate <= 100000.0):
@@ -197,43 +205,24 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     return 0
 
 
+def _given_release_options(args: argparse.Namespace) -> list[str]:
+    """Return the release options given on the command line (those not at their default)."""
+    scratch = argparse.ArgumentParser(add_help=False)
+    add_release_options(scratch)
+    defaults = vars(scratch.parse_args([]))
+    return [
+        f'--{name.replace("_", "-")}'
+        for name, value in defaults.items()
+        if getattr(args, name, value) != value
+    ]
+
+
 def simulate_warnings(release: Release, flight: 'Flight', trajectory) -> list[str]:
-    """
-    Sentences about a simulated flight the user must know.
+    """Sentences about a simulated flight the user must know (:func:`flight_warnings`)."""
+    from .physics.modes import flight_warnings
 
-    A gyroscopically unstable release, and the model forms whose data range the flight's total
-    angle left.
-    """
-    import numpy as np
-
-    from .physics.aero import max_valid_delta, out_of_validity
-
-    out = []
-    modes = flight.modes
-    if not modes.stable:
-        out.append(
-            f'the release is gyroscopically UNSTABLE: spin {release.spin_rpm:g} rpm is '
-            f'below the critical {modes.critical_spin_rpm:.0f} rpm '
-            f'(S_g = {modes.gyroscopic_stability_factor:.2f} < 1); the ball tumbles and '
-            f'the linear theory does not apply'
-        )
-    delta = trajectory.aero_angles[:, 2]
-    if delta.size:
-        worst = int(np.argmax(delta))
-        worst_delta = float(delta[worst])
-        texts = out_of_validity(
-            worst_delta, release.model, release.moment, flight.aero, flight.ball
-        )
-        for text in texts:
-            out.append(f'{text}; largest at t = {trajectory.times[worst]:.2f} s')
-        limit = max_valid_delta(release.model, release.moment, flight.aero)
-        beyond = np.flatnonzero(delta > limit)
-        if texts and beyond.size:
-            out.append(
-                f'the flight first leaves the data range ({math.degrees(limit):g} deg) '
-                f'at t = {trajectory.times[beyond[0]]:.2f} s'
-            )
-    return out
+    return flight_warnings(release, flight.modes, trajectory.times,
+                           trajectory.aero_angles[:, 2], flight.aero, flight.ball)
 
 
 def check_output_file(path: str, option: str) -> None:
@@ -329,18 +318,11 @@ def _cmd_montecarlo(args: argparse.Namespace) -> int:
 
 def _cmd_compile(args: argparse.Namespace) -> int:
     from . import numba_cache_dir
-    from .physics.precompile import compile_ahead
+    from .tools.compile import compile_all
 
     where = numba_cache_dir() or 'beside the sources (__pycache__)'
     print(f'football-ros compile: numba kernels; cache: {where}', flush=True)
-    steps = compile_ahead(lambda line: print(line, flush=True) if not args.quiet else None)
-    from .simulation.kernel import warm_up as world_kernel
-    from .tools.fastcsv import warm_up as csv_writer
-
-    for warm_up in (world_kernel, csv_writer):  # the simulator's world, the Monte Carlo CSV
-        steps.append(warm_up())
-        if not args.quiet:
-            print(f'[+] {steps[-1].name}: {steps[-1].seconds:.1f} s', flush=True)
+    steps = compile_all(lambda line: print(line, flush=True) if not args.quiet else None)
     total = sum(step.seconds for step in steps)
     compiled = sum(step.compiled for step in steps)
     print(f'ready: {compiled} kernel(s) compiled, the rest loaded, in {total:.1f} s', flush=True)
@@ -393,6 +375,11 @@ def build_parser() -> argparse.ArgumentParser:
         '--out',
         required=True,
         help='CSV file to write (and <out>.json beside it: the release, ball, model)',
+    )
+    p.add_argument(
+        '--plan',
+        metavar='PLAN.json',
+        help="fly the release of a 'plan --json' output (instead of the release options)",
     )
     p.set_defaults(func=_cmd_simulate)
     p = add('montecarlo', 'landing dispersion and wobble statistics of release errors')

@@ -22,7 +22,11 @@ The ROS wheels' CMake config files name the Python include directories of the ma
 built them; those that do not exist here are pointed at this Python's before the build. The
 packages are installed into the venv prefix itself (libraries in .venv/lib, which the wheels'
 bootstrap puts on LD_LIBRARY_PATH; Python modules in site-packages; share/ and the ament
-index beside the wheels'), so they work like the wheels' own message packages.
+index beside the wheels'), so they work like the wheels' own message packages. Only the
+interface generators rclpy uses run (pip_ros/python_only.cmake): no C++ type support.
+
+Progress: each package as it starts and finishes (with its elapsed time), and a heartbeat
+line at least every :data:`HEARTBEAT` seconds while colcon works (the build's percentage).
 
     python pip_ros/build_into_venv.py        (with the venv's python; idempotent)
 """
@@ -36,10 +40,19 @@ import shutil
 import subprocess
 import sys
 import sysconfig
+import threading
+import time
 
 HERE = Path(__file__).resolve().parent
-# Built in this order; each only needs the wheels' packages.
-PACKAGES = ('tf2_msgs', 'simulation_interfaces')
+# The folders of pip_ros/ to build (each needs only the wheels' packages; colcon orders them).
+PACKAGES = (
+    'tf2_msgs',
+    'simulation_interfaces',
+)
+HEARTBEAT = 20.0
+"""Longest silence [s] while colcon builds."""
+_PERCENT = re.compile(r'^\[\s*(\d+)%\]')
+_EVENT = re.compile(r'^(Starting >>>|Finished <<<|Failed\s+<<<|Aborted\s+<<<)\s+(\S+)(.*)$')
 _INCLUDES = re.compile(r'(INTERFACE_INCLUDE_DIRECTORIES\s+")([^"]*)(")')
 
 
@@ -83,7 +96,17 @@ def built(prefix: Path, package: str) -> bool:
     return probe.returncode == 0
 
 
-def build(prefix: Path, package: str) -> None:
+def say(line: str) -> None:
+    """Print one progress line at once."""
+    print(f'[setup] {line}', flush=True)
+
+
+def _minutes(seconds: float) -> str:
+    return f'{int(seconds // 60)} min {int(seconds % 60):02d} s'
+
+
+def build(prefix: Path, packages: list[str]) -> None:
+    """Build ``packages`` (folders of pip_ros/) with one colcon run, talking as it goes."""
     colcon = shutil.which('colcon', path=str(prefix / 'bin'))
     if colcon is None:
         raise SystemExit(
@@ -94,48 +117,86 @@ def build(prefix: Path, package: str) -> None:
         AMENT_PREFIX_PATH=str(prefix),
         CMAKE_PREFIX_PATH=str(prefix),
         PATH=f'{prefix / "bin"}{os.pathsep}{os.environ.get("PATH", "")}',
+        PYTHONUNBUFFERED='1',
     )
+    # colcon's default adds make's load limit (-l cores), which on a busy machine runs one job
+    env.setdefault('MAKEFLAGS', f'-j{os.cpu_count() or 1}')
     work = prefix / 'pip_ros_build'
-    log = work / f'{package}.log'
+    log = work / 'colcon.log'
     work.mkdir(exist_ok=True)
+    command = [
+        colcon, '--log-base', str(work / 'log'), 'build',
+        '--base-paths', *(str(HERE / p) for p in packages),
+        '--build-base', str(work / 'build'),
+        '--install-base', str(prefix),
+        '--merge-install',
+        '--event-handlers', 'console_direct+', 'console_start_end+',
+        '--cmake-args', '-DBUILD_TESTING=OFF', f'-DPython3_EXECUTABLE={sys.executable}',
+        f'-DCMAKE_PROJECT_INCLUDE={HERE / "python_only.cmake"}',
+    ]
+    state = {'last': time.monotonic(), 'percent': '', 'running': {}}
+    lock = threading.Lock()
+    done = threading.Event()
+
+    def heartbeat() -> None:
+        while not done.wait(1.0):
+            with lock:
+                now = time.monotonic()
+                if now - state['last'] < HEARTBEAT:
+                    continue
+                state['last'] = now
+                running = ', '.join(
+                    f'{name} {_minutes(now - began)}' for name, began in state['running'].items()
+                )
+                percent = f' (make at {state["percent"]} %)' if state['percent'] else ''
+                say(f'  colcon: still building {running or "..."}{percent}')
+
+    beat = threading.Thread(target=heartbeat, daemon=True)
+    start = time.monotonic()
     with open(log, 'w') as out:
-        proc = subprocess.run(
-            [
-                colcon,
-                '--log-base',
-                str(work / 'log'),
-                'build',
-                '--base-paths',
-                str(HERE / package),
-                '--build-base',
-                str(work / 'build'),
-                '--install-base',
-                str(prefix),
-                '--merge-install',
-                '--event-handlers',
-                'console_cohesion+',
-                '--cmake-args',
-                '-DBUILD_TESTING=OFF',
-                f'-DPython3_EXECUTABLE={sys.executable}',
-            ],
-            cwd=work,
-            env=env,
-            stdout=out,
-            stderr=subprocess.STDOUT,
+        proc = subprocess.Popen(
+            command, cwd=work, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+            text=True, errors='replace',
         )
+        beat.start()
+        for line in proc.stdout:
+            out.write(line)
+            with lock:
+                percent = _PERCENT.match(line)
+                if percent:
+                    state['percent'] = percent[1]
+                event = _EVENT.match(line.strip())
+                if event is None:
+                    continue
+                kind, name, rest = event.groups()
+                now = time.monotonic()
+                if kind.startswith('Starting'):
+                    state['running'][name] = now
+                    state['percent'] = ''
+                    say(f'  colcon: building {name} ...')
+                else:
+                    began = state['running'].pop(name, start)
+                    say(f'  colcon: {kind.split()[0].lower()} {name} in {_minutes(now - began)}')
+                state['last'] = now
+        proc.wait()
+    done.set()
+    beat.join()
     if proc.returncode != 0:
         sys.stderr.write(log.read_text()[-4000:])
-        raise SystemExit(f'colcon build of {package} failed; full log: {log}')
+        raise SystemExit(f'colcon build of {", ".join(packages)} failed; full log: {log}')
+    say(f'built {", ".join(packages)} into {prefix} in {_minutes(time.monotonic() - start)} '
+        '(pip ROS only)')
 
 
 def main() -> int:
+    """Build the packages of :data:`PACKAGES` not yet installed from these very files."""
     prefix = Path(sys.prefix)
-    for package in PACKAGES:
-        if built(prefix, package):
-            continue
+    missing = [package for package in PACKAGES if not built(prefix, package)]
+    if missing:
         patch_cmake_configs(prefix)
-        build(prefix, package)
-        print(f'[setup] built {package} into {prefix} (pip ROS only)')
+        say(f'building {", ".join(missing)} with colcon (the interface packages without a '
+            'wheel; a few minutes the first time)')
+        build(prefix, missing)
     return 0
 
 

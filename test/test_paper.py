@@ -44,7 +44,7 @@ REPRODUCED = [
     'rugby.inertia_spin', 'rugby.inertia_transverse', 'rugby.speed', 'rugby.spin',
     'rugby.time_of_flight', 'rugby.omega_fast', 'rugby.omega_fast_hz',
     'rugby.precession_turns', 'rugby.mean_s3', 'rugby.fig8_alpha0', 'rugby.fig8_max_s3',
-    'rugby.s3p_exponent', 'american.moment_drop_apex',
+    'rugby.s3p_exponent', 'american.moment_drop_apex', 'american.g',
 ]
 """Rows whose package value is inside the printed number's rounding."""
 
@@ -146,3 +146,36 @@ def test_rugby_coefficients_say_which_are_borrowed():
         assert AERO_SOURCES['rugby'][key].startswith('BORROWED')
     assert '0.147' in AERO_SOURCES['rugby']['c_m_alpha']
     assert get_preset('rugby').c_m_alpha == 0.147
+
+
+def test_g_row_is_what_the_printed_s3p_implies(rows):
+    # s3p = g cos(Phi) h1 / (M_alpha V) with the printed w_f, w_s (M_alpha = w_f w_s,
+    # h1 = w_f + w_s), V = 27.4 m/s, Phi = 30 deg, solved for g
+    g = 0.0617 * 32.01 * 5.958 * 27.4 / (math.sqrt(3.0) / 2.0 * (32.01 + 5.958))
+    row = rows['american.g']
+    assert row.paper == pytest.approx(g, rel=1e-12) and row.package == 9.81 and row.agrees
+
+
+def test_contradictions_and_misnomers_are_rows(rows):
+    assert 'CONTRADICTION' in rows['american.omega_slow_hz'].note
+    assert 'w_f' in rows['american.omega_slow_hz'].note
+    assert 'lift coefficient slope' in rows['rugby.c_m_alpha'].note
+    assert '[rad/s]' in rows['american.rate_ratio'].note
+    note = rows['fig3.c2'].note
+    assert '0.06393' in note and 'two digits swapped' not in note.replace('last two', '')
+
+
+@pytest.mark.parametrize('up, right', [(10.0, 0.0), (0.0, 20.0), (-7.5, 12.0), (30.0, -25.0)])
+def test_figure_angles_are_angles_not_scaled_direction_cosines(up, right):
+    from football_ros.tools.figures import angles_deg
+
+    # an axis with tan(up) = s2 / s1 and tan(right) = s3 / s1, made unit
+    s = [1.0, math.tan(math.radians(up)), math.tan(math.radians(right))]
+    norm = math.sqrt(sum(v * v for v in s))
+    got_up, got_right = angles_deg(complex(s[1], s[2]) / norm)
+    assert got_up == pytest.approx(up, abs=1e-9) and got_right == pytest.approx(right, abs=1e-9)
+
+
+def test_captions_print_no_negative_zero():
+    assert paper._signed(-1e-6) == '+0.0000' and paper._signed(-4e-5, '') == '0.0000'
+    assert paper._signed(-0.00231) == '-0.0023'

@@ -12,15 +12,21 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""``football-ros plan``: its JSON flown by ``simulate``, refusals, ``--throw`` to the nodes."""
+"""``football-ros plan``: its JSON flown by ``simulate --plan``, refusals, ``--throw``."""
 
 import csv
 import json
+import math
 import subprocess
 import sys
 
+from football_ros.command_line import UsageError
 from football_ros.physics import dynamics as dyn
+from football_ros.physics.presets import PRESETS
+from football_ros.physics.release import Release
 from football_ros.planning.planner import closest_approach
+from football_ros.tools.plan import release_from_plan
+from hypothesis import given, settings, strategies as hs
 import numpy as np
 import pytest
 import yaml
@@ -59,8 +65,13 @@ def test_plan_json_flown_by_simulate_passes_within_1cm(tmp_path):
     assert p['miss_m'] < 0.01 and p['wobble_deg'] < 0.2 * p['aligned_wobble_deg']
     assert p['spin_rpm'] == -600.0 and p['speed'] == pytest.approx(27.4)
     assert 0.0 < p['hit_probability_low'] <= p['hit_probability'] <= p['hit_probability_high']
+    plan_file = tmp_path / 'plan.json'
+    plan_file.write_text(proc.stdout)
     out = tmp_path / 'flight.csv'
-    run('simulate', *simulate_options(p), '--rate', '1000', '--out', str(out))
+    run('simulate', '--plan', str(plan_file), '--rate', '1000', '--out', str(out))
+    by_options = tmp_path / 'by_options.csv'
+    run('simulate', *simulate_options(p), '--rate', '1000', '--out', str(by_options))
+    assert out.read_bytes() == by_options.read_bytes()  # the file flies the plan's release
     with open(out) as handle:
         rows = list(csv.DictReader(handle))
     states = np.zeros((len(rows), dyn.N_STATE))
@@ -71,6 +82,37 @@ def test_plan_json_flown_by_simulate_passes_within_1cm(tmp_path):
     miss, t_arr, _ = closest_approach(times, states, np.array(target))
     assert miss < 0.01
     assert t_arr == pytest.approx(p['arrival_time'], abs=2e-3)
+
+
+def test_simulate_plan_refuses_a_bad_file_naming_it(tmp_path):
+    bad = tmp_path / 'bad.json'
+    bad.write_text('{"speed": 20.0}')
+    proc = run('simulate', '--plan', str(bad), '--out', str(tmp_path / 'x.csv'), check=False)
+    assert proc.returncode == 2 and 'Traceback' not in proc.stderr
+    assert f'--plan {bad}: no ball, elevation_deg' in proc.stderr
+    proc = run('simulate', '--plan', str(bad), '--speed', '3', '--out', str(tmp_path / 'x.csv'),
+               check=False)
+    assert proc.returncode == 2 and 'drop --speed' in proc.stderr
+    assert not (tmp_path / 'x.csv').exists()
+
+
+@settings(max_examples=200, deadline=None)
+@given(hs.one_of(
+    hs.binary(max_size=300),
+    hs.dictionaries(hs.sampled_from(Release.FIELDS + ('extra',)), hs.one_of(
+        hs.none(), hs.booleans(), hs.floats(), hs.text(max_size=5),
+        hs.lists(hs.floats(), max_size=4), hs.dictionaries(hs.text(max_size=3), hs.floats(),
+                                                           max_size=2))).map(
+        lambda d: json.dumps(d).encode())))
+def test_release_from_plan_reads_any_file_or_names_the_fault(tmp_path_factory, raw):
+    path = tmp_path_factory.mktemp('plan') / 'plan.json'
+    path.write_bytes(raw)
+    try:
+        release = release_from_plan(str(path))
+    except UsageError as exc:
+        assert str(exc).startswith(f'--plan {path}: ')
+    else:
+        assert math.isfinite(release.speed) and release.ball in PRESETS
 
 
 def test_plan_table_and_refusals():

@@ -1051,3 +1051,22 @@ def _one_per_stamp(times: np.ndarray, err: np.ndarray, limit: float) -> np.ndarr
         if key not in chosen or err[k] < err[chosen[key]]:
             chosen[key] = k
     return np.array(sorted(chosen.values()), dtype=int)
+
+
+def warm_up(settings: TrackerSettings | None = None) -> None:
+    """
+    Load (or, on a cold numba cache, compile) the tracker's kernels: a throw on a scratch tracker.
+
+    The filter, the predictions at a plane and along the path, the batch fit and a late fix
+    (the roll-back path).
+    """
+    settings = settings or TrackerSettings()
+    scratch = FlightTracker(settings)
+    for k in range(12):
+        t = k / 60.0
+        scratch.update(t, (20.0 * t, 0.0, 1.8 + 12.0 * t - 4.905 * t * t))
+    scratch.predict_planes(1.2, vertical_plane(10.0, 0.0, 0.0))
+    scratch.predict_path(0.05)
+    _, x, _ = scratch.estimate  # the batch fit's kernel (this short throw keeps both hands)
+    fly_state(x, [-0.01], scratch.params, settings.step)
+    scratch.update(0.5 / 60.0, (0.2, 0.0, 1.9))  # a late fix: the roll-back path

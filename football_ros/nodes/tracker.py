@@ -56,10 +56,10 @@ from . import messages as mb
 from . import qos
 from .params import declare_all, ParamSpec
 from .runner import run_node
-from ..estimation import FlightTracker, TrackerSettings
-from ..estimation.motion import fly_state, X_H, X_S, X_V
+from ..estimation import TrackerSettings
+from ..estimation.motion import X_H, X_S, X_V
 from ..estimation.multi import MultiTracker
-from ..estimation.tracker import vertical_plane
+from ..estimation.tracker import vertical_plane, warm_up
 from ..physics.frames import attitude_with_axis, FIELD_FRAME
 from ..physics.presets import PRESETS
 
@@ -186,7 +186,7 @@ class TrackerNode(Node):
             JumpThreshold(min_forward=None, min_backward=Duration(seconds=-1.0)),
             post_callback=self._on_clock_jump,
         )
-        _warm_up(self.tracker.settings)
+        warm_up(self.tracker.settings)  # the kernels, not on the first real fix
         self.get_logger().info(
             f"ready: tracking '{self.resolve_topic_name(qos.OBSERVATION)}' in "
             f"'{self.frame_id}' ({self.ball}, noise {self.observation_noise:g} m)"
@@ -461,23 +461,6 @@ def path_message(t: float, times: np.ndarray, positions: np.ndarray, frame_id: s
         pose.pose.orientation.w = 1.0
         msg.poses.append(pose)
     return msg
-
-
-def _warm_up(settings: TrackerSettings) -> None:
-    """
-    Compile the filter's kernels now, not on the first real fix.
-
-    A throw seen on a scratch tracker.
-    """
-    scratch = FlightTracker(settings)
-    for k in range(12):
-        t = k / 60.0
-        scratch.update(t, (20.0 * t, 0.0, 1.8 + 12.0 * t - 4.905 * t * t))
-    scratch.predict_planes(1.2, vertical_plane(10.0, 0.0, 0.0))
-    scratch.predict_path(0.05)
-    _, x, _ = scratch.estimate  # the batch fit's kernel (this short throw keeps both hands)
-    fly_state(x, [-0.01], scratch.params, settings.step)
-    scratch.update(0.5 / 60.0, (0.2, 0.0, 1.9))  # a late fix: the roll-back path
 
 
 def main(argv=None) -> int:

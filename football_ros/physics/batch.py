@@ -42,8 +42,8 @@ import numpy as np
 
 from . import dop853, dynamics as dyn
 from .aero import AeroModel, resolve
-from .limits import MIN_AIR_SPEED
 from .presets import BallPreset
+from .step_stability import MIN_AIR_SPEED
 
 
 _STAGES = dop853.N_STAGES
@@ -466,7 +466,8 @@ def simulate_batch(
     (module docstring).
 
     Raises ValueError if a release moves with the wind (no air speed: its angles and the
-    loads' direction are undefined), as :func:`football_ros.physics.limits.check_flyable` does.
+    loads' direction are undefined), as
+    :func:`football_ros.physics.step_stability.check_flyable` does.
     """
     ball, aero = resolve(ball, model, aero)
     y0 = lean_states(ball, states)

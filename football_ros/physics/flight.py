@@ -34,11 +34,11 @@ import numpy as np
 
 from . import dynamics as dyn
 from .aero import AeroModel
-from .limits import check_flyable
 from .linear_theory import LinearModes, quasi_steady_components, QuasiSteadyTracker
 from .modes import flown_model, flown_modes
 from .presets import BallPreset
 from .release import check_choice, InitialState, MODELS, MOMENT_CURVES, Release
+from .step_stability import check_flyable
 
 DEFAULT_STEP = 1e-3
 """Default integration step [s]: RK4 error on alpha/beta stays below 1e-6 rad over a pass."""

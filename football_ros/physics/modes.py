@@ -31,7 +31,7 @@ import math
 import numpy as np
 
 from . import model_params as dyn
-from .aero import AeroModel, resolve
+from .aero import AeroModel, max_valid_delta, out_of_validity, resolve
 from .linear_theory import (
     angles_from_components,
     linear_modes,
@@ -255,6 +255,43 @@ def modes_report(release: Release) -> dict:
             'equilibrium_beta': float(angles_from_components(x_p)[1]),
         }
     return report
+
+
+def flight_warnings(
+    release: Release,
+    modes: LinearModes,
+    times: np.ndarray,
+    delta: np.ndarray,
+    aero: AeroModel | None,
+    ball: BallPreset,
+) -> list[str]:
+    """
+    Sentences about a flight its user must know (``simulate`` prints them, plans carry them).
+
+    A gyroscopically unstable release (``modes``: the flown modes), and the model forms whose
+    data range the flight's total angle ``delta`` [rad] at ``times`` [s] left.
+    """
+    out = []
+    if not modes.stable:
+        out.append(
+            f'the release is gyroscopically UNSTABLE: spin {release.spin_rpm:g} rpm is '
+            f'below the critical {modes.critical_spin_rpm:.0f} rpm '
+            f'(S_g = {modes.gyroscopic_stability_factor:.2f} < 1); the ball tumbles and '
+            f'the linear theory does not apply'
+        )
+    if delta.size:
+        worst = int(np.argmax(delta))
+        texts = out_of_validity(float(delta[worst]), release.model, release.moment, aero, ball)
+        for text in texts:
+            out.append(f'{text}; largest at t = {times[worst]:.2f} s')
+        limit = max_valid_delta(release.model, release.moment, aero)
+        beyond = np.flatnonzero(delta > limit)
+        if texts and beyond.size:
+            out.append(
+                f'the flight first leaves the data range ({math.degrees(limit):g} deg) '
+                f'at t = {times[beyond[0]]:.2f} s'
+            )
+    return out
 
 
 def _finite_or_none(value: float) -> float | None:

@@ -13,13 +13,15 @@
 # limitations under the License.
 
 """
-Compile ahead: load (or compile, first time) every numba kernel the nodes and commands use.
+Compile ahead: load (or compile, first time) the physics kernels the nodes and commands use.
 
 :func:`compile_ahead` runs each compiled entry point once on the argument types the package
 passes it (float64 arrays, Python floats), so that numba's on-disk cache holds them and a later
-process only loads them. Where the cache lives: numba's ``__pycache__`` beside the sources, or
-the ``NUMBA_CACHE_DIR`` that :mod:`football_ros` chose when the package folder is read-only
-(a colcon install): see :func:`football_ros.numba_cache_dir`.
+process only loads them. The layers above add their own steps through ``steps`` and
+``places`` (:mod:`football_ros.tools.compile` lists every kernel of the package). Where the
+cache lives: numba's ``__pycache__`` beside the sources, or the ``NUMBA_CACHE_DIR`` that
+:mod:`football_ros` chose when the package folder is read-only (a colcon install): see
+:func:`football_ros.numba_cache_dir`.
 """
 
 from __future__ import annotations
@@ -28,7 +30,8 @@ from dataclasses import dataclass
 import importlib
 import pkgutil
 import time
-from typing import Callable
+from types import ModuleType
+from typing import Callable, Sequence
 
 
 @dataclass(frozen=True)
@@ -88,54 +91,66 @@ STEPS: tuple[tuple[str, Callable[[], None]], ...] = (
 )
 
 
-def kernels() -> dict[str, object]:
+def kernels(places: Sequence[ModuleType] = ()) -> dict[str, object]:
     """
-    Return every numba dispatcher of :mod:`football_ros.physics`, by ``module.name``.
+    Return every numba dispatcher of the ``places`` (default: :mod:`football_ros.physics`).
 
-    Functions inlined into their callers are not compiled on their own.
+    A place is a package (all its modules) or a module. Keyed by ``package.module.name`` below
+    :mod:`football_ros`. Functions inlined into their callers are not compiled on their own.
     """
     from numba.core.registry import CPUDispatcher
 
-    from . import __path__ as package_path
-
+    modules = []
+    for place in places or (importlib.import_module(__package__),):
+        if hasattr(place, '__path__'):
+            modules += [
+                importlib.import_module(f'{place.__name__}.{info.name}')
+                for info in pkgutil.iter_modules(place.__path__)
+            ]
+        else:
+            modules.append(place)
     out = {}
-    for info in pkgutil.iter_modules(package_path):
-        module = importlib.import_module(f'{__package__}.{info.name}')
+    for module in modules:
         for attr, value in vars(module).items():
             if (
                 isinstance(value, CPUDispatcher)
                 and value.__module__ == module.__name__
                 and value.targetoptions.get('inline', 'never') != 'always'
             ):
-                out[f'{info.name}.{attr}'] = value
+                out[f'{module.__name__.partition(".")[2]}.{attr}'] = value
     return out
 
 
-def _counts() -> tuple[int, int]:
+def cache_counts(places: Sequence[ModuleType] = ()) -> tuple[int, int]:
+    """(versions loaded from numba's disk cache, versions compiled) so far in this process."""
     hits = misses = 0
-    for dispatcher in kernels().values():
+    for dispatcher in kernels(places).values():
         stats = dispatcher.stats
         hits += sum(stats.cache_hits.values())
         misses += sum(stats.cache_misses.values())
     return hits, misses
 
 
-def compile_ahead(progress: Callable[[str], None] | None = None) -> list[CompileStep]:
+def compile_ahead(
+    progress: Callable[[str], None] | None = None,
+    steps: Sequence[tuple[str, Callable[[], object]]] = STEPS,
+    places: Sequence[ModuleType] = (),
+) -> list[CompileStep]:
     """
-    Load or compile every kernel the nodes and commands use; returns one entry per stage.
+    Load or compile the kernels ``steps`` run (default: the physics'); one entry per step.
 
-    ``progress`` (e.g. ``print``) gets one line as each stage starts and ends. Pure: no ROS.
-    About a minute on two cores the first time after an install, well under a second after.
+    ``places``: where the counted kernels live (packages or modules; default: the physics).
+    ``progress`` (e.g. ``print``) gets one line as each step starts and ends. Pure: no ROS.
     """
     say = progress or (lambda _line: None)
-    steps = []
-    hits, misses = _counts()
-    for i, (name, run) in enumerate(STEPS, 1):
-        say(f'[{i}/{len(STEPS)}] {name} ...')
+    done = []
+    hits, misses = cache_counts(places)
+    for i, (name, run) in enumerate(steps, 1):
+        say(f'[{i}/{len(steps)}] {name} ...')
         start = time.perf_counter()
         run()
         seconds = time.perf_counter() - start
-        new_hits, new_misses = _counts()
+        new_hits, new_misses = cache_counts(places)
         step = CompileStep(name, seconds, new_hits - hits, new_misses - misses)
         hits, misses = new_hits, new_misses
         how = (
@@ -143,16 +158,16 @@ def compile_ahead(progress: Callable[[str], None] | None = None) -> list[Compile
             if step.compiled
             else f'loaded {step.loaded} kernel(s) from the cache'
         )
-        say(f'[{i}/{len(STEPS)}] {name}: {how} in {seconds:.1f} s')
-        steps.append(step)
-    return steps
+        say(f'[{i}/{len(steps)}] {name}: {how} in {seconds:.1f} s')
+        done.append(step)
+    return done
 
 
-def uncovered() -> list[str]:
+def uncovered(places: Sequence[ModuleType] = ()) -> list[str]:
     """
-    Kernels with no compiled version in this process.
+    Kernels of the ``places`` (default: the physics) with no compiled version in this process.
 
     After :func:`compile_ahead` on a cold cache none may be left (on a warm cache, the kernels
     a cached caller calls load inside it and are listed here).
     """
-    return sorted(name for name, d in kernels().items() if not d.signatures)
+    return sorted(name for name, d in kernels(places).items() if not d.signatures)

@@ -195,7 +195,7 @@ def equilibrium_axes(states, params, consts):
     eqs = np.empty((n, 3))
     for k in range(n):
         axes[k, 0], axes[k, 1], axes[k, 2] = dyn.axis_of(states[k])
-        eqs[k, 0], eqs[k, 1], eqs[k, 2] = _equilibrium_axis(states[k], params, consts)
+        eqs[k, 0], eqs[k, 1], eqs[k, 2] = _local_equilibrium_axis(states[k], params, consts)
     return axes, eqs
 
 
@@ -221,23 +221,14 @@ def wobble(states, rows, params, consts):
 
 
 @njit(cache=True, error_model='numpy')
-def wobble_every(states, n, stride, params, consts):
-    """
-    Return :func:`wobble` over the rows 0, ``stride``, 2 ``stride``, ... < ``n`` and n - 1.
-
-    The rows of :func:`football_ros.planning.planner._wobble_rows`, without their array.
-    """
-    eqs = np.empty((0, 3))
-    return _wobble_every(states, n, stride, params, consts, eqs, False, states, 0, 0, 1)
-
-
-@njit(cache=True, error_model='numpy')
 def _wobble_every(states, n, stride, params, consts, eqs, reuse, other, n_other, n_grid,
                   other_stride):
     """
-    Return :func:`wobble_every`, keeping or reusing X_p of the rows j ``stride`` in ``eqs``.
+    Return :func:`wobble` over the rows 0, ``stride``, 2 ``stride``, ... < ``n`` and n - 1.
 
-    ``reuse`` False: X_p of row j stride is written to ``eqs[j]`` (if it has that row). True:
+    (The rows of :func:`football_ros.planning.planner._wobble_rows`, without their array.)
+    X_p of the rows j ``stride`` is kept in or reused from ``eqs``. ``reuse`` False: X_p of row
+    j stride is written to ``eqs[j]`` (if it has that row). True:
     ``eqs[j]`` holds X_p of row j ``other_stride`` of ``other`` (its first ``n_other`` rows, at
     the same time as row j stride of these ``n_grid`` evenly stepped ones) and is taken where
     this row's velocity and h1 agree with other's row to 1e-12 (relative): X_p depends on
@@ -255,7 +246,7 @@ def _wobble_every(states, n, stride, params, consts, eqs, reuse, other, n_other,
                 y, other[j * other_stride]):
             q = (eqs[j, 0], eqs[j, 1], eqs[j, 2])
         else:
-            q = _equilibrium_axis(y, params, consts)
+            q = _local_equilibrium_axis(y, params, consts)
             if not reuse and on_grid and j < eqs.shape[0]:
                 eqs[j, 0], eqs[j, 1], eqs[j, 2] = q
         cosine = _cosine(y, q)
@@ -284,7 +275,7 @@ def compare_wobbles(states, n, y0_aligned, dt_aligned, params, consts, stride, s
     """
     Return the wobble comparison of a checked plan [rad]: (wobble, delta, aligned ones).
 
-    :func:`wobble_every` of the first ``n`` rows of the checking flight's ``states`` (evenly
+    :func:`_wobble_every` of the first ``n`` rows of the checking flight's ``states`` (evenly
     stepped, the last at ``t_last`` [s]) and of the aligned release ``y0_aligned`` flown by
     :func:`fly` in steps of ``dt_aligned`` [s] (ground z = 0) to ``t_last``, the last step a
     partial one to it. Where the two flights share a row's velocity and spin (the paper's
@@ -316,7 +307,7 @@ def _cosine(y, q):
 @njit(cache=True, error_model='numpy')
 def _wobble_angle(y, params, consts):
     """Angle [rad] between the spin axis and X_p of one state (NaN without X_p)."""
-    return math.acos(_cosine(y, _equilibrium_axis(y, params, consts)))
+    return math.acos(_cosine(y, _local_equilibrium_axis(y, params, consts)))
 
 
 @njit(cache=True, error_model='numpy')
@@ -329,7 +320,7 @@ def _delta(y, params):
 
 
 @njit(cache=True, error_model='numpy')
-def _equilibrium_axis(y, params, consts):
+def _local_equilibrium_axis(y, params, consts):
     """X_p of :func:`equilibrium_axes` for one state (a 3-tuple)."""
     air = (y[dyn.V] - params[dyn.P_WIND], y[dyn.V + 1] - params[dyn.P_WIND + 1],
            y[dyn.V + 2] - params[dyn.P_WIND + 2])
@@ -358,11 +349,14 @@ def release_axis(consts, wind, velocity, h1, drift):
     """
     Return the least-wobble release axis (unit) and its rate [1/s] in ``field`` (3-tuples).
 
-    :func:`football_ros.planning.planner.equilibrium_axis` in plain floats: ``consts`` =
-    :func:`~football_ros.physics.linear_theory.scalar_constants`, ``wind`` and ``velocity``
-    [m/s] 3-tuples in ``field``, ``h1`` [rad/s]; ``drift``: with the equilibrium's drift
-    x_p + B x_p' / C and x_p' (:func:`~football_ros.physics.linear_theory.
-    drifting_equilibrium_scalar`, compiled), else the frozen x_p = -F/C not turning with it.
+    The axis on the local equilibrium X_p against the air, turning with the velocity frame
+    (w_V = -g cos(Phi) / U about e3) and with X_p' (K1 = K2 = 0 in the quasi-steady theory).
+    ``consts`` = :func:`~football_ros.physics.linear_theory.scalar_constants`, ``wind`` and
+    ``velocity`` [m/s] 3-tuples in ``field``, ``h1`` = (I_s/I_t) p [rad/s]; ``drift``: with the
+    equilibrium's drift x_p + B x_p' / C and x_p' (:func:`~football_ros.physics.linear_theory.
+    drifting_equilibrium_scalar`, compiled), else the frozen theory's C1 = C2 = 0 release
+    (x_p = -F/C, not turning with it; for the paper's model the axis at the equilibrium
+    sideslip s3p, turning at w_V).
     """
     air = (velocity[0] - wind[0], velocity[1] - wind[1], velocity[2] - wind[2])
     _, _, b, d_c, x_p = _exponents(consts, air, h1)

@@ -52,7 +52,7 @@ of elevations at the limiting speed reaches).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 import math
 from typing import Any, Sequence
 
@@ -62,9 +62,9 @@ from . import kernels
 from ..physics import dynamics as dyn
 from ..physics import frames
 from ..physics.aero import resolve
-from ..physics.flight import DEFAULT_STEP
-from ..physics.limits import check_flyable
+from ..physics.flight import DEFAULT_STEP, Flight
 from ..physics.linear_theory import moment_slope, scalar_constants
+from ..physics.modes import flight_warnings
 from ..physics.release import (
     attitude_with_axis_scalar,
     initial_state_of,
@@ -75,6 +75,7 @@ from ..physics.release import (
     ReleaseError,
     RPM,
 )
+from ..physics.step_stability import check_flyable
 
 OBJECTIVES = ('fastest', 'lowest_speed', 'flat', 'lofted')
 ATTITUDES = ('equilibrium', 'linear', 'refined', 'aligned')
@@ -219,25 +220,6 @@ class Plan:
 
 
 # --- the least-wobble attitude -------------------------------------------------------
-def equilibrium_axis(
-    params: np.ndarray, velocity: Sequence[float], h1: float, drift: bool = True
-) -> tuple[np.ndarray, np.ndarray]:
-    """
-    Return the least-wobble axis (unit) and its rate [1/s] in ``field`` at a release.
-
-    ``params``: kernel parameters (:func:`football_ros.physics.dynamics.make_params`, wind
-    included), ``velocity`` [m/s] in ``field``, ``h1`` = (I_s/I_t) p [rad/s]. The axis on the
-    local equilibrium X_p against the air, turning with the velocity frame (w_V = -g cos(Phi) /
-    U about e3) and with X_p' (K1 = K2 = 0 in the quasi-steady theory). ``drift=False``: the
-    frozen theory's C1 = C2 = 0 release (x_p = -F/C, no drift; for the paper's model the axis
-    at the equilibrium sideslip s3p, turning at w_V).
-    """
-    wind = tuple(float(w) for w in params[dyn.P_WIND:dyn.P_WIND + 3])
-    axis, rate = _equilibrium_axis(scalar_constants(params), wind, _vec(velocity), float(h1),
-                                   drift)
-    return np.array(axis), np.array(rate)
-
-
 def _vec(v) -> tuple[float, float, float]:
     """Plain-float 3-tuple of a vector."""
     return float(v[0]), float(v[1]), float(v[2])
@@ -251,28 +233,20 @@ def _cross(a, b) -> tuple[float, float, float]:
     return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
 
 
-def _equilibrium_axis(consts: tuple, wind: tuple, velocity: tuple, h1: float, drift: bool):
-    """
-    Return :func:`equilibrium_axis` in plain floats: (axis, rate) 3-tuples.
-
-    ``consts`` and ``wind`` from the kernel parameters (:func:`scalar_constants`, P_WIND);
-    compiled (:func:`kernels.release_axis`).
-    """
-    return kernels.release_axis(consts, wind, velocity, h1, drift)
-
-
 def equilibrium_attitude(
     params: np.ndarray, velocity: Sequence[float], h1: float, drift: bool = True
 ) -> dict[str, float]:
     """
     Return the least-wobble release attitude as release options (degrees, deg/s).
 
-    :func:`equilibrium_axis` expressed as the release options: angles against the ground
-    velocity, rates relative to ``field`` (:func:`football_ros.physics.release.release_states`).
+    The axis and rate of :func:`kernels.release_axis` (``params``: kernel parameters, wind
+    included; ``velocity`` [m/s] in ``field``; ``h1`` = (I_s/I_t) p [rad/s]) as the release
+    options: angles against the ground velocity, rates relative to ``field``
+    (:func:`football_ros.physics.release.release_states`).
     """
     velocity = _vec(velocity)
     wind = tuple(float(w) for w in params[dyn.P_WIND:dyn.P_WIND + 3])
-    axis, rate = _equilibrium_axis(scalar_constants(params), wind, velocity, float(h1), drift)
+    axis, rate = kernels.release_axis(scalar_constants(params), wind, velocity, float(h1), drift)
     return _options(velocity, axis, rate)
 
 
@@ -310,8 +284,8 @@ def aligned_step(step: float, largest_step: float) -> float:
     Return the step [s] the aligned release's comparison flight takes (:data:`ALIGNED_STEP`).
 
     ``step`` [s] the simulator's, ``largest_step`` [s] the largest the step rules allow the
-    planned release (:func:`football_ros.physics.limits.check_flyable`; the aligned one turns
-    no faster).
+    planned release (:func:`football_ros.physics.step_stability.check_flyable`; the aligned one
+    turns no faster).
     """
     return ALIGNED_STEP if step < ALIGNED_STEP <= largest_step else step
 
@@ -424,8 +398,8 @@ class _Shooter:
         ground = (vel[0] / speed, vel[1] / speed, vel[2] / speed)
         if self.mode == 'aligned':
             return vel, ground, (0.0, 0.0, 0.0), ''
-        axis, rate = _equilibrium_axis(self.consts, self.wind, vel, self.h1,
-                                       self.mode != 'linear')
+        axis, rate = kernels.release_axis(self.consts, self.wind, vel, self.h1,
+                                          self.mode != 'linear')
         wind = self.wind
         air = (vel[0] - wind[0], vel[1] - wind[1], vel[2] - wind[2])
         air_speed = math.sqrt(_dot(air, air))
@@ -670,9 +644,20 @@ def _vacuum_speed(elev: float, distance: float, height: float, g: float):
     return math.sqrt(g * distance * distance / denom) if denom > 0.0 else None
 
 
+def _vacuum_time(speed: float, distance: float, height: float, g: float) -> float | None:
+    """Flight time [s] of the flat vacuum arc at ``speed`` (None: out of its reach)."""
+    elev = _vacuum_elevation(speed, distance, height, g, False)
+    return None if elev is None else distance / (speed * math.cos(math.radians(elev)))
+
+
 def _lowest_speed_elevation(distance: float, height: float) -> float:
     """Vacuum elevation [deg] of the least speed: 45 deg + half the angle to the target."""
     return 45.0 + 0.5 * math.degrees(math.atan2(height, distance))
+
+
+def _plain(values) -> str:
+    """Numbers as the user wrote them: '[1, nan, 2.5]' (no numpy reprs)."""
+    return '[' + ', '.join(f'{float(v):g}' for v in values) + ']'
 
 
 def _check_target(target, name: str = 'target') -> np.ndarray:
@@ -685,7 +670,7 @@ def _check_target(target, name: str = 'target') -> np.ndarray:
         raise PlanError(f"'{name}' must be 3 numbers [x, y, z] in field (m)", name)
     x, y, z = arr.tolist()  # plain floats: cheaper to compare than numpy scalars
     if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(z)):
-        raise PlanError(f"'{name}' must be finite, got {list(arr)}", name)
+        raise PlanError(f"'{name}' must be finite, got {_plain(arr)}", name)
     if z < 0.0:
         raise PlanError(
             f"'{name}' is below the ground (z = {z:g} m < 0)",
@@ -694,7 +679,7 @@ def _check_target(target, name: str = 'target') -> np.ndarray:
         )
     lo, hi = LIMITS['position_xy']
     if not (lo <= x <= hi and lo <= y <= hi and z <= LIMITS['position_z'][1]):
-        raise PlanError(f"'{name}' = {list(arr)} is outside the field limits", name)
+        raise PlanError(f"'{name}' = {_plain(arr)} is outside the field limits", name)
     return arr
 
 
@@ -847,16 +832,29 @@ class _Aim:
 
 
 def _closest_reachable(sh: _Shooter, speed: float, elev_range) -> np.ndarray:
-    """Return the nearest to the target of the points reached at ``speed`` (elevation scan)."""
-    best, best_d = None, math.inf
-    for elev in np.linspace(max(elev_range[0], 0.0), elev_range[1], 15):
+    """
+    Return the point nearest to the target of the paths flown at ``speed`` toward it.
+
+    A scan of 15 elevations in ``elev_range`` (from 0 deg up, if it reaches 0), the best refined
+    between its neighbours (bounded scalar search, to 0.01 deg).
+    """
+    from scipy.optimize import minimize_scalar
+
+    def reach(elev: float):
         y0 = sh.y0(speed, float(elev), math.degrees(sh.bearing))
         times, states, _ = kernels.fly(y0, sh.step, sh.params, 30.0, 0.0, sh.target, sh.d, -1)
         sh.flights += 1
         dist, _, point = closest_approach(times, states, sh.target)
-        if dist < best_d:
-            best, best_d = point, dist
-    return best
+        return dist, point
+
+    grid = np.linspace(min(max(elev_range[0], 0.0), elev_range[1]), elev_range[1], 15)
+    dists = [reach(e)[0] for e in grid]
+    k = int(np.argmin(dists))
+    lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, len(grid) - 1)]
+    best = minimize_scalar(lambda e: reach(e)[0], bounds=(lo, hi), method='bounded',
+                           options={'xatol': 0.01})
+    elev = best.x if best.fun < dists[k] else grid[k]
+    return reach(elev)[1]
 
 
 def plan(
@@ -887,6 +885,67 @@ def plan(
     ``wobble=False`` skips the wobble numbers (NaN) and the aligned release's flight.
     Raises :class:`PlanError` for every target it cannot reach within the limits.
     """
+    base = base or Release()
+    args = [target, base, objective, max_speed, elevation_range, receiver, arrival_time,
+            arrival_window, attitude, step, tolerance, wobble]
+    if base.spin_rpm == 0.0:
+        raise PlanError('spin_rpm is 0: a ball without spin has no gyroscopic stiffness and '
+                        'tumbles; give the spin (its sign is the hand)', 'spin_rpm')
+    if objective == 'fastest' and arrival_time is None and arrival_window is None:
+        best = _fastest_stable(args)
+    else:
+        best = _plan(*args)
+    if attitude != 'aligned' and wobble and best.aligned_wobble_deg < best.wobble_deg:
+        args[1], args[8] = best.release, 'aligned'  # the aligned release of the same speed
+        if objective == 'fastest' and arrival_time is None and arrival_window is None:
+            args[2] = 'flat'  # at the speed planned (the fastest stable one), not max_speed
+        aligned = replace(_plan(*args), objective=best.objective)
+        if aligned.wobble_deg <= best.wobble_deg:
+            return replace(aligned, warnings=aligned.warnings + (
+                f'the aligned release wobbles less ({aligned.wobble_deg:.1f} deg) than the '
+                f'{attitude} one ({best.wobble_deg:.1f} deg): the aligned release is '
+                'planned',))
+    return best
+
+
+def _fastest_stable(args: list) -> Plan:
+    """
+    Plan the fastest release (``args`` of :func:`_plan`) that is gyroscopically stable.
+
+    At max_speed when that release is stable; else at the speed whose air speed at release
+    makes S_g = 1 (h1^2 = 4 M_alpha(V), less 0.1 %), found in a few passes (the direction
+    and so the air speed change a little with the speed). Raises PlanError (limit
+    'gyroscopic_stability') naming that speed when no stable release reaches the target.
+    """
+    base, max_speed = args[1], args[3]
+    best = _plan(*args)
+    for _ in range(4):
+        sh = _Shooter(best.release, DEFAULT_STEP)
+        initial = best.release.initial_state()
+        if _gyroscopically_stable(sh, initial):
+            return best
+        air = math.dist(initial.velocity, sh.wind)
+        critical = abs(sh.ball.inertia_ratio * initial.spin) / (
+            2.0 * math.sqrt(moment_slope(sh.ball, 1.0)))
+        speed = min(best.release.speed * critical / air * 0.999, max_speed)
+        capped = list(args)
+        capped[1], capped[2] = base.replace(speed=speed), 'flat'
+        try:
+            best = replace(_plan(*capped), objective='fastest')
+        except PlanError as exc:
+            raise PlanError(
+                f'the fastest gyroscopically stable release at spin {base.spin_rpm:g} rpm is '
+                f'about {speed:.2f} m/s (S_g = 1 at {critical:.2f} m/s air speed), below '
+                f'max_speed {max_speed:g} m/s, and it does not reach the target: {exc}',
+                'gyroscopic_stability', exc.closest) from None
+    raise PlanError(
+        f'no gyroscopically stable release at spin {base.spin_rpm:g} rpm found up to '
+        f'max_speed {max_speed:g} m/s', 'gyroscopic_stability')
+
+
+def _plan(target, base, objective, max_speed, elevation_range, receiver, arrival_time,
+          arrival_window, attitude, step, tolerance, wobble) -> Plan:
+    """Return :func:`plan` of one objective and attitude, as asked (no comparison)."""
     base = base or Release()
     if objective not in OBJECTIVES:
         raise PlanError(f"unknown objective '{objective}' (known: {', '.join(OBJECTIVES)})",
@@ -959,10 +1018,18 @@ def plan(
         t_arr = sh.cross(sol[0], sol[1], sol[2])
         if t_arr is not None and not arrival_window[0] <= t_arr[2] <= arrival_window[1]:
             wanted = min(max(t_arr[2], arrival_window[0]), arrival_window[1])
-            return plan(target, base, objective, max_speed, elevation_range, receiver, wanted,
-                        None, attitude, step, tolerance, wobble)
+            return _plan(target, base, objective, max_speed, elevation_range, receiver, wanted,
+                         None, attitude, step, tolerance, wobble)
     ok = sol is not None and _largest(sol[3]) <= SOLVE_TOLERANCE
     speed_used = max_speed if objective == 'fastest' else base.speed
+    if not ok and arrival_time is not None:
+        t_flat = _vacuum_time(max_speed, sh.distance, sh.height, sh.gravity)
+        quickest = '' if t_flat is None else (
+            f'; a flat arc at max_speed takes about {t_flat:.2f} s (vacuum estimate)')
+        raise PlanError(
+            f'no release within max_speed {max_speed:g} m/s and elevations [{lo_e:g}, '
+            f'{hi_e:g}] deg arrives at the target {arrival_time:g} s after release{quickest}',
+            'arrival_time', _closest_reachable(sh, max_speed, (lo_e, hi_e)))
     if not ok:
         fixed = arrival_time is None and objective in ('flat', 'lofted')
         limit_speed = speed_used if fixed else max_speed
@@ -992,7 +1059,7 @@ def plan(
             f'the plan needs elevation {elev:.2f} deg outside elevation_range '
             f'[{lo_e:g}, {hi_e:g}] deg', 'elevation_range',
             _closest_reachable(sh, speed, (lo_e, hi_e)))
-    linear = _options(_direction(speed, elev, azim), *_equilibrium_axis(
+    linear = _options(_direction(speed, elev, azim), *kernels.release_axis(
         sh.consts, sh.wind, _direction(speed, elev, azim), sh.h1, False))
     mode = attitude
     if attitude == 'refined':
@@ -1126,7 +1193,8 @@ def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear,
     Build the Release, fly it as :class:`Flight` flies it and check the miss (module docstring).
 
     The checking flight starts from the Release's own state (:meth:`Release.initial_state`),
-    passes the step rules of :func:`football_ros.physics.limits.check_flyable` and is flown by
+    passes the step rules of :func:`football_ros.physics.step_stability.check_flyable` and is
+    flown by
     :func:`kernels.fly` (the real-time kernel's steps) to ``PAST_PLANE_STEPS`` past the target
     plane, or to its landing on z = 0, or 30 s (:func:`kernels.check_flight`, with its closest
     approach).
@@ -1164,12 +1232,12 @@ def _checked_plan(sh: _Shooter, speed, elev, azim, mode, objective, arc, linear,
                                     _wobble_stride(sh.step), _wobble_stride(step),
                                     float(times[n_keep - 1]), sh.target, sh.d)))
         sh.flights += 1
-    warnings = []
-    if note and mode != 'aligned':
-        warnings.append(note)
-    if not _gyroscopically_stable(sh, initial):
-        warnings.append('gyroscopically unstable at release: the equilibrium is not an '
-                        'attractor and the wobble grows')
+    warnings = [note] if note and mode != 'aligned' else []
+    # what simulate says of the same release (instability, the data ranges), to the arrival
+    flight = Flight.from_release(release, sh.step)
+    flown = flight.simulate(rate=100.0, duration=max(t_arr, sh.step))
+    warnings += flight_warnings(release, flight.modes, flown.times, flown.aero_angles[:, 2],
+                                flight.aero, flight.ball)
     return Plan(
         release=release,
         objective=objective,
@@ -1211,8 +1279,17 @@ def _gyroscopically_stable(sh: _Shooter, initial: InitialState) -> bool:
 
 
 def warm_up() -> None:
-    """Load (or, on a cold numba cache, compile) the planner's kernels: one short plan."""
-    plan([12.0, 0.0, 1.5], Release(position=(0.0, 0.0, 1.8), model='full'))
+    """
+    Load (or, on a cold numba cache, compile) the planner's kernels.
+
+    One short plan with the refined attitude (which also aims and checks the equilibrium
+    release) and :func:`wobble_of` of its release state.
+    """
+    base = Release(position=(0.0, 0.0, 1.8), model='full')
+    plan([12.0, 0.0, 1.5], base, attitude='refined')
+    sh = _Shooter(base, DEFAULT_STEP)
+    y0 = _state_vector(base.initial_state(), sh.ball.inertia_ratio)
+    wobble_of(np.array([0.0, DEFAULT_STEP]), np.stack([y0, y0]), sh.params)
 
 
 def _wrap(azim: float) -> float:

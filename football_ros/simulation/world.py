@@ -37,7 +37,7 @@ import re
 import numpy as np
 
 from . import kernel, names
-from ..physics import dynamics as dyn, limits
+from ..physics import dynamics as dyn, step_stability
 from ..physics.aero import max_valid_delta, out_of_validity
 from ..physics.flight import BallSample, Flight
 from ..physics.presets import PRESETS
@@ -188,12 +188,12 @@ def runaway_bounds(flight: Flight) -> tuple[float, float]:
     """
     Speed [m/s] and angular rate [rad/s] past which a flight is a runaway.
 
-    RUNAWAY_FACTOR times the bounds of :mod:`football_ros.physics.limits` (ground speed <= air
-    speed + wind; |w| <= transverse bound + |p|).
+    RUNAWAY_FACTOR times the bounds of :mod:`football_ros.physics.step_stability` (ground
+    speed <= air speed + wind; |w| <= transverse bound + |p|).
     """
-    wind = flight.params[limits.dyn.P_WIND:limits.dyn.P_WIND + 3]
-    speed = limits.max_air_speed(flight.initial, wind) + float(np.linalg.norm(wind))
-    rate = limits.fastest_rates(flight.params, flight.initial)['angular rate'] + abs(
+    wind = flight.params[step_stability.dyn.P_WIND:step_stability.dyn.P_WIND + 3]
+    speed = step_stability.max_air_speed(flight.initial, wind) + float(np.linalg.norm(wind))
+    rate = step_stability.fastest_rates(flight.params, flight.initial)['angular rate'] + abs(
         flight.initial.spin
     )
     return RUNAWAY_FACTOR * speed, RUNAWAY_FACTOR * rate

@@ -70,22 +70,37 @@ class _Child:
 
 class _Table:
     """
-    The live table: one row per 0.1 s of flight time.
+    The live table: one row per 0.1 s of flight time, the landing the last.
 
     Each row holds the pose and the angles of one tick, matched by stamp whichever arrives
-    first; the last tick (the landing) ends the table.
+    first. A row's time is the flight time: the tick's stamp less the release's stamp, which
+    the first tick gives (its flight time read from the flight's own path,
+    :func:`football_ros.tools.flightdata.release_stamp`), so that late or skipped ticks keep
+    their times. The held landed state (the same position again) is no row. Rows wait for the
+    header (:meth:`show_header`, once the release is accepted).
     """
 
     PERIOD = 0.1  # flight time [s] between rows
     KEEP = 2000  # ticks waiting for their other half at most
 
-    def __init__(self) -> None:
+    def __init__(self, flight) -> None:
+        self.flight = flight
+        self.landing = flight.simulate(rate=1000.0, duration=60.0).times[-1]  # [s]
         self.positions: collections.OrderedDict = collections.OrderedDict()
         self.angles: collections.OrderedDict = collections.OrderedDict()
-        self.t0: float | None = None
+        self.t0: float | None = None  # the release's stamp [s]
         self.next_row = 0.0
         self.last = -math.inf  # flight time [s] of the newest tick
+        self._where = None  # the newest tick's position
         self._pending: str | None = None  # the newest tick's row, if not printed
+        self._early: list[str] | None = []  # rows before the header
+
+    def show_header(self) -> None:
+        """Print the header, then the rows that came before it."""
+        _say('     t [s]     x [m]     y [m]     z [m]  alpha [deg]  beta [deg]')
+        early, self._early = self._early, None
+        for row in early:
+            _say(row)
 
     def on_pose(self, msg) -> None:
         self._pair(_stamp_ns(msg), position=msg.pose.position)
@@ -107,26 +122,40 @@ class _Table:
         self._row(ns, position, angles)
 
     def _row(self, ns: int, p, a) -> None:
-        self.t0 = ns * 1e-9 if self.t0 is None else self.t0
-        t = ns * 1e-9 - self.t0
+        import numpy as np
+
+        from .flightdata import release_stamp
+
+        where = (p.x, p.y, p.z)
+        if where == self._where:
+            return  # the held landed state
+        if self.t0 is None:
+            self.t0 = release_stamp(np.array([ns * 1e-9]), np.array([where]), self.flight)
+        t = min(ns * 1e-9 - self.t0, self.landing)  # the landed state: at the landing time
         if t < self.last:
             return  # a late half of an older tick
-        self.last = t
+        self.last, self._where = t, where
         row = (
             f'{t:10.2f}{p.x:10.2f}{p.y:10.2f}{p.z:10.2f}'
             f'{math.degrees(a.x):13.2f}{math.degrees(a.y):12.2f}'
         )
         if t >= self.next_row - 1e-9:
-            _say(row)
+            self._print(row)
             self.next_row = math.floor(t / self.PERIOD + 1e-6) * self.PERIOD + self.PERIOD
             self._pending = None
         else:
             self._pending = row
 
+    def _print(self, row: str) -> None:
+        if self._early is None:
+            _say(row)
+        else:
+            self._early.append(row)
+
     def finish(self) -> None:
         """Print the newest tick (the landing) if its row was not printed."""
         if self._pending is not None:
-            _say(self._pending)
+            self._print(self._pending)
             self._pending = None
 
 
@@ -155,6 +184,8 @@ def run_demo(args: argparse.Namespace) -> int:
     from ..nodes.dds import use_package_profile
     from ..nodes.messages import level_of
 
+    from ..physics import Flight
+
     release = release_from_args(args)
     run_dir = _run_dir(args)
     run_dir.mkdir(parents=True, exist_ok=False)
@@ -172,7 +203,7 @@ def run_demo(args: argparse.Namespace) -> int:
     rclpy.init()
     node = rclpy.create_node('football_demo')
     state = {'responses': [], 'landed': None, 'time_of_flight': math.nan, 'id': None}
-    table = _Table()
+    table = _Table(Flight.from_release(release))
     watched = [
         node.create_subscription(PoseStamped, qos.POSE, table.on_pose, qos.STATE),
         node.create_subscription(Vector3Stamped, qos.AERO_ANGLES, table.on_angles, qos.STATE),
@@ -242,14 +273,14 @@ def run_demo(args: argparse.Namespace) -> int:
             time.sleep(0.5)
         if accepted is None:
             raise RuntimeError('the release node never saw the simulator')
-        _say('     t [s]     x [m]     y [m]     z [m]  alpha [deg]  beta [deg]')
+        table.show_header()
         values = {kv.key: kv.value for kv in accepted.values}
         flight_end = time.monotonic() + float(values.get('time_of_flight', 'nan')) + 10.0
         landed_at = None
         while True:  # until the landing is reported and its tick is in the table (or 3 s)
             if state['landed'] is not None:
                 landed_at = landed_at or time.monotonic()
-                if (table.last >= state['time_of_flight'] - 1e-6
+                if (table.last >= state['time_of_flight'] - 1e-3
                         or time.monotonic() - landed_at > 3.0):
                     break
             elif not time.monotonic() < flight_end:  # NaN (no landing predicted) ends it too

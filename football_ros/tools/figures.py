@@ -156,32 +156,57 @@ def plot_record(
     return paths
 
 
+def angles_deg(x) -> tuple[np.ndarray, np.ndarray]:
+    """
+    Return the angles [deg] of the axis whose velocity-frame components are x = s2 + i s3.
+
+    (nose above the velocity atan2(s2, s1), nose right of it atan2(s3, s1)), with the unit
+    axis' s1 = sqrt(1 - s2^2 - s3^2): the angles themselves, not 180/pi times s2 and s3.
+    """
+    x = np.asarray(x, dtype=complex)
+    s1 = np.sqrt(np.clip(1.0 - np.abs(x) ** 2, 0.0, None))
+    return np.degrees(np.arctan2(x.real, s1)), np.degrees(np.arctan2(x.imag, s1))
+
+
+def _angle_between_deg(x, y) -> np.ndarray:
+    """Angle [deg] between the unit axes of velocity-frame components x and y (s2 + i s3)."""
+    x, y = np.asarray(x, dtype=complex), np.asarray(y, dtype=complex)
+    s1x = np.sqrt(np.clip(1.0 - np.abs(x) ** 2, 0.0, None))
+    s1y = np.sqrt(np.clip(1.0 - np.abs(y) ** 2, 0.0, None))
+    chord = np.sqrt((s1x - s1y) ** 2 + np.abs(x - y) ** 2)
+    return np.degrees(2.0 * np.arcsin(np.clip(chord / 2.0, 0.0, 1.0)))
+
+
 def wobble_axes(ax, record: FlightRecord, info: FlightInfo) -> None:
-    """s2 against s3 [deg]: integrated, linear (frozen, quasi-steady), equilibrium."""
+    """Nose up against nose right [deg] (:func:`angles_deg`): flight, theories, equilibrium."""
     x = components(record, info)
     s3p = equilibrium_sideslip(record, info)
-    ax.plot(DEG(x.imag), DEG(x.real), lw=1.0, label='spin axis (integrated)')
-    lin = components_from_angles(record.alpha_linear, record.beta_linear)
+    up, right = angles_deg(x)
+    ax.plot(right, up, lw=1.0, label='spin axis (integrated)')
+    lin_up, lin_right = angles_deg(components_from_angles(record.alpha_linear,
+                                                          record.beta_linear))
     ax.plot(
-        DEG(lin.imag),
-        DEG(lin.real),
+        lin_right,
+        lin_up,
         lw=0.8,
         ls='--',
         color='gray',
         label='linear theory, V and $\\Phi$ frozen at release',
     )
     if record.alpha_quasi_steady is not None:
-        qs = components_from_angles(record.alpha_quasi_steady, record.beta_quasi_steady)
+        qs_up, qs_right = angles_deg(
+            components_from_angles(record.alpha_quasi_steady, record.beta_quasi_steady))
         ax.plot(
-            DEG(qs.imag),
-            DEG(qs.real),
+            qs_right,
+            qs_up,
             lw=0.8,
             ls=':',
             color='tab:green',
             label='linear theory, quasi-steady',
         )
+    s3p_right = angles_deg(1j * s3p)[1]
     ax.plot(
-        DEG(s3p),
+        s3p_right,
         np.zeros_like(s3p),
         color='tab:red',
         lw=1.0,
@@ -189,7 +214,7 @@ def wobble_axes(ax, record: FlightRecord, info: FlightInfo) -> None:
         label='equilibrium $s_{3p}$ along the flight',
     )
     ax.plot(
-        DEG(s3p[0]),
+        s3p_right[0],
         0.0,
         marker='*',
         ms=14,
@@ -197,11 +222,11 @@ def wobble_axes(ax, record: FlightRecord, info: FlightInfo) -> None:
         ls='none',
         label='equilibrium at release',
     )
-    ax.plot(DEG(x[0].imag), DEG(x[0].real), marker='o', color='k', ls='none', label='release')
+    ax.plot(right[0], up[0], marker='o', color='k', ls='none', label='release')
     ax.axhline(0, color='k', lw=0.5)
     ax.axvline(0, color='k', lw=0.5)
-    ax.set_xlabel('$s_3$: nose right of the velocity [deg]')
-    ax.set_ylabel('$s_2$: nose above the velocity [deg]')
+    ax.set_xlabel('nose right of the velocity, atan2($s_3$, $s_1$) [deg]')
+    ax.set_ylabel('nose above the velocity, atan2($s_2$, $s_1$) [deg]')
     ax.set_aspect('equal', adjustable='datalim')
     ax.legend(**LEGEND)
 
@@ -222,7 +247,7 @@ def angle_axes(axes, record: FlightRecord, info: FlightInfo) -> None:
         if k == 1:
             ax.plot(
                 record.t,
-                DEG(s3p),
+                angles_deg(1j * s3p)[1],
                 color='tab:red',
                 lw=0.8,
                 alpha=0.7,
@@ -270,16 +295,22 @@ def complementary(record: FlightRecord, info: FlightInfo) -> dict[str, np.ndarra
 
 
 def precession_axes(axes, record: FlightRecord, info: FlightInfo) -> None:
-    """Nutation |x_c| and precession arg(x_c) (unwrapped) about the equilibrium point."""
+    """
+    Nutation and precession (unwrapped arg x_c) about the equilibrium point.
+
+    Nutation: the angle between the axis and the equilibrium axis (s3p and its own s1).
+    """
     styles = {
         'nonlinear': {'label': 'nonlinear (integrated)'},
         'frozen': {'ls': '--', 'label': 'linear theory, frozen'},
         'quasi_steady': {'ls': ':', 'label': 'linear theory, quasi-steady'},
     }
+    s3p = equilibrium_sideslip(record, info)
     for key, xc in complementary(record, info).items():
-        axes[0].plot(record.t, DEG(np.abs(xc)), **styles[key])
+        centre = 1j * (s3p[0] if key == 'frozen' else s3p)
+        axes[0].plot(record.t, _angle_between_deg(xc + centre, centre), **styles[key])
         axes[1].plot(record.t, DEG(np.unwrap(np.angle(xc))), **styles[key])
-    axes[0].set_ylabel('nutation: distance from\nthe equilibrium $|x_c|$ [deg]')
+    axes[0].set_ylabel('nutation: angle from\nthe equilibrium axis [deg]')
     axes[1].set_ylabel('precession: angle about the\nequilibrium arg $x_c$ [deg]')
     axes[1].set_xlabel('time since release [s]')
     for ax in axes:

@@ -19,10 +19,14 @@ Both give a :class:`FlightRecord` of arrays in ``field``, SI units, t = 0 at the
 when the source says so, what the flight is: the release (ball with its overrides, spin, model,
 moment, aero settings). A CSV says it in its sidecar ``<name>.csv.json`` (written by
 ``simulate``, :func:`write_sidecar`); a bag in its ``football/flight/order`` messages (the
-JSON of :meth:`football_ros.requests.FlightOrder.to_json`; the last order is taken).
-A bag may hold several flights: the last one is taken (flights are split where the state
-stream pauses for more than ten publish periods); the landed state the simulator republishes
-after the landing is dropped.
+JSON of :meth:`football_ros.requests.FlightOrder.to_json`; the order of the flight taken).
+A bag may hold several flights: the last one is taken. Flights follow each other in the bag's
+order: a flight begins with its order message (``football/flight/order``, by receive time), or,
+in a bag without orders, after the held landed state of the flight before. The landed state the
+simulator republishes after the landing is dropped. A pause in the state stream (a stalled
+simulator skips ticks) splits nothing: a sample's flight time is its stamp less the release's
+stamp, and that is found from the flight itself (:func:`release_stamp`), so that a flight whose
+first ticks were skipped still starts at its true time.
 """
 
 from __future__ import annotations
@@ -37,7 +41,7 @@ import numpy as np
 
 from ..physics import frames
 from ..physics.aero import AeroModel, resolve
-from ..physics.flight import CSV_BASE_HEADER, CSV_HEADER
+from ..physics.flight import CSV_BASE_HEADER, CSV_HEADER, DEFAULT_STEP, Flight
 from ..physics.presets import BallPreset
 from ..physics.release import Release, RPM
 
@@ -156,6 +160,13 @@ def read_sidecar(csv_path: str | Path) -> FlightInfo | None:
     )
 
 
+def order_flight(text: str) -> Flight:
+    """Return the :class:`Flight` an order JSON describes, as the simulator flies it."""
+    from ..requests import FlightOrder
+
+    return FlightOrder.from_json(text).flight(DEFAULT_STEP)
+
+
 def info_from_order(text: str, origin: str) -> FlightInfo:
     """Return the flight an order JSON (``football/flight/order``) describes; ValueError if bad."""
     from ..requests import FlightOrder  # the order's one parser (owned with the release path)
@@ -213,20 +224,47 @@ def load_csv(path: Path) -> FlightRecord:
     )
 
 
-def _last_flight(stamps: np.ndarray, positions: np.ndarray) -> np.ndarray:
+def release_stamp(stamps: np.ndarray, positions: np.ndarray, flight: Flight) -> float:
     """
-    Return indices of the last flight.
+    Return the stamp [s] at which a flight of ``flight`` was released.
 
-    Drop repeats of a state (the held landing), split at pauses.
+    From its samples: ``stamps`` [s], ``positions`` (N, 3) [m] in ``field``. Each sample's
+    flight time is read from its horizontal distance to the release point along the flight's
+    own path (the distance grows all flight long); the median of stamp less that time over the
+    first samples is returned. Without horizontal motion (a vertical throw): the first stamp.
     """
-    fresh = np.ones(len(stamps), bool)
+    path = flight.simulate(rate=1000.0, duration=60.0)
+    start = path.positions[0, :2]
+    distance = np.hypot(*(path.positions[:, :2] - start).T)
+    first = min(len(stamps), 50)
+    seen = np.hypot(*(positions[:first, :2] - start).T)
+    if distance[-1] < 0.5 or np.any(np.diff(distance) <= 0.0):
+        return float(stamps[0])
+    inside = seen <= distance[-1]
+    if not np.any(inside):
+        return float(stamps[0])
+    times = np.interp(seen[inside], distance, path.times)
+    return float(np.median(stamps[:first][inside] - times))
+
+
+def _last_flight(positions: np.ndarray, starts: np.ndarray) -> tuple[np.ndarray, int]:
+    """
+    Return (indices of the last flight's fresh samples, the index in ``starts`` it began at).
+
+    ``positions`` in the order received. Repeats of a state (the held landing) are dropped; a
+    flight begins at one of ``starts`` (where an order was received; the last one followed by
+    two fresh samples), else (no orders: index -1) after the last held state.
+    """
+    fresh = np.ones(len(positions), bool)
     fresh[1:] = np.any(positions[1:] != positions[:-1], axis=1)
     index = np.flatnonzero(fresh)
-    gaps = np.diff(stamps[index])
-    if gaps.size == 0:
-        return index
-    starts = np.flatnonzero(gaps > 10 * np.median(gaps)) + 1
-    return index[starts[-1]:] if starts.size else index
+    for k in range(len(starts) - 1, -1, -1):
+        end = starts[k + 1] if k + 1 < len(starts) else len(positions)
+        chosen = index[(index >= starts[k]) & (index < end)]
+        if chosen.size >= 2:
+            return chosen, k
+    held = np.flatnonzero(~fresh[:-1] & fresh[1:]) + 1  # fresh again after a hold
+    return index[index >= (held[-1] if held.size else 0)], -1
 
 
 def load_bag(path: Path) -> FlightRecord:
@@ -251,23 +289,33 @@ def load_bag(path: Path) -> FlightRecord:
             if conn.topic.endswith('odom'):
                 p, q = msg.pose.pose.position, msg.pose.pose.orientation
                 v, w = msg.twist.twist.linear, msg.twist.twist.angular
-                odom.append((stamp, p.x, p.y, p.z, q.x, q.y, q.z, q.w, v.x, v.y, v.z, w.x))
+                odom.append(
+                    (stamp, p.x, p.y, p.z, q.x, q.y, q.z, q.w, v.x, v.y, v.z, w.x, bag_time)
+                )
             else:
                 angles[conn.topic.rsplit('/', 1)[1]].append((stamp, msg.vector.x, msg.vector.y))
     odom_a = np.array(sorted(odom))
     aero_a, linear_a, quasi_a = (np.array(sorted(x)) for x in angles.values())
     if len(odom_a) < 2:
         raise ValueError(f'{path}: fewer than two football/odom messages')
-    keep = _last_flight(odom_a[:, 0], odom_a[:, 1:4])
+    orders.sort(key=lambda o: o[0])
+    odom_a = odom_a[np.argsort(odom_a[:, 12], kind='stable')]  # the order they arrived in
+    keep, which = _last_flight(
+        odom_a[:, 1:4], np.searchsorted(odom_a[:, 12], [o[0] for o in orders], 'right')
+    )
+    if keep.size < 2:
+        raise ValueError(f'{path}: fewer than two football/odom messages in the last flight')
     odom_a = odom_a[keep]
+    odom_a = odom_a[np.argsort(odom_a[:, 0], kind='stable')]
     stamps = odom_a[:, 0]
     rot = frames.quaternion_to_matrix(odom_a[:, 4:8])
     velocity = np.einsum('nij,nj->ni', rot, odom_a[:, 8:11])  # body -> field
-    info = None
-    if orders:
-        _, text = max(orders, key=lambda o: o[0])
+    info, released = None, stamps[0]
+    if which >= 0:
+        text = orders[which][1]
         try:
             info = info_from_order(text, f'{Path(path).name}: football/flight/order')
+            released = release_stamp(stamps, odom_a[:, 1:4], order_flight(text))
         except ValueError as exc:
             raise ValueError(
                 f'{path}: unreadable football/flight/order message ({str(exc)[:120]})'
@@ -280,7 +328,7 @@ def load_bag(path: Path) -> FlightRecord:
         return np.array([arr[index[s], column] if s in index else np.nan for s in stamps])
 
     return FlightRecord(
-        t=stamps - stamps[0],
+        t=stamps - released,
         position=odom_a[:, 1:4],
         velocity=velocity,
         axis=rot[:, :, 0],

@@ -22,8 +22,9 @@ text describes them; :func:`plot_case` draws each in the paper's axes with the n
 quasi-steady one. :func:`report_rows` is every number the paper prints, its value as printed,
 this package's, the difference and the explanation; :func:`write_report` writes them to
 ``report.md`` (:func:`parse_report` reads it back). Figures are in the velocity frame: s2 the
-axis component up (nose above the velocity > 0), s3 to the right (nose right > 0), shown in
-degrees (180/pi s, the paper's small-angle reading).
+axis component up (nose above the velocity > 0), s3 to the right (nose right > 0); the axes in
+degrees are the angles themselves (:func:`angles_deg`: atan2(s2, s1), atan2(s3, s1)), not
+180/pi times a direction cosine.
 """
 
 from __future__ import annotations
@@ -35,6 +36,7 @@ import textwrap
 
 import numpy as np
 
+from .figures import angles_deg
 from ..physics import Flight, frames, get_preset, Release
 from ..physics.aero import VALIDITY
 from ..physics.frames import GRAVITY
@@ -167,9 +169,10 @@ def cases() -> list[Case]:
             'fig5_spiral_nose_up_plane',
             5,
             'Paper Fig. 5: spiral pass, nose 10 deg above the velocity, not rotating',
-            "The axis in the velocity frame. Grey: the slow mode's circle about the "
-            'equilibrium s3p (inner circle through the cusps |C2| - |C1|, outer circle '
-            '|C2| + |C1|, frozen theory).',
+            "The axis in the velocity frame. Grey solid: the circle the slow mode's arrow "
+            'tip traces, radius |C2| about the equilibrium s3p, as the paper describes it; '
+            'dotted: the inner circle through the cusps |C2| - |C1| and the outer one |C2| + '
+            '|C1| (frozen theory).',
             Release(alpha0_deg=10.0),
             'plane',
             ('circles',),
@@ -256,6 +259,10 @@ def report_rows() -> list[Row]:  # noqa: C901 (one list, one row per printed num
     w_v = abs(m.omega_v)
     pair_m = 32.01 * 5.958
     pair_h1 = 32.01 + 5.958
+    g_low, g_implied, g_high = (
+        s3p * pair_m * 27.4 / (math.cos(math.radians(30.0)) * pair_h1)
+        for s3p in (0.06165, 0.0617, 0.06175)
+    )
     rows = [
         _row(
             'american.c_m_alpha', 'C_Malpha (Rae & Streit, via the paper)', '1/rad', '0.33',
@@ -310,7 +317,9 @@ def report_rows() -> list[Row]:  # noqa: C901 (one list, one row per printed num
         ),
         _row(
             'american.omega_slow_hz', 'w_s in Hz', 'Hz', 'about 1', m.omega_slow * hz,
-            f'{m.omega_slow * hz:.3f} Hz', bounds=(0.5, 1.5),
+            f'{m.omega_slow * hz:.3f} Hz. CONTRADICTION: the paper writes "the slow mode, '
+            'w_f, has a frequency of about 1 Hertz": w_f is its symbol of the fast mode '
+            '(about 5 Hz); the slow one is w_s', bounds=(0.5, 1.5),
         ),
         _row(
             'american.s3p', 'equilibrium sideslip s3p = g cos(Phi) h1 / (M_alpha V)', 'rad',
@@ -319,6 +328,14 @@ def report_rows() -> list[Row]:  # noqa: C901 (one list, one row per printed num
         _row(
             'american.s3p_eq15', 's3p in the rounded form of eq. (15)', 'rad', '0.06',
             m.equilibrium_sideslip, 'within rounding',
+        ),
+        _row(
+            'american.g', 'gravity g implied by the printed s3p = g cos(Phi) h1 / (M_alpha V)',
+            'm/s^2', '-', GRAVITY,
+            f'the paper prints no g; its s3p 0.0617 with its own M_alpha = w_f w_s = '
+            f'{pair_m:.2f}, h1 = w_f + w_s = {pair_h1:.3f}, V = 27.4 m/s and Phi = 30 deg '
+            f'gives g = {g_implied:.3f} (0.06165 to 0.06175: {g_low:.3f} to {g_high:.3f}); '
+            f'the package flies g = {GRAVITY} m/s^2', bounds=(g_low, g_high), value=g_implied,
         ),
         _row(
             'american.long_pass', 'duration of a long pass', 's', 'about 3', tof,
@@ -365,7 +382,9 @@ def report_rows() -> list[Row]:  # noqa: C901 (one list, one row per printed num
             'american.rate_ratio', "'about five times': x' against x when |C1| ~ |C2|", '-',
             'about five', m.omega_fast / m.omega_slow,
             'package column: w_f / w_s, the ratio of the two exponents, our reading of what '
-            'sets this factor (the sentence names no formula)',
+            "sets this factor (the sentence names no formula). As written it mixes units: x' "
+            'is a rate [rad/s] and x an angle [rad], so "five times" is a number only in '
+            'some unit of time (here: per second)',
             bounds=(4.5, 5.5), value=5.0,
         ),
     ]
@@ -384,7 +403,8 @@ def report_rows() -> list[Row]:  # noqa: C901 (one list, one row per printed num
             'fig3.c2', 'Fig. 3: |C2| (C2 = -i |C2|)', 'rad', '0.06339', abs(m.c2),
             'CONTRADICTION: x(0) = 0 needs C1 + C2 = -i s3p, so |C2| = |C1| + s3p = '
             f"0.002214 + 0.0617 = {0.002214 + 0.0617:.5f} with the paper's own numbers (its "
-            'Fig. 5 prints 0.06394 for the same part): 0.06339 has two digits swapped',
+            'Fig. 5 prints 0.06394 for the same part); 0.06339 with its last two digits '
+            'swapped reads 0.06393, within 3e-5 of both: likely a transposition',
         ),
         _row(
             'fig3.duration', 'Figs. 3-4: duration', 's', '2.8', tof,
@@ -479,7 +499,10 @@ def _rugby_rows(ru, hz) -> list[Row]:
     return [
         _row(
             'rugby.c_m_alpha', 'rugby C_Malpha (converted to the cross-section)', '1/rad',
-            '0.147', ru.c_m_alpha, 'input', source='ref. [15] of the paper',
+            '0.147', ru.c_m_alpha,
+            'input. The paper calls it "the lift coefficient slope"; it is the slope of the '
+            'overturning-moment coefficient (its symbol C_Malpha and its use in M_alpha), '
+            'not of lift', source='ref. [15] of the paper',
         ),
         _row(
             'rugby.c_m_alpha_ratio', 'rugby over American C_Malpha', '-', 'less than half',
@@ -550,11 +573,12 @@ def _rugby_rows(ru, hz) -> list[Row]:
         ),
         _row(
             'rugby.mean_s3', 'Fig. 7: average s3 (the equilibrium s3p it circles)', 'deg',
-            'around 10', math.degrees(m.equilibrium_sideslip),
-            'package column: s3p at release, the centre of the frozen solution (its mean over '
-            f'the 2 s, less than one orbit: {math.degrees(float(np.mean(frozen.imag))):.1f} '
-            f'deg); the integrated flight averages {math.degrees(float(np.mean(x.imag))):.1f} '
-            'deg: s3p grows like 1/V^3 toward the apex, as the paper warns',
+            'around 10', float(angles_deg(1j * m.equilibrium_sideslip)[1]),
+            'package column: s3p at release, the centre of the frozen solution, as an angle '
+            '(its mean over the 2 s, less than one orbit: '
+            f'{float(np.mean(angles_deg(frozen)[1])):.1f} deg); the integrated flight averages '
+            f'{float(np.mean(angles_deg(x)[1])):.1f} deg: s3p grows like 1/V^3 toward the '
+            'apex, as the paper warns',
             bounds=(9.0, 11.0),
         ),
         _row(
@@ -562,9 +586,9 @@ def _rugby_rows(ru, hz) -> list[Row]:
         ),
         _row(
             'rugby.fig8_max_s3', 'Fig. 8: largest s3', 'deg', 'over 20',
-            math.degrees(float(np.max(frozen8.imag))),
-            f'frozen theory; the integrated flight reaches '
-            f'{math.degrees(float(np.max(x8.imag))):.1f} deg', bounds=(20.0, 90.0),
+            float(np.max(angles_deg(frozen8)[1])),
+            f'frozen theory, atan2(s3, s1); the integrated flight reaches '
+            f'{float(np.max(angles_deg(x8)[1])):.1f} deg', bounds=(20.0, 90.0),
         ),
         _row(
             'rugby.s3p_exponent', 's3p ~ V^n: n', '-', '-3', exponent,
@@ -686,6 +710,11 @@ def _m_alpha_ball(ball, m_alpha: float, speed: float):
     return ball.with_overrides({'c_m_alpha': ball.c_m_alpha * m_alpha / k})
 
 
+def _signed(value: float, sign: str = '+') -> str:
+    """``value`` to 4 decimals, a rounded zero without its minus sign (no '-0.0000')."""
+    return format(round(value, 4) + 0.0, f'{sign}.4f')
+
+
 def plot_case(case: Case, out_dir: Path) -> Path:
     """Draw one case in the paper's axes: integrated flight, frozen and quasi-steady theory."""
     import matplotlib
@@ -696,26 +725,29 @@ def plot_case(case: Case, out_dir: Path) -> Path:
     flight = Flight.from_release(case.release)
     tr = flight.simulate(rate=500.0, duration=10.0)
     m = flight.modes
-    deg = np.degrees
+    fig4 = 'dashed_m_alpha' in case.extras  # the paper draws its solution as circles there
     curves = (
         (components(tr), '-', 'tab:blue', 1.6, 'nonlinear flight (integrated)'),
-        (m.axis_components(tr.times), '--', 'tab:orange', 1.3, 'linear theory, frozen (paper)'),
+        (m.axis_components(tr.times), 'none' if fig4 else '--', 'tab:orange', 1.3,
+         'linear theory, frozen (paper; circles)' if fig4 else 'linear theory, frozen (paper)'),
         (tr.axis_components_quasi_steady, ':', 'tab:green', 1.6, 'linear theory, quasi-steady'),
     )
-    s3p = local_s3p(tr)
+    s3p = angles_deg(1j * local_s3p(tr))[1]
+    s3p0 = angles_deg(1j * m.equilibrium_sideslip)[1]
     fig = plt.figure(figsize=(11.0, 7.0))
     if case.kind == 'series':
         top = fig.add_axes((0.08, 0.55, 0.60, 0.34))
         bottom = fig.add_axes((0.08, 0.20, 0.60, 0.34), sharex=top)
         for x, style, color, width, label in curves:
-            top.plot(tr.times, deg(x.real), ls=style, color=color, lw=width, label=label)
-            bottom.plot(tr.times, deg(x.imag), ls=style, color=color, lw=width, label=label)
-        bottom.plot(tr.times, deg(s3p), color='tab:red', lw=0.8, alpha=0.7,
+            up, right = angles_deg(x)
+            top.plot(tr.times, up, ls=style, color=color, lw=width, label=label)
+            bottom.plot(tr.times, right, ls=style, color=color, lw=width, label=label)
+        bottom.plot(tr.times, s3p, color='tab:red', lw=0.8, alpha=0.7,
                     label='equilibrium s3p(t), local')
-        bottom.axhline(deg(m.equilibrium_sideslip), color='tab:red', ls='--', lw=0.6,
+        bottom.axhline(s3p0, color='tab:red', ls='--', lw=0.6,
                        label='equilibrium s3p at release')
-        top.set_ylabel('s2: nose above the velocity [deg]')
-        bottom.set_ylabel('s3: nose right of the velocity [deg]')
+        top.set_ylabel('nose above the velocity,\natan2(s2, s1) [deg]')
+        bottom.set_ylabel('nose right of the velocity,\natan2(s3, s1) [deg]')
         bottom.set_xlabel('time since release [s]')
         plt.setp(top.get_xticklabels(), visible=False)
         for ax in (top, bottom):
@@ -725,33 +757,36 @@ def plot_case(case: Case, out_dir: Path) -> Path:
     else:
         main = fig.add_axes((0.08, 0.20, 0.60, 0.69))
         for x, style, color, width, label in curves:
-            marker = 'o' if style == '--' and 'dashed_m_alpha' in case.extras else None
-            main.plot(deg(x.imag), deg(x.real), ls=style, color=color, lw=width, label=label,
+            up, right = angles_deg(x)
+            marker = 'o' if style == 'none' else None
+            main.plot(right, up, ls=style, color=color, lw=width, label=label,
                       marker=marker, ms=3, markevery=25)
-        main.plot(deg(s3p), np.zeros_like(s3p), color='tab:red', lw=2.0, alpha=0.5,
+        main.plot(s3p, np.zeros_like(s3p), color='tab:red', lw=2.0, alpha=0.5,
                   label='equilibrium s3p(t), local')
-        main.plot(deg(m.equilibrium_sideslip), 0.0, 'r*', ms=12, label='equilibrium at release')
-        if 'dashed_m_alpha' in case.extras:
+        main.plot(s3p0, 0.0, 'r*', ms=12, label='equilibrium at release')
+        if fig4:
             ball = _m_alpha_ball(flight.ball, PAPER_M_ALPHA_DASHED, m.speed)
             half = linear_modes(ball, case.release.initial_state())
             t = np.linspace(0.0, FIG3_DURATION, 1401)
-            x = half.axis_components(t)
-            main.plot(deg(x.imag), deg(x.real), '--', color='k', lw=1.0,
-                      label=f'frozen theory, M_alpha = {PAPER_M_ALPHA_DASHED:g} 1/s^2')
-            main.plot(deg(x.imag[-1]), deg(x.real[-1]), 'o', mfc='none', mec='red', ms=9,
+            up, right = angles_deg(half.axis_components(t))
+            main.plot(right, up, '--', color='k', lw=1.0,
+                      label=f'frozen theory, M_alpha = {PAPER_M_ALPHA_DASHED:g} 1/s^2 (dashed)')
+            main.plot(right[-1], up[-1], 'o', mfc='none', mec='red', ms=9,
                       label=f'its end at {FIG3_DURATION:g} s')
         if 'circles' in case.extras:
-            phase = np.linspace(0.0, 2 * math.pi, 361)
-            for radius, label in (
-                (abs(m.c2) - abs(m.c1), 'slow-mode circles: |C2| -+ |C1|'),
-                (abs(m.c2) + abs(m.c1), None),
+            phase = np.exp(1j * np.linspace(0.0, 2 * math.pi, 361))
+            centre = 1j * m.equilibrium_sideslip
+            for radius, style, label in (
+                (abs(m.c2), '-', 'slow-mode circle: radius |C2| about s3p'),
+                (abs(m.c2) - abs(m.c1), ':', 'inner and outer circles: |C2| -+ |C1|'),
+                (abs(m.c2) + abs(m.c1), ':', None),
             ):
-                main.plot(deg(m.equilibrium_sideslip + radius * np.cos(phase)),
-                          deg(radius * np.sin(phase)), color='0.5', lw=0.8, label=label)
+                up, right = angles_deg(centre + radius * phase)
+                main.plot(right, up, color='0.4', ls=style, lw=0.9, label=label)
         main.axhline(0, color='k', lw=0.5)
         main.axvline(0, color='k', lw=0.5)
-        main.set_xlabel('s3: nose right of the velocity [deg]')
-        main.set_ylabel('s2: nose above the velocity [deg]')
+        main.set_xlabel('nose right of the velocity, atan2(s3, s1) [deg]')
+        main.set_ylabel('nose above the velocity, atan2(s2, s1) [deg]')
         main.set_aspect('equal', adjustable='datalim')
         main.grid(alpha=0.3)
         handles, labels = main.get_legend_handles_labels()
@@ -760,8 +795,9 @@ def plot_case(case: Case, out_dir: Path) -> Path:
     main.set_title(case.title, fontsize=10, loc='left')
     facts = (
         f'M_alpha = {m.m_alpha:.1f} 1/s^2, h1 = {m.h1:.2f} rad/s, w_f = {m.omega_fast:.2f}, '
-        f'w_s = {m.omega_slow:.3f} rad/s, s3p = {m.equilibrium_sideslip:.4f}, '
-        f'C1 = {m.c1.real:+.4f}{m.c1.imag:+.4f}i, C2 = {m.c2.real:+.4f}{m.c2.imag:+.4f}i; '
+        f'w_s = {m.omega_slow:.3f} rad/s, s3p = {_signed(m.equilibrium_sideslip, "")}, '
+        f'C1 = {_signed(m.c1.real)}{_signed(m.c1.imag)}i, '
+        f'C2 = {_signed(m.c2.real)}{_signed(m.c2.imag)}i; '
         f'flight {tr.times[-1]:.2f} s to the release height.'
     )
     caption = f'Paper Figure {case.figure}. {case.caption} {facts}'

@@ -13,13 +13,13 @@
 # limitations under the License.
 
 """
-``football-ros plan``: the release that takes the ball through a target (issue 18).
+``football-ros plan``: the release that takes the ball through a target.
 
 The release options give the base release (ball, spin and hand, release point, model, aero,
 wind; ``--speed`` is the speed of the flat and lofted arcs); the planner chooses speed,
 elevation, azimuth and the least-wobble attitude. ``--json`` prints one object whose release
 keys (``speed``, ``elevation_deg``, ... ``beta_rate_deg_s``, ``position``, ``model``, ``aero``)
-are the options ``football-ros simulate`` takes, so that it flies the plan. An infeasible
+are a release: ``football-ros simulate --plan PLAN.json`` flies it. An infeasible
 target exits 1 with the reason; ``--throw`` sends the plan to a running release node
 (``football-ros throw``) and prints its answer.
 """
@@ -33,8 +33,11 @@ import sys
 from typing import Any
 
 from ..command_line import add_release_options, key_values, release_from_args, UsageError
+from ..physics.release import Release
 
 EXIT_INFEASIBLE = 1
+MAX_PLAN_BYTES = 1 << 20
+"""Largest plan file ``simulate --plan`` reads [bytes] (a plan is about 2 kB)."""
 
 
 def add_plan_options(parser: argparse.ArgumentParser) -> None:
@@ -77,6 +80,42 @@ def add_plan_options(parser: argparse.ArgumentParser) -> None:
     g.add_argument('--id', default=None, help='release request id for --throw')
     g.add_argument('--timeout', type=float, default=10.0, help='seconds to wait for --throw')
     add_release_options(parser)
+
+
+def release_from_plan(path: str) -> Release:
+    """
+    Return the release of a ``plan --json`` output file (``simulate --plan``).
+
+    The release keys of :meth:`Release.to_mapping` are taken, the plan's other numbers are not
+    read. Raises :class:`UsageError` naming the file and what is wrong with it.
+    """
+    from ..strict_yaml import load_strict, StrictParseError
+
+    where = f'--plan {path}'
+    try:
+        with open(path, 'rb') as handle:
+            raw = handle.read(MAX_PLAN_BYTES + 1)
+    except OSError as exc:
+        raise UsageError(f'{where}: cannot read it ({exc.strerror})') from None
+    if len(raw) > MAX_PLAN_BYTES:
+        raise UsageError(f'{where}: more than {MAX_PLAN_BYTES} bytes, not a plan')
+    try:
+        data = load_strict(raw.decode('utf-8'))
+    except UnicodeDecodeError:
+        raise UsageError(f'{where}: not UTF-8 text') from None
+    except StrictParseError as exc:
+        raise UsageError(f'{where}: {exc}') from None
+    if not isinstance(data, dict):
+        raise UsageError(f"{where}: not one JSON object (the output of 'football-ros plan "
+                         "--json')")
+    missing = [key for key in Release.FIELDS if key not in data]
+    if missing:
+        raise UsageError(f"{where}: no {', '.join(missing)} (the output of 'football-ros plan "
+                         "--json' has every release key)")
+    try:
+        return Release.from_mapping({key: data[key] for key in Release.FIELDS})
+    except (TypeError, ValueError) as exc:  # ReleaseError, or a wrongly typed entry
+        raise UsageError(f'{where}: {exc}') from None
 
 
 def throw_argv(release_mapping: dict[str, Any], request_id: str | None,

@@ -36,7 +36,7 @@ through h1 and the full model's damping and Magnus terms above.
 
 A flight is refused when step x rate exceeds :data:`MAX_STEP_RATE` for any of them: 1.0, a
 third inside the stability boundary (the paper's model was measured to blow up near 2.8, see
-test/test_limits.py). At 1.0 RK4 still damps an oscillation by 1.2 % per step; the default
+test/test_step_stability.py). At 1.0 RK4 still damps an oscillation by 1.2 % per step; the default
 step (1 ms) keeps the nominal passes below 0.04.
 """
 

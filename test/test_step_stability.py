@@ -16,7 +16,7 @@
 
 import math
 
-from football_ros.physics import Flight, get_preset, limits, Release, ReleaseError
+from football_ros.physics import Flight, get_preset, Release, ReleaseError, step_stability
 from football_ros.physics.presets import BALL_LIMITS, check_ball, PRESETS
 from football_ros.physics.release import InitialState, LIMITS
 from football_ros.simulation.world import MAX_FLIGHT_S
@@ -79,10 +79,10 @@ def test_presets_fly_at_the_default_and_the_largest_node_step():
         for model in ('paper', 'full'):
             for step in (1e-3, 1e-2):
                 release = Release(ball=name, model=model)
-                rates = limits.fastest_rates(
+                rates = step_stability.fastest_rates(
                     Flight.from_release(release, step).params, release.initial_state()
                 )
-                assert max(rates.values()) * step <= limits.MAX_STEP_RATE
+                assert max(rates.values()) * step <= step_stability.MAX_STEP_RATE
 
 
 def test_too_large_a_step_is_refused_naming_the_rate():
@@ -92,18 +92,19 @@ def test_too_large_a_step_is_refused_naming_the_rate():
         spin_rpm=-3000, ball_params={'inertia_spin': 0.003, 'inertia_transverse': 0.0015}
     )
     h1 = 2.0 * 3000 * 2 * math.pi / 60
-    rates = limits.fastest_rates(Flight.from_release(release).params, release.initial_state())
+    rates = step_stability.fastest_rates(Flight.from_release(release).params,
+                                         release.initial_state())
     assert rates['angular rate'] == pytest.approx(
         0.5 * (h1 + math.sqrt(h1**2 + 4 * 0.0)), rel=0.01
     )
     with pytest.raises(ReleaseError, match='angular rate'):
         Flight.from_release(release, 0.005)
-    limits_backup = limits.MAX_STEP_RATE
+    backup = step_stability.MAX_STEP_RATE
     try:
-        limits.MAX_STEP_RATE = 1e9  # what the check prevents
+        step_stability.MAX_STEP_RATE = 1e9  # what the check prevents
         assert not np.all(np.isfinite(Flight.from_release(release, 0.005).simulate().states))
     finally:
-        limits.MAX_STEP_RATE = limits_backup
+        step_stability.MAX_STEP_RATE = backup
     Flight.from_release(release, 0.0015)  # accepted: 0.94
 
 
@@ -118,7 +119,8 @@ def test_pitch_damping_rate_of_the_full_model():
         * 27.4
         / (2 * ball.inertia_transverse)
     )
-    rates = limits.fastest_rates(Flight.from_release(release).params, release.initial_state())
+    rates = step_stability.fastest_rates(Flight.from_release(release).params,
+                                         release.initial_state())
     assert rates['pitch-damping rate'] == pytest.approx(expected, rel=1e-12)
     with pytest.raises(ReleaseError, match='pitch-damping rate'):
         Flight.from_release(release, 0.01)
