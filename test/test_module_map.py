@@ -64,7 +64,9 @@ MODULE_TESTS: dict[str, tuple[str, ...]] = {
     'football_ros.planning.request': ('test_planner_node.py',),
     'football_ros.planning.robustness': ('test_planner.py',),
     'football_ros.simulation': ('test_world.py',),
+    'football_ros.simulation.core': ('test_simulation_core.py', 'test_simulator_burst.py'),
     'football_ros.simulation.kernel': ('test_world.py',),
+    'football_ros.simulation.names': ('test_simulation_core.py', 'test_simulator_burst.py'),
     'football_ros.simulation.world': ('test_world.py', 'test_step_stability.py'),
     # layer 5: nodes
     'football_ros.nodes': ('test_topics.py',),
