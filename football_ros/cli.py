@@ -16,10 +16,11 @@
 ``football-ros``: command-line front end.
 
 Headless commands (no ROS needed): ``modes``, ``simulate``, ``montecarlo``, ``plot``,
-``paper``, ``compile``. Node commands (``simulator``, ``release``, ``tracker``, ``record``,
-``demo``, ``echo``, ``throw``) need rclpy and pass ``--ros-args`` through. Bad options print
-one line on stderr and exit with code 2. Start-up: numba, matplotlib and rclpy are imported
-only by the commands that integrate, draw or talk to ROS (``modes`` and ``--help`` need none).
+``paper``, ``compile``, ``plan``, ``fit``. Node commands (``simulator``, ``release``,
+``tracker``, ``record``, ``demo``, ``echo``, ``throw``) need rclpy and pass ``--ros-args``
+through. Bad options print one line on stderr and exit with code 2. Start-up: numba,
+matplotlib and rclpy are imported only by the commands that integrate, draw or talk to ROS
+(``modes`` and ``--help`` need none).
 """
 
 from __future__ import annotations
@@ -334,10 +335,12 @@ def _cmd_compile(args: argparse.Namespace) -> int:
     where = numba_cache_dir() or 'beside the sources (__pycache__)'
     print(f'football-ros compile: numba kernels; cache: {where}', flush=True)
     steps = compile_ahead(lambda line: print(line, flush=True) if not args.quiet else None)
+    from .identification.kernels import warm_up as fit_kernel
     from .simulation.kernel import warm_up as world_kernel
     from .tools.fastcsv import warm_up as csv_writer
 
-    for warm_up in (world_kernel, csv_writer):  # the simulator's world, the Monte Carlo CSV
+    # The simulator's world, the Monte Carlo CSV, the fit's flights.
+    for warm_up in (world_kernel, csv_writer, fit_kernel):
         steps.append(warm_up())
         if not args.quiet:
             print(f'[+] {steps[-1].name}: {steps[-1].seconds:.1f} s', flush=True)
@@ -493,6 +496,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_paper)
     from .tools import plan as plan_tool  # its options only; the planner loads when it runs
 
+    from .tools import fit as fit_tool  # its options only; numba loads when it runs
+
+    p = add('fit', 'coefficients from measured flights (the inverse of simulate): values, '
+            '95 %% intervals, identifiability')
+    fit_tool.add_fit_options(p)
+    p.set_defaults(func=fit_tool.run)
     p = add('plan', 'the release that takes the ball through a target, with the least wobble')
     plan_tool.add_plan_options(p)
     p.set_defaults(func=plan_tool.run)

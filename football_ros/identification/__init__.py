@@ -18,14 +18,9 @@ Coefficients from measured flights (no ROS): the inverse of ``simulate``.
 :mod:`.track` checks a measured flight, :mod:`.coefficients` lists what may be freed,
 :mod:`.kernels` flies the fit's states, :mod:`.problem` turns unknowns into residuals,
 :mod:`.solver` minimises them (Levenberg-Marquardt) and profiles, :mod:`.uncertainty` turns
-the information into intervals and identifiability, :mod:`.fit` drives and reports.
+the information into intervals and identifiability, :mod:`.fit` drives and reports. The
+compiled parts load on first use (a command's options need only the table of coefficients).
 """
-
-from .coefficients import COEFFICIENTS
-from .fit import CoefficientFit, fit, FitResult, FlightFit
-from .problem import FitSettings
-from .solver import FitError
-from .track import Track
 
 __all__ = [
     'COEFFICIENTS',
@@ -37,3 +32,25 @@ __all__ = [
     'FlightFit',
     'Track',
 ]
+
+_LAZY = {
+    'COEFFICIENTS': 'coefficients',
+    'CoefficientFit': 'fit',
+    'fit': 'fit',
+    'FitError': 'solver',
+    'FitResult': 'fit',
+    'FitSettings': 'problem',
+    'FlightFit': 'fit',
+    'Track': 'track',
+}
+
+
+def __getattr__(name: str):
+    """Import the names on first use (PEP 562): numba loads only when a fit runs."""
+    if name in _LAZY:
+        import importlib
+
+        value = getattr(importlib.import_module(f'.{_LAZY[name]}', __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f'module {__name__!r} has no attribute {name!r}')
