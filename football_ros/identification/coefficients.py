@@ -58,10 +58,10 @@ BOTH = ('paper', 'full')
 COEFFICIENTS: dict[str, Coefficient] = {
     c.name: c
     for c in (
-        Coefficient('c_d0', '', FULL, (0.0, 0.5), 1e-5, 'drag', 'drag end-on, C_D0'),
-        Coefficient('c_d2', '', FULL, (0.0, 1.5), 1e-5, 'drag', 'drag rise, C_D2 sin^2 delta'),
-        Coefficient('c_l_alpha', '1/rad', FULL, (-1.0, 2.0), 1e-5, 'lift', 'lift slope'),
-        Coefficient('c_n_p_alpha', '1/rad', FULL, (-1.0, 1.0), 1e-5, 'magnus', 'Magnus force'),
+        Coefficient('c_d0', '', FULL, (0.0, 0.25), 1e-5, 'drag', 'drag end-on, C_D0'),
+        Coefficient('c_d2', '', FULL, (0.0, 1.0), 1e-5, 'drag', 'drag rise, C_D2 sin^2 delta'),
+        Coefficient('c_l_alpha', '1/rad', FULL, (0.0, 1.0), 1e-5, 'lift', 'lift slope'),
+        Coefficient('c_n_p_alpha', '1/rad', FULL, (-0.5, 0.5), 1e-5, 'magnus', 'Magnus force'),
         Coefficient('c_m_alpha', '1/rad', BOTH, (0.0, 1.0), 1e-5, None, 'overturning moment'),
         Coefficient('c_m_q', '', FULL, (-20.0, 0.0), 1e-4, 'pitch_damping', 'pitch damping'),
         Coefficient('c_l_p', '', FULL, (-0.1, 0.0), 1e-6, 'spin_damping', 'spin damping'),
@@ -70,7 +70,12 @@ COEFFICIENTS: dict[str, Coefficient] = {
         Coefficient('wind_y', 'm/s', FULL, (-20.0, 20.0), 1e-4, None, 'wind along y'),
     )
 }
-"""Every quantity a fit may free, by name (the order of reports)."""
+"""Every quantity a fit may free, by name (the order of reports). Physical ranges: C_D0 from
+end-on drag of balls and bodies of revolution (football 0.05-0.06, rugby balls and other
+spheroids up to about 0.2); C_D2 up to a cylinder's broadside 1.2 less end-on; C_Lalpha of
+slender bodies (football 0.4); C_Npalpha the span of McCoy's spin-stabilised projectiles;
+C_Malpha from the rugby ball's 0.147 and the football's 0.33 with room; C_Mq and C_lp wide
+(no ball data); the spin of passes and kicks; winds a game is played in."""
 
 ALIASES = {'spin': ('spin_rpm',), 'wind': ('wind_x', 'wind_y')}
 """Names ``--free`` also takes."""

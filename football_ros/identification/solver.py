@@ -42,6 +42,8 @@ PROFILE_TOLERANCE = 0.1
 """Accepted relative gap between the profile's and the Jacobian's interval end (in sigma)."""
 PROFILE_ROUNDS = 4
 """Most refits per interval end (secant steps on the square root of the chi-square rise)."""
+PROFILE_ITERATIONS = 4
+"""Most Levenberg-Marquardt iterations of a refit (it starts on the linear prediction)."""
 PROFILE_CONVERGED = 0.02
 """A refit with one value held ends at a smaller decrease than this."""
 
@@ -249,7 +251,8 @@ def profile_interval(
             values[index] = centre + offset
             blocks = state.blocks - np.einsum('fic,c->fi', moved, shift)
             try:
-                held = minimise(problem, blocks, values, (index,), 8, PROFILE_CONVERGED)
+                held = minimise(problem, blocks, values, (index,), PROFILE_ITERATIONS,
+                                PROFILE_CONVERGED)
             except FitError:
                 break
             rise = math.sqrt(max(held.cost - state.cost, 0.0))
