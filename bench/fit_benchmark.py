@@ -69,7 +69,7 @@ TARGETS = {'c_d0': 0.05, 'c_l_alpha': 0.10, 'c_m_alpha': 0.05}
 
 
 def truth_of(name: str, aero: dict, ball: dict) -> float:
-    """The truth's value of coefficient ``name``."""
+    """Return the truth's value of coefficient ``name``."""
     defaults = {'c_d0': 0.055, 'c_d2': 0.30, 'c_l_alpha': 0.40, 'c_n_p_alpha': 0.0,
                 'c_m_alpha': get_preset('american').c_m_alpha}
     return {**defaults, **aero, **ball}[name]

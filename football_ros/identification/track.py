@@ -49,7 +49,8 @@ class Track:
     ``times`` (K,) [s] strictly increasing; ``positions`` (K, 3) [m] in ``field``; ``sigma``
     (K,) [m] per fix or None (estimated or given by the fit); ``axes`` (K, 3) observed spin
     axes (unit, either sign; an all-NaN row = not observed) or None; ``name`` for messages;
-    ``rows`` (K,) the row number of each fix in its file (default 1, 2, ...).
+    ``rows`` (K,) the row number of each fix in its file (default 1, 2, ...) and ``row_word``
+    what messages call it ('line' for a text file).
     """
 
     times: np.ndarray
@@ -58,6 +59,7 @@ class Track:
     axes: np.ndarray | None = None
     name: str = 'track'
     rows: np.ndarray | None = None
+    row_word: str = 'row'
 
     def __post_init__(self) -> None:
         times = np.asarray(self.times, dtype=float).reshape(-1)
@@ -81,8 +83,8 @@ class Track:
         if np.any(steps <= 0.0):
             k = int(np.flatnonzero(steps <= 0.0)[0]) + 1
             raise ValueError(
-                f'{self.name} row {rows[k]}: time {times[k]:g} s is not after the previous '
-                f"row's {times[k - 1]:g} s (times must increase)"
+                f'{self.name} {self.row_word} {rows[k]}: time {times[k]:g} s is not after the '
+                f"previous {self.row_word}'s {times[k - 1]:g} s (times must increase)"
             )
         duration = times[-1] - times[0]
         if duration < MIN_DURATION:
@@ -93,8 +95,8 @@ class Track:
         if duration > MAX_DURATION:
             k = int(np.searchsorted(times, times[0] + MAX_DURATION, side='right'))
             raise ValueError(
-                f'{self.name} row {rows[k]}: t = {times[k]:g} s is more than {MAX_DURATION:g} s '
-                f'after the first fix (one flight per track)'
+                f'{self.name} {self.row_word} {rows[k]}: t = {times[k]:g} s is more than '
+                f'{MAX_DURATION:g} s after the first fix (one flight per track)'
             )
         pos = self.positions
         bad = ~np.all(np.isfinite(pos), axis=1)
@@ -140,7 +142,7 @@ class Track:
         return arr
 
     def _where(self, bad: np.ndarray) -> str:
-        return f'{self.name} row {self.rows[int(np.flatnonzero(bad)[0])]}'
+        return f'{self.name} {self.row_word} {self.rows[int(np.flatnonzero(bad)[0])]}'
 
     @property
     def observed_axes(self) -> np.ndarray:

@@ -39,7 +39,7 @@ import sys
 from typing import Any, TYPE_CHECKING
 
 from ..command_line import key_values, UsageError
-from ..identification.coefficients import ALIASES, COEFFICIENTS, DEFAULT_FREE
+from ..identification.coefficients import ALIASES, COEFFICIENTS, DEFAULT_FREE, parse_free
 from ..physics import PRESETS
 from ..physics.aero import AeroModel
 from ..physics.presets import get_preset
@@ -110,6 +110,10 @@ def settings_from_args(args: argparse.Namespace) -> 'FitSettings':
     if args.model == 'paper' and args.aero:
         raise UsageError('--aero is for the full model (--model full)')
     free = None if args.free is None else tuple(args.free.split(','))
+    try:  # before any file is read
+        parse_free(free, args.model, aero if args.model == 'full' else None)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
     return FitSettings(
         ball, args.model, args.moment, aero if args.model == 'full' else None, free,
         args.spin_rpm, args.noise,

@@ -103,7 +103,7 @@ def read_csv(path: Path) -> Track:
     axes = data[:, [col[c] for c in AXIS]] if all(has_axis) else None
     return Track(
         data[:, 0], data[:, 1:4], data[:, col['sigma']] if 'sigma' in col else None, axes,
-        str(path), np.array(lines, dtype=int),
+        str(path), np.array(lines, dtype=int), 'line',
     )
 
 
@@ -160,7 +160,7 @@ def read_bag(path: Path, topic: str | None) -> tuple[list[Track], list[str]]:
     tracks, warnings = [], []
     rows = order + 1
     for k, part in enumerate(_segments(stamps[order]), start=1):
-        name = f'{folder} {conn.topic} flight {k}'
+        name = f'{folder} {conn.topic} flight {k}'  # rows: the messages' numbers on the topic
         if part.size < MIN_FIXES:
             warnings.append(f'{name}: {part.size} message(s), skipped (a flight needs '
                             f'{MIN_FIXES})')
