@@ -22,8 +22,8 @@ Gaussian noise per axis (and, where said, the spin axis with 1 deg per component
 speed U(20, 28) m/s, elevation U(15, 35) deg, azimuth U(-15, 15) deg, released at 1.8 m,
 600 rpm (the fit's spin, fixed), axis off the velocity by N(0, 2 deg) per angle, no axis rate.
 The fit is told the truth's values of what it does not free (C_D2 and, unless freed, C_Malpha:
-from positions alone C_Lalpha trades against C_Malpha, which sets the yaw of repose) and starts
-the freed ones at the package's defaults.
+the lift acts on the yaw of repose C_Malpha sets, so a wrong held value biases C_Lalpha) and
+starts the freed ones at the package's defaults.
 
 Cases (each ``--trials`` trials of ``--passes`` passes):
 - positions: C_D0 and C_Lalpha freed; targets: median relative error <= 5 % and <= 10 %;
