@@ -38,6 +38,7 @@ identifiable (target 90-98 %), with its Wilson 95 % interval. Timing: one 3 s fl
 the same flight simulated once (``Flight.simulate``), in the same run.
 
     .venv/bin/python bench/fit_benchmark.py [--trials 50] [--passes 20] [--short-trials 100]
+        [--coverage-trials 200]
         [--draws 5] [--seed 0] [--no-record]
 """
 
@@ -50,9 +51,11 @@ import os
 import sys
 import time
 
-from football_ros.identification import fit, FitSettings, Track
-from football_ros.physics import Flight, get_preset, Release
-import numpy as np
+os.environ.setdefault('OPENBLAS_NUM_THREADS', '1')  # one core: before numpy loads
+
+from football_ros.identification import fit, FitSettings, Track  # noqa: E402
+from football_ros.physics import Flight, get_preset, Release  # noqa: E402
+import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from results import recorded  # noqa: E402
@@ -132,9 +135,9 @@ def run_case(label, free, axes, trials, passes, seed, sets=tuple(SETS), short=Fa
             settings = FitSettings(  # told the truth's fixed values, not its freed ones
                 get_preset('american', {k: v for k, v in ball.items() if k not in free}),
                 free=free, aero=_aero({k: v for k, v in aero.items() if k not in free}))
-            start = time.perf_counter()
+            start = time.process_time()
             result = fit(tracks, settings)
-            seconds.append(time.perf_counter() - start)
+            seconds.append(time.process_time() - start)
             bound = None
             if short:
                 bound = fit([clean for _, clean in drawn],
@@ -172,24 +175,30 @@ def _aero(mapping):
 
 
 def timing(draws: int, seed: int) -> list[tuple]:
-    """One 3 s flight: simulate (baseline), fit with and without the profile check."""
+    """
+    One 3 s flight: simulate (baseline), fit with and without the profile check.
+
+    Per draw: simulate's CPU time, the flight's duration, then CPU and wall time of each fit.
+    CPU time (this process's) is what one core spends: on a shared machine the wall time also
+    holds the waits for the core.
+    """
     rng = np.random.default_rng(seed)
     out = []
     for _ in range(draws):
         release = Release(ball='american', speed=27.0, elevation_deg=33.0, spin_rpm=600.0,
                           alpha0_deg=rng.normal(0.0, 2.0), beta0_deg=rng.normal(0.0, 2.0),
                           position=(0.0, 0.0, 1.8), model='full')
-        start = time.perf_counter()
+        start = time.process_time()
         trajectory = Flight.from_release(release).simulate(rate=RATE, duration=10.0)
-        simulate = time.perf_counter() - start
+        simulate = time.process_time() - start
         n = trajectory.times.size - 1
         track = Track(trajectory.times[:n],
                       trajectory.positions[:n] + rng.normal(0.0, NOISE, (n, 3)))
         row = [simulate, float(trajectory.times[n])]
         for profile in (False, True):
-            start = time.perf_counter()
+            start, wall = time.process_time(), time.perf_counter()
             fit([track], FitSettings(get_preset('american'), profile=profile))
-            row.append(time.perf_counter() - start)
+            row += [time.process_time() - start, time.perf_counter() - wall]
         out.append(row)
     return out
 
@@ -210,14 +219,17 @@ def main() -> int:
     times = np.array(timing(args.draws, args.seed))
     med = np.median(times, axis=0)
     print(f'Timing, one flight of {med[1]:.2f} s at 100 Hz, 2 cm, C_D0 and C_Lalpha freed '
-          f'(median of {args.draws} draws, one process, numba kernels loaded):')
-    print(f'  simulate the flight (baseline)      {med[0] * 1e3:8.1f} ms')
-    print(f'  fit, Jacobian intervals             {med[2] * 1e3:8.1f} ms '
-          f'({med[2] / med[0]:.0f} x the baseline)')
-    print(f'  fit, intervals checked by profile   {med[3] * 1e3:8.1f} ms '
-          f'({med[3] / med[0]:.0f} x the baseline; target < 1000 ms)')
+          f'(median of {args.draws} draws, one process, numba kernels loaded; CPU time of '
+          f'this process, one thread; wall time beside it, load average '
+          f'{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores):')
+    print(f'  simulate the flight (baseline)      {med[0] * 1e3:8.1f} ms CPU')
+    print(f'  fit, Jacobian intervals             {med[2] * 1e3:8.1f} ms CPU '
+          f'({med[2] / med[0]:.0f} x the baseline; wall {med[3] * 1e3:.0f} ms)')
+    print(f'  fit, intervals checked by profile   {med[4] * 1e3:8.1f} ms CPU '
+          f'({med[4] / med[0]:.0f} x the baseline; wall {med[5] * 1e3:.0f} ms; '
+          'target < 1000 ms)')
     print()
-    start = time.perf_counter()
+    start = time.process_time()
     rows = run_case('positions', ('c_d0', 'c_l_alpha'), False, args.trials, args.passes,
                     args.seed)
     rows += run_case('axes', ('c_d0', 'c_l_alpha', 'c_m_alpha'), True, args.trials,
@@ -232,8 +244,8 @@ def main() -> int:
           f'{args.coverage_trials} trials of 2 passes (coverage), {args.short_trials} of one '
           'short pass; n = trials reporting the coefficient identifiable, coverage = share of '
           'them whose 95 % interval holds the truth (Wilson 95 %); flagged = not identifiable '
-          'among the trials where the truth cannot be identified (k/m); '
-          f'{time.perf_counter() - start:.0f} s in all')
+          'among the trials where the truth cannot be identified (k/m); ('
+          f'{time.process_time() - start:.0f} s CPU in all; s/fit = median CPU s of a fit)')
     print(f"{'case':<11}{'truth set':<11}{'coefficient':<13}{'truth':>7}{'median err':>11}"
           f"{'target':>8}{'n':>5}{'coverage':>9}{'  (95 %)':<15}{'flagged':>12}{'s/fit':>7}")
     for (label, set_name, name, truth, med_err, target, n, cov, lo, hi, flag,
