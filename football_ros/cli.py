@@ -499,7 +499,7 @@ def build_parser() -> argparse.ArgumentParser:
     from .tools import fit as fit_tool  # its options only; numba loads when it runs
 
     p = add('fit', 'coefficients from measured flights (the inverse of simulate): values, '
-            '95 %% intervals, identifiability')
+            'intervals, identifiability')
     fit_tool.add_fit_options(p)
     p.set_defaults(func=fit_tool.run)
     p = add('plan', 'the release that takes the ball through a target, with the least wobble')

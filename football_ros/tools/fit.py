@@ -64,8 +64,11 @@ def add_fit_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--moment', default='linear', choices=MOMENT_CURVES,
                         help='overturning moment curve (as simulate)')
     parser.add_argument('--free', metavar='NAME[,NAME...]',
-                        help='what to fit, from ' + ', '.join(list(COEFFICIENTS) + list(ALIASES))
-                        + f' (default: {",".join(DEFAULT_FREE["full"])} for the full model, '
+                        help='what to fit, from '
+                        + ', '.join(f'{n} ({c.text})' for n, c in COEFFICIENTS.items())
+                        + ' (aliases: '
+                        + ', '.join(f'{a} = {",".join(v)}' for a, v in ALIASES.items())
+                        + f'; default: {",".join(DEFAULT_FREE["full"])} for the full model, '
                         f'{",".join(DEFAULT_FREE["paper"])} for the paper model)')
     parser.add_argument('--noise', type=float, metavar='SIGMA',
                         help='noise of the fixes without a sigma column, 1 sigma per axis '
