@@ -227,8 +227,9 @@ class Problem:
 
     def cost(self, blocks: np.ndarray, values: np.ndarray) -> float:
         """Chi-square of unknowns ``blocks`` (F, N_BLOCK), ``values`` (n,); inf if one fails."""
-        res = self.evaluate(blocks[:, None, :], values[None])
-        total = sum(float(r[0] @ r[0]) for r in res)
+        with np.errstate(all='ignore'):  # a wild trial step overflows: refused, not warned
+            res = self.evaluate(blocks[:, None, :], values[None])
+            total = sum(float(r[0] @ r[0]) for r in res)
         return total if math.isfinite(total) else math.inf
 
     def linearise(self, blocks: np.ndarray, values: np.ndarray) -> Linear | None:
