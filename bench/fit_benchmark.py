@@ -37,9 +37,12 @@ identifiable (target 90-98 %), with its Wilson 95 % interval. Timing: one 3 s fl
 (C_D0, C_Lalpha), with and without the profile check, median of ``--draws``; the baseline is
 the same flight simulated once (``Flight.simulate``), in the same run.
 
-    .venv/bin/python bench/fit_benchmark.py [--trials 50] [--passes 20] [--short-trials 100]
-        [--coverage-trials 200]
-        [--draws 5] [--seed 0] [--no-record]
+    .venv/bin/python bench/fit_benchmark.py [--part timing accuracy coverage short]
+        [--trials 50] [--passes 20] [--coverage-trials 200] [--short-trials 100] [--draws 5]
+        [--seed 0] [--no-record]
+
+Each run records one section of bench/RESULTS.md named after its parts ("fit (timing,
+short)"), so that parts may run in parallel processes.
 """
 
 from __future__ import annotations
@@ -203,8 +206,18 @@ def timing(draws: int, seed: int) -> list[tuple]:
     return out
 
 
-def main() -> int:
+PARTS = ('timing', 'accuracy', 'coverage', 'short')
+
+
+def parse(known: bool = False) -> argparse.Namespace:
+    """
+    Return the options (``--part``: which parts, each recorded as its own section).
+
+    ``known``: ignore the others (``--no-record``, before :func:`recorded` removes it).
+    """
     ap = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
+    ap.add_argument('--part', nargs='*', choices=PARTS, default=list(PARTS),
+                    help='parts to run (default all); each is its own section of RESULTS.md')
     ap.add_argument('--trials', type=int, default=50, help='trials per case and truth set')
     ap.add_argument('--passes', type=int, default=20, help='passes per trial')
     ap.add_argument('--short-trials', type=int, default=100, help='trials of the short pass')
@@ -212,10 +225,57 @@ def main() -> int:
                     help='trials of the coverage cases (2 passes each)')
     ap.add_argument('--draws', type=int, default=5, help='timing draws')
     ap.add_argument('--seed', type=int, default=0)
-    args = ap.parse_args()
+    return ap.parse_known_args()[0] if known else ap.parse_args()
+
+
+def main() -> int:
+    args = parse()
     # Compile (or load) the kernels outside the timings.
     fit([pass_track(np.random.default_rng(99), {}, {}, False)],
         FitSettings(get_preset('american')))
+    if 'timing' in args.part:
+        print_timing(args)
+    start = time.process_time()
+    cases = {
+        'accuracy': [('positions', ('c_d0', 'c_l_alpha'), False, args.trials, args.passes,
+                      args.seed, tuple(SETS), False),
+                     ('axes', ('c_d0', 'c_l_alpha', 'c_m_alpha'), True, args.trials,
+                      args.passes, args.seed + 1, tuple(SETS), False)],
+        'coverage': [('coverage', ('c_d0', 'c_l_alpha'), False, args.coverage_trials, 2,
+                      args.seed + 3, ('defaults',), False),
+                     ('cov. axes', ('c_d0', 'c_l_alpha', 'c_m_alpha'), True,
+                      args.coverage_trials, 2, args.seed + 4, ('defaults',), False)],
+        'short': [('short pass', ('c_d0', 'c_l_alpha', 'c_n_p_alpha'), False,
+                   args.short_trials, 1, args.seed + 2, ('defaults',), True)],
+    }
+    chosen = [case for part in PARTS[1:] if part in args.part for case in cases[part]]
+    if not chosen:
+        return 0
+    print(f'{args.trials} trials of {args.passes} passes per accuracy case and truth set, '
+          f'{args.coverage_trials} trials of 2 passes per coverage case, {args.short_trials} '
+          'of one short pass; n = trials reporting the coefficient identifiable, coverage = '
+          'share of them whose 95 % interval holds the truth (Wilson 95 %); flagged = not '
+          'identifiable among the trials where the truth cannot be identified (k/m); s/fit = '
+          'median CPU s of a fit')
+    print(f"{'case':<11}{'truth set':<11}{'coefficient':<13}{'truth':>7}{'median err':>11}"
+          f"{'target':>8}{'n':>5}{'coverage':>9}{'  (95 %)':<15}{'flagged':>12}{'s/fit':>7}",
+          flush=True)
+    for label, free, axes, trials, passes, seed, sets, short in chosen:
+        for (label, set_name, name, truth, med_err, target, n, cov, lo, hi, flag,
+             sec) in run_case(label, free, axes, trials, passes, seed, sets, short):
+            err = f'{med_err * 100:.1f} %' if math.isfinite(med_err) else '-'
+            tgt = f'{target * 100:.0f} %' if target else '-'
+            cov_text = f'{cov * 100:.0f} %' if n else '-'
+            band = f' [{lo * 100:.0f}, {hi * 100:.0f}]' if n else ''
+            flags = f'{flag[0]}/{flag[1]}' if flag[1] else '-'
+            print(f'{label:<11}{set_name:<11}{name:<13}{truth:>7.3g}{err:>11}{tgt:>8}{n:>5}'
+                  f'{cov_text:>9}{band:<15}{flags:>12}{sec:>7.1f}', flush=True)
+    print(f'({time.process_time() - start:.0f} s CPU in all)')
+    return 0
+
+
+def print_timing(args: argparse.Namespace) -> None:
+    """Print the timing table (the module docstring)."""
     times = np.array(timing(args.draws, args.seed))
     med = np.median(times, axis=0)
     print(f'Timing, one flight of {med[1]:.2f} s at 100 Hz, 2 cm, C_D0 and C_Lalpha freed '
@@ -227,38 +287,8 @@ def main() -> int:
           f'({med[2] / med[0]:.0f} x the baseline; wall {med[3] * 1e3:.0f} ms)')
     print(f'  fit, intervals checked by profile   {med[4] * 1e3:8.1f} ms CPU '
           f'({med[4] / med[0]:.0f} x the baseline; wall {med[5] * 1e3:.0f} ms; '
-          'target < 1000 ms)')
-    print()
-    start = time.process_time()
-    rows = run_case('positions', ('c_d0', 'c_l_alpha'), False, args.trials, args.passes,
-                    args.seed)
-    rows += run_case('axes', ('c_d0', 'c_l_alpha', 'c_m_alpha'), True, args.trials,
-                     args.passes, args.seed + 1)
-    rows += run_case('coverage', ('c_d0', 'c_l_alpha'), False, args.coverage_trials, 2,
-                     args.seed + 3, sets=('defaults',))
-    rows += run_case('cov. axes', ('c_d0', 'c_l_alpha', 'c_m_alpha'), True,
-                     args.coverage_trials, 2, args.seed + 4, sets=('defaults',))
-    rows += run_case('short pass', ('c_d0', 'c_l_alpha', 'c_n_p_alpha'), False,
-                     args.short_trials, 1, args.seed + 2, sets=('defaults',), short=True)
-    print(f'{args.trials} trials of {args.passes} passes per case and truth set, '
-          f'{args.coverage_trials} trials of 2 passes (coverage), {args.short_trials} of one '
-          'short pass; n = trials reporting the coefficient identifiable, coverage = share of '
-          'them whose 95 % interval holds the truth (Wilson 95 %); flagged = not identifiable '
-          'among the trials where the truth cannot be identified (k/m); ('
-          f'{time.process_time() - start:.0f} s CPU in all; s/fit = median CPU s of a fit)')
-    print(f"{'case':<11}{'truth set':<11}{'coefficient':<13}{'truth':>7}{'median err':>11}"
-          f"{'target':>8}{'n':>5}{'coverage':>9}{'  (95 %)':<15}{'flagged':>12}{'s/fit':>7}")
-    for (label, set_name, name, truth, med_err, target, n, cov, lo, hi, flag,
-         sec) in rows:
-        err = f'{med_err * 100:.1f} %' if math.isfinite(med_err) else '-'
-        tgt = f'{target * 100:.0f} %' if target else '-'
-        cov_text = f'{cov * 100:.0f} %' if n else '-'
-        band = f' [{lo * 100:.0f}, {hi * 100:.0f}]' if n else ''
-        flags = f'{flag[0]}/{flag[1]}' if flag[1] else '-'
-        print(f'{label:<11}{set_name:<11}{name:<13}{truth:>7.3g}{err:>11}{tgt:>8}{n:>5}'
-              f'{cov_text:>9}{band:<15}{flags:>12}{sec:>7.1f}')
-    return 0
+          'target < 1000 ms)', flush=True)
 
 
 if __name__ == '__main__':
-    sys.exit(recorded('fit', main))
+    sys.exit(recorded(f"fit ({', '.join(parse(known=True).part)})", main))
