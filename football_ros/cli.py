@@ -16,10 +16,11 @@
 ``football-ros``: command-line front end.
 
 Headless commands (no ROS needed): ``modes``, ``simulate``, ``montecarlo``, ``plot``,
-``paper``, ``compile``. Node commands (``simulator``, ``release``, ``tracker``, ``record``,
-``demo``, ``echo``, ``throw``) need rclpy and pass ``--ros-args`` through. Bad options print
-one line on stderr and exit with code 2. Start-up: numba, matplotlib and rclpy are imported
-only by the commands that integrate, draw or talk to ROS (``modes`` and ``--help`` need none).
+``paper``, ``compile``, ``plan``, ``fit``. Node commands (``simulator``, ``release``,
+``tracker``, ``record``, ``demo``, ``echo``, ``throw``) need rclpy and pass ``--ros-args``
+through. Bad options print one line on stderr and exit with code 2. Start-up: numba,
+matplotlib and rclpy are imported only by the commands that integrate, draw or talk to ROS
+(``modes`` and ``--help`` need none).
 """
 
 from __future__ import annotations
@@ -480,6 +481,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_paper)
     from .tools import plan as plan_tool  # its options only; the planner loads when it runs
 
+    from .tools import fit as fit_tool  # its options only; numba loads when it runs
+
+    p = add('fit', 'coefficients from measured flights (the inverse of simulate): values, '
+            'intervals, identifiability')
+    fit_tool.add_fit_options(p)
+    p.set_defaults(func=fit_tool.run)
     p = add('plan', 'the release that takes the ball through a target, with the least wobble')
     plan_tool.add_plan_options(p)
     p.set_defaults(func=plan_tool.run)

@@ -34,6 +34,7 @@ LAYERS = (  # (module prefix, rank): a module imports only lower ranks or its ow
     ('football_ros.estimation', 3),
     ('football_ros.planning', 3),
     ('football_ros.simulation', 3),
+    ('football_ros.identification', 3),
     ('football_ros.requests', 4),
     ('football_ros.command_line', 4),
     ('football_ros.bagfile', 4),

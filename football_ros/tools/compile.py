@@ -27,13 +27,14 @@ from __future__ import annotations
 from typing import Callable
 
 from . import fastcsv
-from .. import estimation, physics, planning, simulation
+from .. import estimation, identification, physics, planning, simulation
 from ..estimation.tracker import warm_up as tracker_warm_up
+from ..identification.kernels import warm_up as fit_warm_up
 from ..physics.precompile import compile_ahead, CompileStep, STEPS as PHYSICS_STEPS
 from ..planning.planner import warm_up as planner_warm_up
 from ..simulation.kernel import warm_up as world_warm_up
 
-PLACES = (physics, simulation, estimation, planning, fastcsv)
+PLACES = (physics, simulation, estimation, planning, identification, fastcsv)
 """Every package or module that holds numba kernels."""
 
 STEPS: tuple[tuple[str, Callable[[], object]], ...] = PHYSICS_STEPS + (
@@ -41,6 +42,7 @@ STEPS: tuple[tuple[str, Callable[[], object]], ...] = PHYSICS_STEPS + (
     ('tracker (filter, batch fit, predictions)', tracker_warm_up),
     ('planner (one short plan)', planner_warm_up),
     ('CSV writer (Monte Carlo)', fastcsv.warm_up),
+    ('coefficient fit (football-ros fit)', fit_warm_up),
 )
 
 
