@@ -39,7 +39,7 @@ class BagTopic:
     """One topic of a bag: name, ROS type ('pkg/msg/Type') and its ros2msg definition."""
 
     name: str
-    type: str
+    ros_type: str
     definition: str
 
 

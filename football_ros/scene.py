@@ -184,7 +184,7 @@ def _line(points: np.ndarray, color: dict, kind: int = 0, thickness: float = 0.0
 
 
 def _arrow(origin, direction, length: float, color: dict) -> dict:
-    """ArrowPrimitive from ``origin`` along ``direction`` (any length), ``length`` [m] long."""
+    """Return an arrow from ``origin`` along ``direction`` (any length), ``length`` [m] long."""
     head = min(0.3 * length, 0.15)
     return {
         'pose': _pose(origin, attitude_with_axis(direction)),
@@ -202,7 +202,7 @@ def _stamp(ns: int) -> dict:
 
 
 def entity(entity_id: str, stamp_ns: int, frame_id: str, **primitives) -> dict:
-    """SceneEntity with every primitive list present (Foxglove's JSON decoder wants them)."""
+    """Return a SceneEntity with every primitive list present (Foxglove's decoder wants them)."""
     out = {
         'timestamp': _stamp(stamp_ns),
         'frame_id': frame_id,
@@ -308,7 +308,7 @@ class Scene:
         self._landings[name] = (int(stamp_ns), p, ellipse)
 
     def path(self, name: str, stamp_ns: int, kind: str, points: np.ndarray) -> None:
-        """Set a path (``kind`` 'predicted' or 'planned'): points (n, 3) [m], thinned to fit."""
+        """Set a ``kind`` ('predicted' or 'planned') path: points (n, 3) [m], thinned to fit."""
         if kind not in PATH_COLORS:
             raise SceneError(f'{name}: path kind {kind!r} is not one of {sorted(PATH_COLORS)}')
         if name not in self._paths and len(self._paths) >= MAX_OVERLAYS:

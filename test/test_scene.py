@@ -132,7 +132,8 @@ def test_paths_are_thinned_and_removal_deletes():
     scene.remove('b2')
     scene.remove('prediction/path')
     update = scene.update(0)
-    assert {d['id'] for d in update['deletions']} == {'ball/b2', 'trail/b2', 'path/prediction/path'}
+    deleted = {d['id'] for d in update['deletions']}
+    assert deleted == {'ball/b2', 'trail/b2', 'path/prediction/path'}
     assert set(_entities(update)) == {'field'}
     assert scene.update(0)['deletions'] == []
 

@@ -65,7 +65,7 @@ from .topics import TOPICS, type_name
 from ..bagfile import msgdef
 from ..physics import PRESETS
 from ..playback import Bag, BagError, PlaybackClock
-from ..scene import SCHEMA, SCHEMA_NAME, Scene, scene_role, SceneError
+from ..scene import Scene, scene_role, SceneError, SCHEMA, SCHEMA_NAME
 
 NODE_NAME = 'football_view'
 DIAGNOSTIC_NAME = 'football_ros: view'
@@ -155,6 +155,7 @@ class ViewNode(Node):
         sdk_log.addHandler(self._overflows)
         foxglove.set_log_level('INFO')  # the SDK's log records reach Python's logging
         self._bag = self._playhead = self._seek_to = None
+        self._commanded = False  # a viewer has used the time controls
         if bag_path:
             try:
                 self._bag = Bag(bag_path)
@@ -187,7 +188,7 @@ class ViewNode(Node):
         self.create_timer(1.0 / self.scene_rate, self._publish_scene)
         if self._bag:
             for topic in self._bag.topics.values():
-                self._offer(topic.name, topic.type, topic.definition)
+                self._offer(topic.name, topic.ros_type, topic.definition)
             self._player_stop = threading.Event()
             self._player = threading.Thread(target=self._play, name='football-view-bag',
                                             daemon=True)
@@ -230,7 +231,7 @@ class ViewNode(Node):
                 self._roles[topic] = role
 
     def _retire(self, topic: str) -> None:
-        """A topic no node publishes any more: close its channel, forget its scene part."""
+        """Close the channel of a topic no node publishes any more; forget its scene part."""
         self._unsubscribe(topic)
         with self._lock:
             channel = self._channels.pop(topic)
@@ -260,12 +261,12 @@ class ViewNode(Node):
 
     # --- the server's callbacks (its own threads): queue, wake the executor ---------------
     def on_subscribe(self, client, channel) -> None:
-        """A viewer subscribes to a channel."""
+        """Take a viewer's subscription to a channel."""
         self._requests.append(('+', client.id, channel.id))
         self._guard.trigger()
 
     def on_unsubscribe(self, client, channel) -> None:
-        """A viewer unsubscribes from a channel (or leaves)."""
+        """Take a viewer's unsubscription from a channel (or its leaving)."""
         self._requests.append(('-', client.id, channel.id))
         self._guard.trigger()
 
@@ -275,6 +276,7 @@ class ViewNode(Node):
             return None
         with self._lock:
             clock = self._playhead
+            self._commanded = True
             if request.seek_time is not None:
                 clock.seek(request.seek_time)
                 self._seek_to = clock.position()
@@ -303,6 +305,10 @@ class ViewNode(Node):
             clients = self._viewers.setdefault(topic, set())
             (clients.add if op == '+' else clients.discard)(client)
         if self._bag is not None:
+            if not self._commanded and any(self._viewers.values()):
+                with self._lock:  # the first viewer starts the player (its controls rule after)
+                    self._playhead.play()
+                    self._commanded = True
             return
         scene = bool(self._viewers.get(SCENE_TOPIC))
         for topic in list(self._channels):
