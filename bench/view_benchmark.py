@@ -221,7 +221,7 @@ def _overflows(bench) -> str:
 
     def take(msg) -> None:
         for status in msg.status:
-            if status.name == 'football_ros: view':
+            if status.name.endswith('football_view'):
                 found.update({kv.key: kv.value for kv in status.values})
 
     sub = bench.node.create_subscription(DiagnosticArray, qos.DIAGNOSTICS, take,

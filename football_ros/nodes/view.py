@@ -68,7 +68,6 @@ from ..playback import Bag, BagError, PlaybackClock
 from ..scene import Scene, scene_role, SceneError, SCHEMA, SCHEMA_NAME
 
 NODE_NAME = 'football_view'
-DIAGNOSTIC_NAME = 'football_ros: view'
 SCENE_TOPIC = '/football/scene'
 DISCOVERY_S = 0.5
 DIAGNOSTICS_S = 1.0
@@ -323,13 +322,12 @@ class ViewNode(Node):
         cls = KNOWN_TYPES[self._types[topic]]
         channel = self._channels[topic]
         scene_source = topic in self._roles
-        latest = self._latest
 
         def forward(data: bytes) -> None:
             channel.log(data, log_time=time.time_ns())
             self._forwarded += 1
             if scene_source:
-                latest[topic] = data
+                self._latest[topic] = data
 
         self._subs[topic] = self.create_subscription(cls, topic, forward, VIEW_QOS, raw=True)
 
@@ -440,8 +438,9 @@ class ViewNode(Node):
         text = (f'{len(viewers)} viewer(s); {self._overflows.count} viewer queue overflow(s) '
                 '(oldest messages dropped)'
                 + (f'; last refused: {self._refusal}' if self._refused else ''))
-        status = mb.diagnostic_status(DIAGNOSTIC_NAME, level, text, values,
-                                      hardware_id=self.get_fully_qualified_name())
+        name = self.get_fully_qualified_name()
+        status = mb.diagnostic_status(f'football_ros: {name}', level, text, values,
+                                      hardware_id=f'football_ros{name}')
         self._diag_pub.publish(DiagnosticArray(
             header=mb.header(self.get_clock().now().to_msg(), ''), status=[status]))
 
