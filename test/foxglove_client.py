@@ -38,7 +38,8 @@ class FoxgloveClient:
     """One connection; ``poll`` takes what arrived, ``messages[topic]`` holds it decoded."""
 
     def __init__(self, url: str, decode: bool = True, timeout: float = 10.0) -> None:
-        self.ws = connect(url, subprotocols=SUBPROTOCOLS, max_size=None, open_timeout=timeout)
+        self.ws = connect(url, subprotocols=SUBPROTOCOLS, max_size=None,
+                          open_timeout=timeout).__enter__()  # closed by close()
         self.decode = decode
         self.server_info: dict = {}
         self.channels: dict[str, dict] = {}  # topic -> advertisement

@@ -45,8 +45,7 @@ def _stamp(header) -> int:
 
 
 def _spawn(collector, name, position):
-    request = SpawnEntity.Request(name=name)
-    request.entity_resource.uri = 'football_ros://american'
+    request = SpawnEntity.Request(name=name, uri='football_ros://american')
     p = request.initial_pose.pose.position
     p.x, p.y, p.z = position
     request.initial_pose.pose.orientation.w = 1.0
