@@ -31,12 +31,13 @@ path points, landings).
 from __future__ import annotations
 
 from collections import deque
+import json
 import math
 from typing import Sequence
 
 import numpy as np
 
-from .physics.frames import attitude_with_axis, FIELD_FRAME, quaternion_to_matrix
+from .physics.frames import FIELD_FRAME, quaternion_to_matrix
 
 SCHEMA_NAME = 'foxglove.SceneUpdate'
 SCHEMA = {  # the JSON schema Foxglove's JSON decoder needs only the name of
@@ -169,8 +170,8 @@ def _color(r: float, g: float, b: float, a: float = 1.0) -> dict:
     return {'r': r, 'g': g, 'b': b, 'a': a}
 
 
-def _line(points: np.ndarray, color: dict, kind: int = 0, thickness: float = 0.03) -> dict:
-    """LinePrimitive: kind 0 strip, 1 loop, 2 list; points in the entity's frame [m]."""
+def _line(points, color: dict, kind: int = 0, thickness: float = 0.03) -> dict:
+    """LinePrimitive: kind 0 strip, 1 loop, 2 list; points (n, 3) [m]."""
     return {
         'type': kind,
         'pose': _pose((0.0, 0.0, 0.0)),
@@ -183,11 +184,22 @@ def _line(points: np.ndarray, color: dict, kind: int = 0, thickness: float = 0.0
     }
 
 
-def _arrow(origin, direction, length: float, color: dict) -> dict:
-    """Return an arrow from ``origin`` along ``direction`` (any length), ``length`` [m] long."""
+def arc_from_x(direction: Sequence[float]) -> tuple[float, float, float, float]:
+    """Unit quaternion (x, y, z, w) of the shortest rotation taking +x onto ``direction``."""
+    dx, dy, dz = (float(c) for c in direction)
+    norm = math.sqrt(dx * dx + dy * dy + dz * dz)
+    w = norm + dx
+    if w < 1e-9 * norm:  # opposite to +x: half a turn about z
+        return 0.0, 0.0, 1.0, 0.0
+    scale = 1.0 / math.sqrt(w * w + dy * dy + dz * dz)
+    return 0.0, -dz * scale, dy * scale, w * scale
+
+
+def _arrow(origin, attitude, length: float, color: dict) -> dict:
+    """Return an arrow from ``origin`` along +x of ``attitude``, ``length`` [m] long."""
     head = min(0.3 * length, 0.15)
     return {
-        'pose': _pose(origin, attitude_with_axis(direction)),
+        'pose': _pose(origin, attitude),
         'shaft_length': max(length - head, 0.0),
         'shaft_diameter': 0.02,
         'head_length': head,
@@ -229,10 +241,11 @@ FIELD_COLOR = _color(1.0, 1.0, 1.0, 0.6)
 
 
 class _Ball:
-    __slots__ = ('stamp_ns', 'position', 'orientation', 'velocity', 'trail')
+    __slots__ = ('stamp_ns', 'position', 'orientation', 'velocity', 'trail', 'kept')
 
     def __init__(self) -> None:
-        self.trail: deque = deque(maxlen=TRAIL_POINTS)
+        self.trail: deque = deque(maxlen=TRAIL_POINTS)  # points as JSON text, made once
+        self.kept = None  # the last position put in the trail
         self.velocity = None
 
 
@@ -256,7 +269,7 @@ class Scene:
         self._landings: dict[str, tuple[int, np.ndarray, np.ndarray | None]] = {}
         self._paths: dict[str, tuple[int, str, np.ndarray]] = {}
         self._deleted: list[str] = []
-        self._field = field_lines()
+        self._field = _points(field_lines())
 
     @property
     def balls(self) -> tuple[str, ...]:
@@ -283,8 +296,9 @@ class Scene:
         ball.stamp_ns, ball.position, ball.orientation = int(stamp_ns), p, q
         if v is not None:
             ball.velocity = v
-        if not ball.trail or np.linalg.norm(p - ball.trail[-1]) >= TRAIL_SPACING:
-            ball.trail.append(p)
+        if ball.kept is None or np.linalg.norm(p - ball.kept) >= TRAIL_SPACING:
+            ball.kept = p
+            ball.trail.append(_points((p,)))
 
     def ball_velocity(self, name: str, body_velocity: Sequence[float]) -> None:
         """Set a held ball's velocity from its body-frame components [m/s] (nav_msgs/Odometry)."""
@@ -316,9 +330,10 @@ class Scene:
         pts = np.asarray(points, dtype=float).reshape(-1, 3)
         if len(pts) > MAX_PATH_POINTS:
             pts = pts[np.linspace(0, len(pts) - 1, MAX_PATH_POINTS).round().astype(int)]
-        if not np.all(np.isfinite(pts)) or np.any(np.abs(pts) > MAX_COORDINATE):
-            raise SceneError(f'{name}: path points not finite or beyond {MAX_COORDINATE:g}')
-        self._paths[name] = (int(stamp_ns), kind, pts)
+        if len(pts) < 2 or not np.all(np.isfinite(pts)) or np.any(np.abs(pts) > MAX_COORDINATE):
+            raise SceneError(f'{name}: path of {len(pts)} points, not finite or beyond '
+                             f'{MAX_COORDINATE:g}')
+        self._paths[name] = (int(stamp_ns), kind, _points(pts))
 
     def remove(self, name: str) -> None:
         """Forget a ball, landing or path; the next update deletes its entities."""
@@ -329,36 +344,52 @@ class Scene:
         if self._paths.pop(name, None) is not None:
             self._deleted.append(f'path/{name}')
 
-    def update(self, stamp_ns: int) -> dict:
-        """Return the SceneUpdate (as a JSON-ready dict) of everything held, at ``stamp_ns``."""
+    def update(self, stamp_ns: int) -> str:
+        """Return the SceneUpdate (JSON text) of everything held, at ``stamp_ns``."""
         frame = self.frame_id
-        entities = [
-            entity('field', stamp_ns, frame, lines=[_line(self._field, FIELD_COLOR, 2, 0.05)])
-        ]
+        entities = [_with_points(
+            entity('field', stamp_ns, frame, lines=[_line((), FIELD_COLOR, 2, 0.05)]),
+            self._field)]
         for name, b in self._balls.items():
-            axis = quaternion_to_matrix(b.orientation)[:, 0]
-            arrows = [_arrow(b.position, axis, 0.6 * self.size['x'] + 0.3, AXIS_COLOR)]
+            # Body x is the spin axis: its arrow takes the ball's attitude.
+            arrows = [_arrow(b.position, b.orientation, 0.6 * self.size['x'] + 0.3, AXIS_COLOR)]
             speed = 0.0 if b.velocity is None else float(np.linalg.norm(b.velocity))
             if speed > 1e-6:
-                arrows.append(_arrow(b.position, b.velocity, VELOCITY_SCALE * speed,
+                arrows.append(_arrow(b.position, arc_from_x(b.velocity), VELOCITY_SCALE * speed,
                                      VELOCITY_COLOR))
             sphere = {'pose': _pose(b.position, b.orientation), 'size': self.size,
                       'color': BALL_COLOR}
-            entities.append(entity(f'ball/{name}', b.stamp_ns, frame, spheres=[sphere],
-                                   arrows=arrows))
+            entities.append(_dumps(entity(f'ball/{name}', b.stamp_ns, frame, spheres=[sphere],
+                                          arrows=arrows)))
             if len(b.trail) > 1:
-                entities.append(entity(f'trail/{name}', b.stamp_ns, frame,
-                                       lines=[_line(np.array(b.trail), TRAIL_COLOR)]))
+                entities.append(_with_points(
+                    entity(f'trail/{name}', b.stamp_ns, frame, lines=[_line((), TRAIL_COLOR)]),
+                    ','.join(b.trail)))
         for name, (stamp, p, ellipse) in self._landings.items():
             disc = {'pose': _pose(p), 'size': {'x': 0.3, 'y': 0.3, 'z': 0.02},
                     'bottom_scale': 1.0, 'top_scale': 1.0, 'color': LANDING_COLOR}
             lines = [] if ellipse is None else [_line(ellipse, LANDING_COLOR, 1, 0.04)]
-            entities.append(entity(f'landing/{name}', stamp, frame, cylinders=[disc],
-                                   lines=lines))
-        for name, (stamp, kind, pts) in self._paths.items():
-            if len(pts) > 1:
-                entities.append(entity(f'path/{name}', stamp, frame,
-                                       lines=[_line(pts, PATH_COLORS[kind])]))
+            entities.append(_dumps(entity(f'landing/{name}', stamp, frame, cylinders=[disc],
+                                          lines=lines)))
+        for name, (stamp, kind, points) in self._paths.items():
+            entities.append(_with_points(
+                entity(f'path/{name}', stamp, frame, lines=[_line((), PATH_COLORS[kind])]),
+                points))
         deletions = [{'timestamp': _stamp(stamp_ns), 'type': 0, 'id': i} for i in self._deleted]
         self._deleted = []
-        return {'deletions': deletions, 'entities': entities}
+        return f'{{"deletions":{_dumps(deletions)},"entities":[{",".join(entities)}]}}'
+
+
+def _dumps(value) -> str:
+    """JSON text, compact; ValueError for anything non-finite."""
+    return json.dumps(value, allow_nan=False, separators=(',', ':'))
+
+
+def _points(points) -> str:
+    """JSON objects {x, y, z} of points (n, 3) [m], joined by commas (no brackets)."""
+    return ','.join(_dumps(_xyz(p)) for p in points)
+
+
+def _with_points(entity_dict: dict, points: str) -> str:
+    """JSON text of an entity whose one line's empty points are replaced by ``points``."""
+    return _dumps(entity_dict).replace('"points":[]', f'"points":[{points}]', 1)

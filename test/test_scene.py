@@ -21,6 +21,7 @@ from football_ros.physics import Flight, PRESETS, Release
 from football_ros.physics.frames import body_x_axis, quaternion_to_matrix
 from football_ros.playback import MAX_SPEED, PlaybackClock
 from football_ros.scene import (
+    arc_from_x,
     CHI2_2D_95,
     ellipse_points,
     FIELD_WIDTH,
@@ -40,8 +41,17 @@ import pytest
 BALL = PRESETS['american']
 
 
+def _finite(text):
+    raise AssertionError(f'{text} in the JSON')
+
+
+def _load(text):
+    """Parse a scene update; AssertionError on NaN or infinities."""
+    return json.loads(text, parse_constant=_finite)
+
+
 def _entities(update):
-    return {e['id']: e for e in update['entities']}
+    return {e['id']: e for e in _load(update)['entities']}
 
 
 def _q(d):
@@ -59,8 +69,7 @@ def test_a_flight_as_a_scene_spheroid_axis_velocity_trail():
     for i, t in enumerate(flight.times):
         scene.ball('football', int(t * 1e9), flight.positions[i], flight.orientations[i],
                    flight.velocities[i])
-    update = json.loads(json.dumps(scene.update(123), allow_nan=False))
-    ents = _entities(update)
+    ents = _entities(scene.update(123))
     sphere = ents['ball/football']['spheres'][0]
     assert (sphere['size']['x'], sphere['size']['y'], sphere['size']['z']) == (
         BALL.length, BALL.diameter, BALL.diameter)
@@ -83,6 +92,14 @@ def test_a_flight_as_a_scene_spheroid_axis_velocity_trail():
     assert np.all(np.diff(trail[:, 0]) > 0)  # downfield all the way
     field = ents['field']['lines'][0]['points']
     assert max(abs(p['y']) for p in field) == pytest.approx(FIELD_WIDTH / 2)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.tuples(*[st.floats(-1e3, 1e3)] * 3).filter(lambda v: np.linalg.norm(v) > 1e-3))
+def test_arc_from_x_turns_x_onto_the_direction(v):
+    q = np.array(arc_from_x(v))
+    assert np.linalg.norm(q) == pytest.approx(1.0)
+    assert np.allclose(body_x_axis(q), np.array(v) / np.linalg.norm(v), atol=1e-9)
 
 
 def test_odometry_velocity_in_body_axes_is_drawn_in_the_field():
@@ -132,10 +149,10 @@ def test_paths_are_thinned_and_removal_deletes():
     scene.remove('b2')
     scene.remove('prediction/path')
     update = scene.update(0)
-    deleted = {d['id'] for d in update['deletions']}
+    deleted = {d['id'] for d in _load(update)['deletions']}
     assert deleted == {'ball/b2', 'trail/b2', 'path/prediction/path'}
     assert set(_entities(update)) == {'field'}
-    assert scene.update(0)['deletions'] == []
+    assert _load(scene.update(0))['deletions'] == []
 
 
 @pytest.mark.parametrize('relative, kind, expected', [
@@ -187,7 +204,7 @@ def test_hostile_inputs_are_refused_by_name_and_never_reach_the_json(p, q, cov):
             call()
         except SceneError as exc:
             assert str(exc).split(':')[0] in ('x', 'l', 'pa', 'landing position')
-    json.dumps(scene.update(0), allow_nan=False)  # raises on anything non-finite
+    _load(scene.update(0))  # raises on anything non-finite
 
 
 def test_playback_clock_play_pause_seek_speed():

@@ -90,7 +90,7 @@ PARAMETERS = (
               read_only=True, optional=True),
     ParamSpec('ball', 'american', 'Ball preset the scene draws (its length and diameter)',
               choices=tuple(PRESETS), read_only=True),
-    ParamSpec('scene_rate', 30.0, 'Scene updates per second [Hz]', limits=(1.0, 100.0),
+    ParamSpec('scene_rate', 20.0, 'Scene updates per second [Hz]', limits=(1.0, 100.0),
               read_only=True),
     ParamSpec('backlog', 1024, 'Messages queued per viewer; the oldest dropped past it',
               limits=(16, 100000), read_only=True),
@@ -370,9 +370,7 @@ class ViewNode(Node):
         self._log_scene(time.time_ns())
 
     def _log_scene(self, stamp_ns: int, log_time: int | None = None) -> None:
-        update = self._scene.update(stamp_ns)
-        self._scene_channel.log(json.dumps(update, allow_nan=False, separators=(',', ':')),
-                                log_time=log_time or stamp_ns)
+        self._scene_channel.log(self._scene.update(stamp_ns), log_time=log_time or stamp_ns)
         self._scenes += 1
 
     # --- the bag's player (its own thread) --------------------------------------------------
