@@ -72,10 +72,10 @@ def client_main(url: str, seconds: float, stall: float, topics: list[str]) -> No
     client.messages.clear()
     print(json.dumps({'phase': 'reading'}), flush=True)
     client.poll(seconds)
-    latencies = [
-        (received - _stamp_ns(payload)) / 1e6
+    latencies = [  # [ms]: stamp -> receipt, stamp -> handed to the server (the log time)
+        ((received - _stamp_ns(payload)) / 1e6, (logged - _stamp_ns(payload)) / 1e6)
         for topic, items in client.messages.items() if topic.endswith('/pose')
-        for received, _, payload in items
+        for received, logged, payload in items
     ]
     count = sum(len(v) for v in client.messages.values())
     print(json.dumps({'phase': 'stalling', 'latencies': latencies, 'count': count}), flush=True)
@@ -247,11 +247,16 @@ def _report(args, rows) -> None:
     none_ratio = statistics.median(r['view'][0] / r['none'][0] for r in rows)
     print(f'\nmedian CPU ratio view/ros {view_ratio:.2f} (target <= 1.2), view/none '
           f'{none_ratio:.2f}')
-    print('\nlatency publish -> receipt [ms] (pose messages, all draws):')
-    print('subscriber      |     n |   p50 |   p95 |   max')
-    for name, key in (('rclpy (baseline)', 'ros_latency'), ('Foxglove client', 'view_latency')):
-        values = [v for r in rows for v in r[key]]
-        print(f'{name:15s} | {len(values):5d} | {percentile(values, 50):5.2f} | '
+    print('\nlatency [ms] of the pose messages, all draws (stamp = the simulator\'s wall clock '
+          'at publishing):')
+    print('from stamp to                                  |     n |   p50 |   p95 |   max')
+    for name, values in (
+        ('rclpy subscriber receipt (baseline)', [v for r in rows for v in r['ros_latency']]),
+        ('Foxglove client receipt', [v[0] for r in rows for v in r['view_latency']]),
+        ('  of which: handed to the server (view node)', [v[1] for r in rows
+                                                          for v in r['view_latency']]),
+    ):
+        print(f'{name:46s} | {len(values):5d} | {percentile(values, 50):5.2f} | '
               f'{percentile(values, 95):5.2f} | {max(values, default=float("nan")):5.1f}')
     expected = args.balls * args.rate * args.seconds
     print(f'\npose messages per window at the client: '

@@ -139,7 +139,9 @@ class ViewNode(Node):
         self._by_id: dict[int, str] = {}  # channel id -> topic
         self._viewers: dict[str, set[int]] = {}  # topic -> subscribed client ids
         self._subs: dict[str, object] = {}  # topic -> ROS subscription
+        self._scene_lock = threading.Lock()
         self._latest: dict[str, bytes] = {}  # scene source topic -> newest message
+        self._removed: list[str] = []  # scene parts to delete (their topics retired)
         self._roles: dict[str, tuple[str, str]] = {}  # scene source topic -> (role, name)
         self._forwarded = self._left_out = self._refused = self._scenes = 0
         self._refusal = ''
@@ -184,17 +186,19 @@ class ViewNode(Node):
         self._diag_pub = self.create_publisher(DiagnosticArray, qos.DIAGNOSTICS,
                                                qos.DIAGNOSTICS_QOS)
         self.create_timer(DIAGNOSTICS_S, self._diagnose)
-        self.create_timer(1.0 / self.scene_rate, self._publish_scene)
         if self._bag:
             for topic in self._bag.topics.values():
                 self._offer(topic.name, topic.ros_type, topic.definition)
-            self._player_stop = threading.Event()
-            self._player = threading.Thread(target=self._play, name='football-view-bag',
-                                            daemon=True)
-            self._player.start()
         else:
             self.create_timer(DISCOVERY_S, self._discover)
             self._discover()
+        # The scene (and the bag's player) work in their own thread: the executor only
+        # forwards bytes, and gets the interpreter back within 0.5 ms of wanting it.
+        sys.setswitchinterval(5e-4)
+        self._stop = threading.Event()
+        self._worker = threading.Thread(target=self._play if self._bag else self._live,
+                                        name='football-view', daemon=True)
+        self._worker.start()
         if not _loopback(self.host):
             self.get_logger().warning(
                 f'serving on {self.host}: every machine that reaches this address sees the '
@@ -238,9 +242,10 @@ class ViewNode(Node):
             self._viewers.pop(topic, None)
         channel.close()
         role = self._roles.pop(topic, None)
-        self._latest.pop(topic, None)
-        if role is not None and role[0] != 'velocity':
-            self._scene.remove(role[1])
+        with self._scene_lock:
+            self._latest.pop(topic, None)
+            if role is not None and role[0] != 'velocity':
+                self._removed.append(role[1])
 
     def _discover(self) -> None:
         """Offer every football_ros topic with publishers; retire the ones without."""
@@ -327,7 +332,8 @@ class ViewNode(Node):
             channel.log(data, log_time=time.time_ns())
             self._forwarded += 1
             if scene_source:
-                self._latest[topic] = data
+                with self._scene_lock:
+                    self._latest[topic] = data
 
         self._subs[topic] = self.create_subscription(cls, topic, forward, VIEW_QOS, raw=True)
 
@@ -335,14 +341,18 @@ class ViewNode(Node):
         sub = self._subs.pop(topic, None)
         if sub is not None:
             self.destroy_subscription(sub)
-            self._latest.pop(topic, None)
+            with self._scene_lock:
+                self._latest.pop(topic, None)
 
-    # --- the scene --------------------------------------------------------------------------
+    # --- the scene (the worker thread) -----------------------------------------------------
     def _feed(self, topic: str, data: bytes) -> None:
         """Give the scene one message of a scene source topic (refusals counted)."""
-        role, name = self._roles[topic]
+        role, name = self._roles.get(topic) or (None, None)
+        cls = KNOWN_TYPES.get(self._types.get(topic, ''))
+        if role is None or cls is None:  # retired meanwhile
+            return
         try:
-            msg = deserialize_message(data, KNOWN_TYPES[self._types[topic]])
+            msg = deserialize_message(data, cls)
             stamp = msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec
             if role == 'ball':
                 p, o = msg.pose.position, msg.pose.orientation
@@ -361,31 +371,36 @@ class ViewNode(Node):
             self._refused += 1
             self._refusal = f'{topic}: {exc}'[:200]
 
-    def _publish_scene(self) -> None:
-        if self._bag is not None or not self._viewers.get(SCENE_TOPIC):
-            return
-        latest, self._latest = self._latest, {}
-        for topic in sorted(latest, key=lambda t: self._roles[t][0] != 'ball'):
+    def _scene_step(self, stamp_ns: int) -> None:
+        """Feed the scene the newest message of each source and send one update."""
+        with self._scene_lock:
+            latest, self._latest = self._latest, {}
+            removed, self._removed = self._removed, []
+        for name in removed:
+            self._scene.remove(name)
+        for topic in sorted(latest, key=lambda t: t.endswith('odom')):
             self._feed(topic, latest[topic])  # poses before the velocities that use them
-        self._log_scene(time.time_ns())
-
-    def _log_scene(self, stamp_ns: int, log_time: int | None = None) -> None:
-        self._scene_channel.log(self._scene.update(stamp_ns), log_time=log_time or stamp_ns)
+        self._scene_channel.log(self._scene.update(stamp_ns), log_time=stamp_ns)
         self._scenes += 1
+
+    def _live(self) -> None:
+        period = 1.0 / self.scene_rate
+        while not self._stop.wait(period):
+            if self._viewers.get(SCENE_TOPIC):
+                self._scene_step(time.time_ns())
 
     # --- the bag's player (its own thread) --------------------------------------------------
     def _play(self) -> None:
         bag, clock = self._bag, self._playhead
         messages, pending = None, None
         last_time = last_scene = 0.0
-        while not self._player_stop.is_set():
+        while not self._stop.is_set():
             with self._lock:
                 seek, self._seek_to = self._seek_to, None
                 now = clock.position()
                 playing = clock.playing
             if seek is not None:
                 messages, pending = bag.messages(seek), None
-                self._latest = {}
             while playing and messages is not None:
                 if pending is None:
                     pending = next(messages, None)
@@ -401,22 +416,20 @@ class ViewNode(Node):
                     channel.log(data, log_time=stamp)
                     self._forwarded += 1
                 if topic in self._roles:
-                    self._latest[topic] = data
+                    with self._scene_lock:
+                        self._latest[topic] = data
             wall = time.monotonic()
             if wall - last_time >= TIME_BROADCAST_S:
                 self.server.broadcast_time(now)
                 last_time = wall
             if self._latest and wall - last_scene >= 1.0 / self.scene_rate:
-                latest, self._latest = self._latest, {}
-                for topic in sorted(latest, key=lambda t: self._roles[t][0] != 'ball'):
-                    self._feed(topic, latest[topic])
-                self._log_scene(now, log_time=now)
+                self._scene_step(now)
                 last_scene = wall
             if playing and clock.ended and messages is None:
                 with self._lock:
                     clock.pause()
                     self.server.broadcast_playback_state(self._playback_state('', False))
-            self._player_stop.wait(0.005 if playing else 0.05)
+            self._stop.wait(0.005 if playing else 0.05)
 
     # --- diagnostics and shutdown -----------------------------------------------------------
     def _diagnose(self) -> None:
@@ -443,10 +456,10 @@ class ViewNode(Node):
             header=mb.header(self.get_clock().now().to_msg(), ''), status=[status]))
 
     def close(self) -> None:
-        """Stop the player and the server (idempotent)."""
+        """Stop the worker and the server (idempotent)."""
+        self._stop.set()
+        self._worker.join(timeout=2.0)
         if self._bag is not None:
-            self._player_stop.set()
-            self._player.join(timeout=2.0)
             self._bag.close()
         self.server.stop()
         logging.getLogger('foxglove').removeHandler(self._overflows)
