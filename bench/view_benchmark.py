@@ -247,7 +247,7 @@ def _report(args, rows) -> None:
     none_ratio = statistics.median(r['view'][0] / r['none'][0] for r in rows)
     print(f'\nmedian CPU ratio view/ros {view_ratio:.2f} (target <= 1.2), view/none '
           f'{none_ratio:.2f}')
-    print('\nlatency [ms] of the pose messages, all draws (stamp = the simulator\'s wall clock '
+    print('\nlatency [ms] of the pose messages, all draws (stamp = the simulator wall clock '
           'at publishing):')
     print('from stamp to                                  |     n |   p50 |   p95 |   max')
     for name, values in (

@@ -185,13 +185,14 @@ def _line(points, color: dict, kind: int = 0, thickness: float = 0.03) -> dict:
 
 
 def arc_from_x(direction: Sequence[float]) -> tuple[float, float, float, float]:
-    """Unit quaternion (x, y, z, w) of the shortest rotation taking +x onto ``direction``."""
+    """Return the unit quaternion (x, y, z, w) of the shortest turn of +x onto ``direction``."""
     dx, dy, dz = (float(c) for c in direction)
-    norm = math.sqrt(dx * dx + dy * dy + dz * dz)
-    w = norm + dx
-    if w < 1e-9 * norm:  # opposite to +x: half a turn about z
+    across = dy * dy + dz * dz
+    norm = math.sqrt(dx * dx + across)
+    w = norm + dx if dx >= 0.0 else across / (norm - dx)  # |d| + dx without cancellation
+    if w == 0.0:  # along -x: half a turn about z
         return 0.0, 0.0, 1.0, 0.0
-    scale = 1.0 / math.sqrt(w * w + dy * dy + dz * dz)
+    scale = 1.0 / math.sqrt(w * w + across)
     return 0.0, -dz * scale, dy * scale, w * scale
 
 

@@ -21,7 +21,7 @@ Simulator and release node; optionally recorder, tracker, planner, RViz, Foxglov
     ros2 launch football_ros football.launch.py use_sim_time:=true
     ros2 launch football_ros football.launch.py tracker:=true rviz:=true
     ros2 launch football_ros football.launch.py planner:=true       # + the throw planner
-    ros2 launch football_ros football.launch.py view:=true          # + Foxglove on ws://127.0.0.1:8765
+    ros2 launch football_ros football.launch.py view:=true          # + Foxglove viewer (8765)
 
 Parameters come from ``params_file`` (keys ``/**/NODE_NAME``, so they apply in any namespace).
 An argument left empty overrides nothing: ``publish_rate`` only replaces the file's value when
