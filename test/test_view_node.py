@@ -162,6 +162,8 @@ def test_bad_options_and_a_public_address(start_node, tmp_path):
     assert proc.returncode == 2 and "parameter 'bag'" in proc.stderr
     proc = run_cli('view', '--port', '70000', timeout=60)
     assert proc.returncode == 2 and "'port'" in proc.stderr
+    proc = run_cli('view', '--port', '0', '--ros-args', '-p', 'topics:=[bad name]', timeout=60)
+    assert proc.returncode == 2 and "parameter 'topics'" in proc.stderr
     view = start_node('view', '--host', '0.0.0.0', '--port', '0')
     assert 'no authentication' in view.log()
     busy = re.search(r':(\d+)$', _url(view)).group(1)

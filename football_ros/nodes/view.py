@@ -32,7 +32,9 @@ the predicted and planned paths, and the field's lines (football_ros/scene.py).
 (play, pause, seek, speed).
 
 Bounded: each viewer has a queue of ``backlog`` messages (the oldest dropped when a viewer does
-not read); the drops, the viewers and the forwarded counts go to /diagnostics once a second.
+not read); the queue overflows, the viewers and the forwarded counts go to /diagnostics once a
+second. The executor only forwards bytes; the scene (and the bag's player) run in one worker
+thread that decodes the newest message of each source once per update.
 Bound to another address than the loopback, the node warns that every machine that reaches it
 sees the topics (the protocol has no authentication).
 """
@@ -148,7 +150,13 @@ class ViewNode(Node):
         preset = PRESETS[self.ball]
         self._scene = Scene(preset.length, preset.diameter)
         self._prefix = self.resolve_topic_name('football') + '/'
-        self._wanted = {self.resolve_topic_name(t) for t in self.topics if t}
+        self._wanted = set()
+        for name in (t for t in self.topics if t):
+            try:
+                self._wanted.add(self.resolve_topic_name(name))
+            except Exception as exc:  # noqa: BLE001 - rclpy raises its own types for a bad name
+                raise ValueError(f"parameter 'topics': invalid topic name '{name[:200]}'"
+                                 ) from exc
         self._overflows = _Overflows(self.get_logger())
         sdk_log = logging.getLogger('foxglove')
         sdk_log.setLevel(logging.INFO)
