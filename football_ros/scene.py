@@ -345,6 +345,11 @@ class Scene:
         if self._paths.pop(name, None) is not None:
             self._deleted.append(f'path/{name}')
 
+    def clear(self) -> None:
+        """Forget everything held; the next update deletes it (a player's seek)."""
+        for name in {*self._balls, *self._landings, *self._paths}:
+            self.remove(name)
+
     def update(self, stamp_ns: int) -> str:
         """Return the SceneUpdate (JSON text) of everything held, at ``stamp_ns``."""
         frame = self.frame_id

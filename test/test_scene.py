@@ -153,6 +153,12 @@ def test_paths_are_thinned_and_removal_deletes():
     assert deleted == {'ball/b2', 'trail/b2', 'path/prediction/path'}
     assert set(_entities(update)) == {'field'}
     assert _load(scene.update(0))['deletions'] == []
+    scene.ball('b3', 1, (0, 0, 1), (0, 0, 0, 1))
+    scene.landing('l', 1, (1, 2, 0), np.eye(3))
+    scene.clear()
+    update = _load(scene.update(0))
+    assert {d['id'] for d in update['deletions']} == {'ball/b3', 'landing/l'}
+    assert [e['id'] for e in update['entities']] == ['field']
 
 
 @pytest.mark.parametrize('relative, kind, expected', [

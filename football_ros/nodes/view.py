@@ -407,8 +407,9 @@ class ViewNode(Node):
                 seek, self._seek_to = self._seek_to, None
                 now = clock.position()
                 playing = clock.playing
-            if seek is not None:
+            if seek is not None:  # the trails and predictions start again from there
                 messages, pending = bag.messages(seek), None
+                self._scene.clear()
             while playing and messages is not None:
                 if pending is None:
                     pending = next(messages, None)
