@@ -157,7 +157,7 @@ def test_paths_are_thinned_and_removal_deletes():
     scene.landing('l', 1, (1, 2, 0), np.eye(3))
     scene.clear()
     update = _load(scene.update(0))
-    assert {d['id'] for d in update['deletions']} == {'ball/b3', 'landing/l'}
+    assert {d['id'] for d in update['deletions']} == {'ball/b3', 'trail/b3', 'landing/l'}
     assert [e['id'] for e in update['entities']] == ['field']
 
 
