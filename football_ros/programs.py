@@ -27,6 +27,7 @@ NODES = {
     'tracker': 'football_ros.nodes.tracker',
     'recorder': 'football_ros.nodes.recorder',
     'planner': 'football_ros.nodes.planner',
+    'view': 'football_ros.nodes.view',
 }
 NODE_ALIASES = {'record': 'recorder'}
 """``football-ros record`` is the recorder node."""

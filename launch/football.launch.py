@@ -13,7 +13,7 @@
 # limitations under the License.
 
 """
-Simulator and release node; optionally recorder, tracker, planner, RViz; optionally namespaced.
+Simulator and release node; optionally recorder, tracker, planner, RViz, Foxglove viewer.
 
     ros2 launch football_ros football.launch.py
     ros2 launch football_ros football.launch.py record:=true rviz:=true
@@ -21,6 +21,7 @@ Simulator and release node; optionally recorder, tracker, planner, RViz; optiona
     ros2 launch football_ros football.launch.py use_sim_time:=true
     ros2 launch football_ros football.launch.py tracker:=true rviz:=true
     ros2 launch football_ros football.launch.py planner:=true       # + the throw planner
+    ros2 launch football_ros football.launch.py view:=true          # + Foxglove viewer (8765)
 
 Parameters come from ``params_file`` (keys ``/**/NODE_NAME``, so they apply in any namespace).
 An argument left empty overrides nothing: ``publish_rate`` only replaces the file's value when
@@ -56,7 +57,7 @@ from launch_ros.actions import Node, PushRosNamespace
 
 PACKAGE = 'football_ros'
 DEFAULT_CAMERA_RATE = 60.0
-FLAGS = ('use_sim_time', 'record', 'tracker', 'planner', 'rviz', 'security')
+FLAGS = ('use_sim_time', 'record', 'tracker', 'planner', 'rviz', 'view', 'security')
 ENCLAVE_ROOT = '/football_ros'
 """Enclaves of the nodes: ENCLAVE_ROOT/<executable> (security/football_ros_policy.xml)."""
 
@@ -157,7 +158,7 @@ def _nodes(context, *args, **kwargs):
     overrides.update(guard)
     secure = {
         name: security_options(context, name)
-        for name in ('simulator', 'release', 'tracker', 'planner', 'recorder')
+        for name in ('simulator', 'release', 'tracker', 'planner', 'recorder', 'view')
     }
     params_file = LaunchConfiguration('params_file').perform(context)
     if not os.path.isfile(params_file) or not os.access(params_file, os.R_OK):
@@ -188,6 +189,7 @@ def _nodes(context, *args, **kwargs):
         ('tracker', 'tracker', 'football_tracker'),
         ('planner', 'planner', 'football_planner'),
         ('record', 'recorder', 'football_recorder'),
+        ('view', 'view', 'football_view'),
     ):
         if flags[flag]:
             actions.append(
@@ -261,6 +263,12 @@ def generate_launch_description():
             ),
             DeclareLaunchArgument(
                 'planner', default_value='false', description='also run the throw planner'
+            ),
+            DeclareLaunchArgument(
+                'view',
+                default_value='false',
+                description='also run the Foxglove viewer (football-ros view; its host and '
+                'port: params file)',
             ),
             DeclareLaunchArgument(
                 'security',

@@ -162,6 +162,7 @@ def test_defaults_leave_the_params_file_in_force(monkeypatch):
         'rviz',
         'rviz_config',
         'planner',
+        'view',
         'security',
         'keystore',
         'allow_reconfigure',
@@ -247,7 +248,8 @@ def test_tracker_turns_the_camera_on(monkeypatch):
 
 
 def test_every_launched_node_has_a_section_in_the_yaml(monkeypatch):
-    _, nodes = launch(monkeypatch, record='true', tracker='true', planner='true')
+    _, nodes = launch(monkeypatch, record='true', tracker='true', planner='true', view='true')
+    assert nodes['football_view'][0].kwargs['executable'] == 'view'
     sections = yaml.safe_load(CONFIG.read_text())
     for name, (node, _params) in nodes.items():
         assert node.kwargs['package'] == 'football_ros'

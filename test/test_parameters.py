@@ -37,11 +37,14 @@ NODE_NAMES = {
     'tracker': 'football_tracker',
     'recorder': 'football_recorder',
     'planner': 'football_planner',
+    'view': 'football_view',
 }
 ROS_OWN = {'use_sim_time', 'start_type_description_service'}  # declared by rclpy itself
 
 
 def _start_args(name, tmp_path):
+    if name == 'view':  # any free port: a fixed one may be taken on a shared machine
+        return ('view', '--port', '0')
     return ('record', '--out', str(tmp_path / 'bag')) if name == 'recorder' else (name,)
 
 

@@ -30,7 +30,8 @@ from rclpy._rclpy_pybind11 import NodeNameNonExistentError
 
 REPO = Path(__file__).resolve().parents[1]
 POLICY = REPO / 'security' / 'football_ros_policy.xml'
-ENCLAVES = ('simulator', 'release', 'tracker', 'recorder', 'planner', 'client', 'operator')
+ENCLAVES = ('simulator', 'release', 'tracker', 'recorder', 'view', 'planner', 'client',
+            'operator')
 NODE_ENCLAVE = {
     'football_simulator': 'simulator',
     'football_release': 'release',

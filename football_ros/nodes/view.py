@@ -1,0 +1,505 @@
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Viewer node: a Foxglove WebSocket server for the package's topics and a 3D scene; no RViz needed.
+
+``football-ros view [--port 8765] [--host 127.0.0.1] [--bag BAG]`` and ``ros2 run football_ros
+view`` are the same node. Open Foxglove or Lichtblick on ``ws://HOST:PORT`` (layout:
+``config/foxglove_layout.json``).
+
+Live: every football_ros topic on the domain (those of nodes/topics.py, each spawned ball's
+``football/<name>/pose`` and ``/odom``, each track's ``football/track_<n>/...``) is offered as a
+channel of ROS 2 messages (encoding ``cdr``, schema ``ros2msg``: the definition ``ros2 bag
+record`` stores), as foxglove_bridge offers them; the node subscribes to a topic only while a
+viewer subscribes to its channel (best effort: the publishers keep no history for a viewer).
+``/football/scene`` (``foxglove.SceneUpdate``, JSON) draws every ball as its spheroid at its
+attitude with its spin axis, velocity and trail, each landing prediction with its 95 % ellipse,
+the predicted and planned paths, and the field's lines (football_ros/scene.py).
+
+``--bag BAG``: the bag's topics and the scene from its states, with the viewer's time controls
+(play, pause, seek, speed).
+
+Bounded: each viewer has a queue of ``backlog`` messages (the oldest dropped when a viewer does
+not read); the queue overflows, the viewers and the forwarded counts go to /diagnostics once a
+second. The executor only forwards bytes; the scene (and the bag's player) run in one worker
+thread that decodes the newest message of each source once per update.
+Bound to another address than the loopback, the node warns that every machine that reaches it
+sees the topics (the protocol has no authentication).
+"""
+
+from __future__ import annotations
+
+import argparse
+from collections import deque
+import ipaddress
+import json
+import logging
+import sys
+import threading
+import time
+from typing import Sequence
+
+from diagnostic_msgs.msg import DiagnosticArray
+import foxglove
+from foxglove import Channel, Schema
+from foxglove.websocket import Capability, PlaybackState, PlaybackStatus
+from rclpy.node import Node
+from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.serialization import deserialize_message
+
+from . import messages as mb
+from . import qos
+from .params import declare_all, ParamSpec
+from .runner import run_node
+from .topics import TOPICS, type_name
+from ..bagfile import msgdef
+from ..physics import PRESETS
+from ..playback import Bag, BagError, PlaybackClock
+from ..scene import Scene, scene_role, SceneError, SCHEMA, SCHEMA_NAME
+
+NODE_NAME = 'football_view'
+SCENE_TOPIC = '/football/scene'
+DISCOVERY_S = 0.5
+DIAGNOSTICS_S = 1.0
+TIME_BROADCAST_S = 0.05
+MAX_CHANNELS = 2048
+"""Most topics served: more are left out (counted on /diagnostics)."""
+VIEW_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
+                      reliability=ReliabilityPolicy.BEST_EFFORT)
+"""The viewer's readers: best effort (a reliable publisher keeps nothing for it), 100 deep."""
+KNOWN_TYPES = {type_name(cls): cls for cls, _ in TOPICS.values()}
+
+PARAMETERS = (
+    ParamSpec('host', '127.0.0.1', 'Address to serve on (another than the loopback: a warning)',
+              read_only=True, non_empty=True),
+    ParamSpec('port', 8765, 'WebSocket port (0 = any free port, logged)', limits=(0, 65535),
+              read_only=True),
+    ParamSpec('bag', '', "Bag folder to serve instead of the live topics; '' = live",
+              read_only=True, optional=True),
+    ParamSpec('topics', [''], "Topics to offer; unset, [] or [''] = every football_ros topic",
+              read_only=True, optional=True),
+    ParamSpec('ball', 'american', 'Ball preset the scene draws (its length and diameter)',
+              choices=tuple(PRESETS), read_only=True),
+    ParamSpec('scene_rate', 20.0, 'Scene updates per second [Hz]', limits=(1.0, 100.0),
+              read_only=True),
+    ParamSpec('backlog', 1024, 'Messages queued per viewer; the oldest dropped past it',
+              limits=(16, 100000), read_only=True),
+)
+
+
+class _Overflows(logging.Handler):
+    """
+    Counts the SDK's reports of a viewer's full queue (each: its oldest messages dropped).
+
+    The SDK reports a full queue once per episode, not per message; warnings and errors of the
+    SDK go on to ``log`` (the node's logger).
+    """
+
+    def __init__(self, log) -> None:
+        super().__init__(logging.INFO)
+        self.count = 0
+        self._log = log
+
+    def emit(self, record: logging.LogRecord) -> None:
+        text = record.getMessage()
+        if 'outbox' in text and 'full' in text:
+            self.count += 1
+        elif record.levelno >= logging.WARNING:
+            self._log.warning(f'foxglove: {text[:300]}')
+
+
+class ViewNode(Node):
+    """Serves the football_ros topics and a 3D scene to Foxglove viewers over WebSocket."""
+
+    PARAMETERS = PARAMETERS
+
+    def __init__(self, host: str | None = None, port: int | None = None,
+                 bag: str | None = None) -> None:
+        super().__init__(NODE_NAME)
+        declare_all(self, PARAMETERS)
+        self.host = host or self.host
+        self.port = self.port if port is None else int(port)
+        if not 0 <= self.port <= 65535:
+            raise ValueError(f"'port' must be in [0, 65535], got {self.port}")
+        bag_path = bag or self.bag
+        self._lock = threading.Lock()
+        self._requests: deque = deque(maxlen=10000)  # (op, channel id) from the server thread
+        self._channels: dict[str, Channel] = {}  # topic -> channel
+        self._types: dict[str, str] = {}  # topic -> ROS type
+        self._by_id: dict[int, str] = {}  # channel id -> topic
+        self._viewers: dict[str, set[int]] = {}  # topic -> subscribed client ids
+        self._subs: dict[str, object] = {}  # topic -> ROS subscription
+        self._scene_lock = threading.Lock()
+        self._latest: dict[str, bytes] = {}  # scene source topic -> newest message
+        self._removed: list[str] = []  # scene parts to delete (their topics retired)
+        self._roles: dict[str, tuple[str, str]] = {}  # scene source topic -> (role, name)
+        self._forwarded = self._left_out = self._refused = self._scenes = 0
+        self._refusal = ''
+        preset = PRESETS[self.ball]
+        self._scene = Scene(preset.length, preset.diameter)
+        self._prefix = self.resolve_topic_name('football') + '/'
+        self._wanted = set()
+        for name in (t for t in self.topics if t):
+            try:
+                self._wanted.add(self.resolve_topic_name(name))
+            except Exception as exc:  # noqa: BLE001 - rclpy raises its own types for a bad name
+                raise ValueError(f"parameter 'topics': invalid topic name '{name[:200]}'"
+                                 ) from exc
+        self._overflows = _Overflows(self.get_logger())
+        sdk_log = logging.getLogger('foxglove')
+        sdk_log.setLevel(logging.INFO)
+        sdk_log.propagate = False  # its lines go to _Overflows only
+        sdk_log.addHandler(self._overflows)
+        foxglove.set_log_level('INFO')  # the SDK's log records reach Python's logging
+        self._bag = self._playhead = self._seek_to = None
+        self._commanded = False  # a viewer has used the time controls
+        if bag_path:
+            try:
+                self._bag = Bag(bag_path)
+            except BagError as exc:
+                raise ValueError(f"parameter 'bag': {exc}") from None
+            self._playhead = PlaybackClock(self._bag.start_ns, self._bag.end_ns)
+            self._seek_to = self._bag.start_ns
+        self._scene_channel = Channel(
+            SCENE_TOPIC, message_encoding='json',
+            schema=Schema(name=SCHEMA_NAME, encoding='jsonschema',
+                          data=json.dumps(SCHEMA).encode()),
+        )
+        self._by_id[self._scene_channel.id()] = SCENE_TOPIC
+        self._guard = self.create_guard_condition(self._apply_requests)
+        capabilities = [Capability.Time] if self._bag else []
+        try:
+            self.server = foxglove.start_server(
+                name='football_ros', host=self.host, port=self.port,
+                capabilities=capabilities, server_listener=self,
+                supported_encodings=['cdr', 'json'], message_backlog_size=self.backlog,
+                playback_time_range=(
+                    (self._bag.start_ns, self._bag.end_ns) if self._bag else None),
+            )
+        except Exception as exc:  # noqa: BLE001 - the SDK raises its own error types
+            raise ValueError(f'cannot serve on {self.host}:{self.port}: {exc}') from None
+        self.url = f'ws://{self.host}:{self.server.port}'
+        self._diag_pub = self.create_publisher(DiagnosticArray, qos.DIAGNOSTICS,
+                                               qos.DIAGNOSTICS_QOS)
+        self.create_timer(DIAGNOSTICS_S, self._diagnose)
+        if self._bag:
+            for topic in self._bag.topics.values():
+                self._offer(topic.name, topic.ros_type, topic.definition)
+        else:
+            self.create_timer(DISCOVERY_S, self._discover)
+            self._discover()
+        # The scene (and the bag's player) work in their own thread: the executor only
+        # forwards bytes, and gets the interpreter back within 0.5 ms of wanting it.
+        sys.setswitchinterval(5e-4)
+        self._stop = threading.Event()
+        self._worker = threading.Thread(target=self._play if self._bag else self._live,
+                                        name='football-view', daemon=True)
+        self._worker.start()
+        if not _loopback(self.host):
+            self.get_logger().warning(
+                f'serving on {self.host}: every machine that reaches this address sees the '
+                'football_ros topics (the Foxglove protocol has no authentication); '
+                '--host 127.0.0.1 keeps it on this machine'
+            )
+        source = f"the bag '{self._bag.path}'" if self._bag else 'the live topics'
+        self.get_logger().info(f'ready: serving {source} on {self.url}')
+
+    # --- channels -------------------------------------------------------------------------
+    def _offer(self, topic: str, ros_type: str, definition: str = '') -> None:
+        """Advertise ``topic`` to the viewers (once)."""
+        if topic in self._channels:
+            return
+        if len(self._channels) >= MAX_CHANNELS:
+            self._left_out += 1
+            return
+        try:
+            definition = definition or msgdef(ros_type)
+        except OSError:
+            self._left_out += 1
+            return
+        channel = Channel(topic, message_encoding='cdr',
+                          schema=Schema(name=ros_type, encoding='ros2msg',
+                                        data=definition.encode()))
+        with self._lock:
+            self._channels[topic] = channel
+            self._types[topic] = ros_type
+            self._by_id[channel.id()] = topic
+        if topic.startswith(self._prefix):
+            role = scene_role(topic[len(self._prefix):], ros_type)
+            if role is not None:
+                self._roles[topic] = role
+
+    def _retire(self, topic: str) -> None:
+        """Close the channel of a topic no node publishes any more; forget its scene part."""
+        self._unsubscribe(topic)
+        with self._lock:
+            channel = self._channels.pop(topic)
+            self._by_id.pop(channel.id(), None)
+            self._viewers.pop(topic, None)
+        channel.close()
+        role = self._roles.pop(topic, None)
+        with self._scene_lock:
+            self._latest.pop(topic, None)
+            if role is not None and role[0] != 'velocity':
+                self._removed.append(role[1])
+
+    def _discover(self) -> None:
+        """Offer every football_ros topic with publishers; retire the ones without."""
+        seen = set()
+        for topic, types in self.get_topic_names_and_types():
+            if len(types) != 1 or types[0] not in KNOWN_TYPES:
+                continue
+            ours = topic.startswith(self._prefix) or topic in (qos.TF, qos.DIAGNOSTICS, qos.CLOCK)
+            if not ours or (self._wanted and topic not in self._wanted):
+                continue
+            if self.count_publishers(topic) > 0:  # /diagnostics: this node's own at least
+                seen.add(topic)
+                self._offer(topic, types[0])
+        for topic in [t for t in self._channels if t not in seen]:
+            self._retire(topic)
+        self._apply_requests()
+
+    # --- the server's callbacks (its own threads): queue, wake the executor ---------------
+    def on_subscribe(self, client, channel) -> None:
+        """Take a viewer's subscription to a channel."""
+        self._requests.append(('+', client.id, channel.id))
+        self._guard.trigger()
+
+    def on_unsubscribe(self, client, channel) -> None:
+        """Take a viewer's unsubscription from a channel (or its leaving)."""
+        self._requests.append(('-', client.id, channel.id))
+        self._guard.trigger()
+
+    def on_playback_control_request(self, request) -> PlaybackState | None:
+        """Play, pause, seek and speed of the bag's player."""
+        if self._playhead is None:
+            return None
+        with self._lock:
+            clock = self._playhead
+            self._commanded = True
+            if request.seek_time is not None:
+                clock.seek(request.seek_time)
+                self._seek_to = clock.position()
+            clock.set_speed(request.playback_speed)
+            if request.playback_command.name == 'Play':
+                clock.play()
+            else:
+                clock.pause()
+            return self._playback_state(request.request_id, request.seek_time is not None)
+
+    def _playback_state(self, request_id: str | None, did_seek: bool) -> PlaybackState:
+        clock = self._playhead
+        status = (PlaybackStatus.Ended if clock.ended and clock.playing
+                  else PlaybackStatus.Playing if clock.playing else PlaybackStatus.Paused)
+        return PlaybackState(status=status, current_time=clock.position(),
+                             playback_speed=clock.speed, did_seek=did_seek,
+                             request_id=request_id)
+
+    # --- subscriptions (executor thread) --------------------------------------------------
+    def _apply_requests(self) -> None:
+        while self._requests:
+            op, client, channel_id = self._requests.popleft()
+            topic = self._by_id.get(channel_id)
+            if topic is None:
+                continue
+            clients = self._viewers.setdefault(topic, set())
+            (clients.add if op == '+' else clients.discard)(client)
+        if self._bag is not None:
+            if not self._commanded and any(self._viewers.values()):
+                with self._lock:  # the first viewer starts the player (its controls rule after)
+                    self._playhead.play()
+                    self._commanded = True
+            return
+        scene = bool(self._viewers.get(SCENE_TOPIC))
+        for topic in list(self._channels):
+            if self._viewers.get(topic) or (scene and topic in self._roles):
+                self._subscribe(topic)
+            else:
+                self._unsubscribe(topic)
+
+    def _subscribe(self, topic: str) -> None:
+        if topic in self._subs:
+            return
+        cls = KNOWN_TYPES[self._types[topic]]
+        channel = self._channels[topic]
+        scene_source = topic in self._roles
+
+        def forward(data: bytes) -> None:
+            channel.log(data, log_time=time.time_ns())
+            self._forwarded += 1
+            if scene_source:
+                with self._scene_lock:
+                    self._latest[topic] = data
+
+        self._subs[topic] = self.create_subscription(cls, topic, forward, VIEW_QOS, raw=True)
+
+    def _unsubscribe(self, topic: str) -> None:
+        sub = self._subs.pop(topic, None)
+        if sub is not None:
+            self.destroy_subscription(sub)
+            with self._scene_lock:
+                self._latest.pop(topic, None)
+
+    # --- the scene (the worker thread) -----------------------------------------------------
+    def _feed(self, topic: str, data: bytes) -> None:
+        """Give the scene one message of a scene source topic (refusals counted)."""
+        role, name = self._roles.get(topic) or (None, None)
+        cls = KNOWN_TYPES.get(self._types.get(topic, ''))
+        if role is None or cls is None:  # retired meanwhile
+            return
+        try:
+            msg = deserialize_message(data, cls)
+            stamp = msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec
+            if role == 'ball':
+                p, o = msg.pose.position, msg.pose.orientation
+                self._scene.ball(name, stamp, (p.x, p.y, p.z), (o.x, o.y, o.z, o.w))
+            elif role == 'velocity':
+                self._scene.ball_velocity(name, mb.vector_of(msg.twist.twist.linear))
+            elif role == 'landing':
+                p = msg.pose.pose.position
+                cov = [list(msg.pose.covariance[i * 6:i * 6 + 3]) for i in range(3)]
+                self._scene.landing(name, stamp, (p.x, p.y, p.z), cov)
+            else:
+                points = [(s.pose.position.x, s.pose.position.y, s.pose.position.z)
+                          for s in msg.poses[:100000]]
+                self._scene.path(name, stamp, role, points)
+        except (SceneError, ValueError, TypeError) as exc:  # a malformed message: skip it
+            self._refused += 1
+            self._refusal = f'{topic}: {exc}'[:200]
+
+    def _scene_step(self, stamp_ns: int) -> None:
+        """Feed the scene the newest message of each source and send one update."""
+        with self._scene_lock:
+            latest, self._latest = self._latest, {}
+            removed, self._removed = self._removed, []
+        for name in removed:
+            self._scene.remove(name)
+        for topic in sorted(latest, key=lambda t: t.endswith('odom')):
+            self._feed(topic, latest[topic])  # poses before the velocities that use them
+        self._scene_channel.log(self._scene.update(stamp_ns), log_time=stamp_ns)
+        self._scenes += 1
+
+    def _live(self) -> None:
+        period = 1.0 / self.scene_rate
+        while not self._stop.wait(period):
+            if self._viewers.get(SCENE_TOPIC):
+                self._scene_step(time.time_ns())
+
+    # --- the bag's player (its own thread) --------------------------------------------------
+    def _play(self) -> None:
+        bag, clock = self._bag, self._playhead
+        messages, pending = None, None
+        last_time = last_scene = 0.0
+        while not self._stop.is_set():
+            with self._lock:
+                seek, self._seek_to = self._seek_to, None
+                now = clock.position()
+                playing = clock.playing
+            if seek is not None:  # the trails and predictions start again from there
+                messages, pending = bag.messages(seek), None
+                self._scene.clear()
+            while playing and messages is not None:
+                if pending is None:
+                    pending = next(messages, None)
+                    if pending is None:
+                        messages = None
+                        break
+                topic, stamp, data = pending
+                if stamp > now:
+                    break
+                pending = None
+                channel = self._channels.get(topic)
+                if channel is not None:
+                    channel.log(data, log_time=stamp)
+                    self._forwarded += 1
+                if topic in self._roles:
+                    with self._scene_lock:
+                        self._latest[topic] = data
+            wall = time.monotonic()
+            if wall - last_time >= TIME_BROADCAST_S:
+                self.server.broadcast_time(now)
+                last_time = wall
+            if self._latest and wall - last_scene >= 1.0 / self.scene_rate:
+                self._scene_step(now)
+                last_scene = wall
+            if playing and clock.ended and messages is None:
+                with self._lock:
+                    clock.pause()
+                    self.server.broadcast_playback_state(self._playback_state('', False))
+            self._stop.wait(0.005 if playing else 0.05)
+
+    # --- diagnostics and shutdown -----------------------------------------------------------
+    def _diagnose(self) -> None:
+        viewers = {c for clients in self._viewers.values() for c in clients}
+        values = {
+            'url': self.url,
+            'viewers': len(viewers),
+            'channels': len(self._channels) + 1,
+            'subscribed topics': len(self._subs),
+            'forwarded': self._forwarded,
+            'scene updates': self._scenes,
+            'viewer queue overflows': self._overflows.count,
+            'topics left out': self._left_out,
+            'messages refused by the scene': self._refused,
+        }
+        level = 'WARN' if self._overflows.count or self._refused else 'OK'
+        text = (f'{len(viewers)} viewer(s); {self._overflows.count} viewer queue overflow(s) '
+                '(oldest messages dropped)'
+                + (f'; last refused: {self._refusal}' if self._refused else ''))
+        name = self.get_fully_qualified_name()
+        status = mb.diagnostic_status(f'football_ros: {name}', level, text, values,
+                                      hardware_id=f'football_ros{name}')
+        self._diag_pub.publish(DiagnosticArray(
+            header=mb.header(self.get_clock().now().to_msg(), ''), status=[status]))
+
+    def close(self) -> None:
+        """Stop the worker and the server (idempotent)."""
+        self._stop.set()
+        self._worker.join(timeout=2.0)
+        if self._bag is not None:
+            self._bag.close()
+        self.server.stop()
+        logging.getLogger('foxglove').removeHandler(self._overflows)
+
+
+def _loopback(host: str) -> bool:
+    if host == 'localhost':
+        return True
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    ros_args = argv[argv.index('--ros-args'):] if '--ros-args' in argv else []
+    own = argv[: len(argv) - len(ros_args)]
+    parser = argparse.ArgumentParser(
+        prog='football-ros view',
+        description=__doc__.splitlines()[1].replace('``', ''),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog='parameters (--ros-args -p NAME:=VALUE; the options above win):\n'
+        + '\n'.join(spec.help_line() for spec in PARAMETERS),
+    )
+    parser.add_argument('--port', type=int, help='WebSocket port (default 8765; 0 = any)')
+    parser.add_argument('--host', help='address to serve on (default 127.0.0.1)')
+    parser.add_argument('--bag', help='serve this bag folder instead of the live topics')
+    args = parser.parse_args(own)
+    return run_node(lambda: ViewNode(args.host, args.port, args.bag), ros_args, 'view')
+
+
+if __name__ == '__main__':
+    raise SystemExit(main())
