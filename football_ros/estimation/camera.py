@@ -117,7 +117,7 @@ class Camera:
         coeffs = np.zeros(8)
         coeffs[: d.size] = d
         P = np.column_stack([K, np.zeros(3)]) if self.P is None else _matrix('P', self.P, (3, 4))
-        if not np.all(np.isfinite(np.linalg.inv(P[:, :3]))) or abs(np.linalg.det(P[:, :3])) < 1e-12:
+        if not abs(np.linalg.det(P[:, :3])) > 1e-12 or np.linalg.cond(P[:, :3]) > 1e12:
             raise ValueError("camera 'P' must have an invertible left 3x3 block")
         position = np.asarray(self.position, dtype=float).ravel()
         if position.size != 3 or not np.all(np.isfinite(position)):
