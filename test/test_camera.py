@@ -134,18 +134,18 @@ def test_points_behind_or_beyond_the_lens_fold_are_not_seen():
 
 def test_bad_camera_info_is_refused_naming_the_field():
     cases = [
-        (dict(width=0), 'width'),
-        (dict(K=[1, 2, 3]), "'K'"),
-        (dict(K=np.diag([-1.0, 1.0, 1.0])), "'K'"),
-        (dict(D=[0.1, 0.2]), "'D'"),
-        (dict(D=[np.nan] * 5), "'D'"),
-        (dict(distortion_model='equidistant'), 'distortion_model'),
-        (dict(R=np.diag([1.0, 1.0, -1.0])), "'R'"),
-        (dict(P=np.zeros((3, 4))), "'P'"),
-        (dict(position=(0, 0, math.inf)), 'position'),
+        ({'width': 0}, 'width'),
+        ({'K': [1, 2, 3]}, "'K'"),
+        ({'K': np.diag([-1.0, 1.0, 1.0])}, "'K'"),
+        ({'D': [0.1, 0.2]}, "'D'"),
+        ({'D': [np.nan] * 5}, "'D'"),
+        ({'distortion_model': 'equidistant'}, 'distortion_model'),
+        ({'R': np.diag([1.0, 1.0, -1.0])}, "'R'"),
+        ({'P': np.zeros((3, 4))}, "'P'"),
+        ({'position': (0, 0, math.inf)}, 'position'),
     ]
     for change, name in cases:
-        args = dict(width=1920, height=1080, K=K) | change
+        args = {'width': 1920, 'height': 1080, 'K': K} | change
         with pytest.raises(ValueError, match=name):
             Camera(**args)
 
@@ -187,6 +187,9 @@ def test_rig_files_read_and_bad_fields_are_named():
         load_rig('/nonexistent/rig.yaml')
 
 
+SIDE = RIG.replace('[0, 10, 2]', '[20, 40, 5]').replace('[0, 0, 2]', '[20, 0, 5]')
+
+
 @settings(max_examples=200, deadline=None)
 @given(st.text(max_size=400))
 def test_any_rig_text_is_read_or_refused_with_a_value_error(text):
@@ -205,8 +208,7 @@ def _flight():
 
 def test_detections_follow_the_ball_with_the_rig_s_noise_and_timing():
     ball, truth, balls_at = _flight()
-    text = RIG.replace('[0, 10, 2]', '[20, 40, 5]').replace('[0, 0, 2]', '[20, 0, 5]')
-    text = text.replace('rate: 50', 'rate: 60\n    phase: 0.004\n    latency: 0.03\n'
+    text = SIDE.replace('rate: 50', 'rate: 60\n    phase: 0.004\n    latency: 0.03\n'
                         '    pixel_noise: 0.5\n    dropout: 0.1\n    seed: 4')
     (spec,) = parse_rig(text)
     frames = simulate((spec,), balls_at, 0.0, truth.times[-1], ball.length, ball.diameter)
@@ -227,7 +229,7 @@ def test_detections_follow_the_ball_with_the_rig_s_noise_and_timing():
 
 def test_the_online_camera_delivers_what_the_offline_one_does():
     ball, truth, balls_at = _flight()
-    (spec,) = parse_rig(RIG.replace('[0, 10, 2]', '[20, 40, 5]').replace('[0, 0, 2]', '[20, 0, 5]'))
+    (spec,) = parse_rig(SIDE)
     offline = simulate((spec,), balls_at, 0.0, 2.0, ball.length, ball.diameter)
     sim = CameraSimulator(spec, ball.length, ball.diameter)
     sim.start(0.0)

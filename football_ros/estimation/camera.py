@@ -21,8 +21,8 @@ Intrinsics: ``K`` (3x3, of the raw, distorted image), ``D`` (``plumb_bob``: k1, 
 (X, Y, Z) in the camera's optical frame (z forward, x right, y down) has normalised coordinates
 x = X / Z, y = Y / Z; the lens moves them to
 
-    x' = x (1 + k1 r^2 + k2 r^4 + k3 r^6) / (1 + k4 r^2 + k5 r^4 + k6 r^6) + 2 p1 x y + p2 (r^2 + 2 x^2)
-    y' = y (same ratio) + p1 (r^2 + 2 y^2) + 2 p2 x y,      r^2 = x^2 + y^2,
+    x' = x c + 2 p1 x y + p2 (r^2 + 2 x^2),   y' = y c + p1 (r^2 + 2 y^2) + 2 p2 x y,
+    c = (1 + k1 r^2 + k2 r^4 + k3 r^6) / (1 + k4 r^2 + k5 r^4 + k6 r^6),   r^2 = x^2 + y^2,
 
 and the raw pixel is K (x', y', 1) (u right, v down, pixels; the centre of the top-left pixel
 at (0, 0) as OpenCV counts). :meth:`Camera.unproject` inverts the lens by Newton's method;
@@ -74,10 +74,11 @@ def _rotation(name: str, value) -> np.ndarray:
 @dataclass(frozen=True)
 class Camera:
     """
-    One calibrated camera: CameraInfo's width, height [px], distortion model, D, K, R, P, and
-    the pose of its optical frame in ``field`` (``rotation`` 3x3, ``position`` [m]).
+    One calibrated camera: CameraInfo's fields and the pose of its optical frame.
 
-    Every field is checked on construction (ValueError naming it).
+    width, height [px], distortion model, D, K, R, P; the pose in ``field``: ``rotation``
+    (3x3, columns = the optical axes) and ``position`` [m]. Every field is checked on
+    construction (ValueError naming it).
     """
 
     width: int
@@ -96,7 +97,9 @@ class Camera:
             if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not (
                 1 <= value <= 100_000
             ):
-                raise ValueError(f"camera '{name}' must be an integer in [1, 100000], got {value!r}")
+                raise ValueError(
+                    f"camera '{name}' must be an integer in [1, 100000], got {value!r}"
+                )
         if self.distortion_model not in DISTORTION_MODELS:
             raise ValueError(
                 f"camera 'distortion_model' must be one of {sorted(DISTORTION_MODELS)}, "
@@ -133,8 +136,9 @@ class Camera:
     # --- the lens ---------------------------------------------------------------------------
     def distort(self, xy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """
-        Return the lens's image (..., 2) of normalised points ``xy`` (..., 2) and its Jacobian
-        (..., 2, 2) d(x', y') / d(x, y).
+        Return the lens's image (..., 2) of normalised points ``xy`` (..., 2), and its Jacobian.
+
+        The Jacobian (..., 2, 2) is d(x', y') / d(x, y).
         """
         k1, k2, p1, p2, k3, k4, k5, k6 = self._coeffs
         x, y = xy[..., 0], xy[..., 1]
@@ -160,7 +164,7 @@ class Camera:
         return out, jac
 
     def undistort(self, xy_distorted: np.ndarray) -> np.ndarray:
-        """Invert :meth:`distort` (Newton's method from the distorted point): (..., 2) -> (..., 2)."""
+        """Invert :meth:`distort` by Newton's method from the distorted point (..., 2)."""
         target = np.asarray(xy_distorted, dtype=float)
         xy = target.copy()
         for _ in range(NEWTON_ITERATIONS):
@@ -178,8 +182,10 @@ class Camera:
 
     def project_camera(self, points_cam: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """
-        Return the raw pixels (..., 2) of points (..., 3) in the optical frame and the Jacobian
-        (..., 2, 3) d(u, v) / d(point) [px/m]. Points behind the camera give NaN.
+        Return the raw pixels (..., 2) of points (..., 3) in the optical frame, and the Jacobian.
+
+        The Jacobian (..., 2, 3) is d(u, v) / d(point) [px/m]. Points behind the camera give
+        NaN.
         """
         p = np.asarray(points_cam, dtype=float)
         z = np.where(p[..., 2] > MIN_DEPTH, p[..., 2], np.nan)
@@ -195,8 +201,10 @@ class Camera:
 
     def project(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """
-        Return the raw pixels (..., 2) of points (..., 3) [m] in ``field`` and the Jacobian
-        (..., 2, 3) d(u, v) / d(point in field) [px/m]. NaN for points behind the camera.
+        Return the raw pixels (..., 2) of points (..., 3) [m] in ``field``, and the Jacobian.
+
+        The Jacobian (..., 2, 3) is d(u, v) / d(point in field) [px/m]. NaN for points behind
+        the camera.
         """
         pixels, jac = self.project_camera(self.to_camera(points))
         return pixels, jac @ self.rotation.T
@@ -216,8 +224,10 @@ class Camera:
 
     def in_view(self, points: np.ndarray) -> np.ndarray:
         """
-        Tell which points (..., 3) in ``field`` the camera images: in front, inside the lens
-        model's unfolded radius and inside the image (0 <= u <= width - 1, same for v).
+        Tell which points (..., 3) in ``field`` the camera images.
+
+        In front, inside the lens model's unfolded radius and inside the image
+        (0 <= u <= width - 1, the same for v).
         """
         p = self.to_camera(points)
         with np.errstate(invalid='ignore', divide='ignore'):
@@ -260,10 +270,13 @@ class BallImage:
     box: np.ndarray
 
 
-def spheroid_dual(center: np.ndarray, axis: np.ndarray, length: float, diameter: float) -> np.ndarray:
+def spheroid_dual(
+    center: np.ndarray, axis: np.ndarray, length: float, diameter: float
+) -> np.ndarray:
     """
-    Return the dual quadric (4x4) of a prolate spheroid in ``field``: centre [m], unit long
-    ``axis``, full ``length`` along it and ``diameter`` across [m].
+    Return the dual quadric (4x4) of a prolate spheroid in ``field``.
+
+    Its centre [m], unit long ``axis``, full ``length`` along it and ``diameter`` across [m].
     """
     axis = np.asarray(axis, dtype=float)
     axis = axis / np.linalg.norm(axis)
@@ -281,8 +294,9 @@ def ball_image(
     camera: Camera, center: np.ndarray, axis: np.ndarray, length: float, diameter: float
 ) -> BallImage | None:
     """
-    Return the image of a prolate spheroid (centre [m] and unit ``axis`` in ``field``, full
-    ``length`` and ``diameter`` [m]); None when the whole ball is not in front of the camera.
+    Return the image of a prolate spheroid; None unless the whole ball is in front.
+
+    Its centre [m] and unit ``axis`` in ``field``, full ``length`` and ``diameter`` [m].
     """
     c_cam = camera.to_camera(center)
     if not c_cam[2] > 0.5 * max(length, diameter) + MIN_DEPTH:

@@ -13,8 +13,9 @@
 # limitations under the License.
 
 """
-Simulated ball detections of a rig's cameras (:mod:`.rig`): what a detector on each camera
-would report, seeded so that runs repeat.
+Simulated ball detections of a rig's cameras (:mod:`.rig`), seeded so that runs repeat.
+
+What a detector on each camera would report.
 
 Each camera exposes at phase + k / rate [s] on the caller's clock, on its own (the cameras are
 not synchronised). A ball in view (:meth:`.camera.Camera.in_view` of its centre) is detected
@@ -56,8 +57,10 @@ class Detection:
 @dataclass(frozen=True)
 class Frame:
     """
-    One exposure of one camera: its ``stamp`` (exposure time with jitter) [s], true
-    ``exposure`` time [s], ``delivery`` time [s] and ``detections``.
+    One exposure of one camera.
+
+    Its ``stamp`` (exposure time with jitter) [s], true ``exposure`` time [s], ``delivery``
+    time [s] and ``detections``.
     """
 
     camera: str
@@ -117,27 +120,76 @@ class CameraSimulator:
         stamp = exposure + (self._rng.normal(0.0, s.stamp_jitter) if s.stamp_jitter else 0.0)
         return Frame(s.name, stamp, exposure, exposure + s.latency, tuple(found))
 
-    def step(self, now: float, balls_at: BallsAt) -> list[Frame]:
-        """
-        Expose every frame due up to ``now`` [s] and return the frames now delivered (oldest
-        first). ``balls_at`` is called with non-decreasing times.
-        """
-        s = self.spec
-        while True:
-            t = s.phase + self._next_k / s.rate
-            if t > now + 1e-12:
-                break
-            self._next_k += 1
-            centres, axes = balls_at(t)
-            self.counts['frames'] += 1
-            if len(self._queue) >= self.depth:
-                self._queue.popleft()
-                self.counts['queue_full'] += 1
-            self._queue.append(self.frame(t, centres, axes))
+    def next_exposure(self) -> float:
+        """Time of the next exposure [s]."""
+        return self.spec.phase + self._next_k / self.spec.rate
+
+    def expose(self, balls_at: BallsAt) -> None:
+        """Take the next exposure and queue its frame."""
+        t = self.next_exposure()
+        self._next_k += 1
+        centres, axes = balls_at(t)
+        self.counts['frames'] += 1
+        if len(self._queue) >= self.depth:
+            self._queue.popleft()
+            self.counts['queue_full'] += 1
+        self._queue.append(self.frame(t, centres, axes))
+
+    def deliver(self, now: float) -> list[Frame]:
+        """Return the queued frames whose delivery time has come by ``now`` [s], oldest first."""
         out = []
         while self._queue and self._queue[0].delivery <= now + 1e-12:
             out.append(self._queue.popleft())
+        self.counts['delivered'] += len(out)
         return out
+
+    def step(self, now: float, balls_at: BallsAt) -> list[Frame]:
+        """
+        Expose every frame due up to ``now`` [s]; return the frames now delivered.
+
+        Oldest first; ``balls_at`` is called with non-decreasing times.
+        """
+        while self.next_exposure() <= now + 1e-12:
+            self.expose(balls_at)
+        return self.deliver(now)
+
+
+class RigSimulator:
+    """
+    Every camera of a rig (:class:`CameraSimulator` each).
+
+    :meth:`step` exposes their frames in time order across the cameras, so that ``balls_at``
+    is called with non-decreasing times.
+    """
+
+    def __init__(self, rig: tuple[RigCamera, ...], length: float, diameter: float) -> None:
+        self.cameras = [CameraSimulator(spec, length, diameter) for spec in rig]
+
+    def start(self, now: float) -> None:
+        """Every camera's next exposure is its first after ``now`` [s]."""
+        for cam in self.cameras:
+            cam.start(now)
+
+    def step(self, now: float, balls_at: BallsAt) -> list[Frame]:
+        """Expose every frame due up to ``now`` [s]; return those delivered, oldest first."""
+        while True:
+            due = min(self.cameras, key=CameraSimulator.next_exposure)
+            t = due.next_exposure()
+            if t > now + 1e-12:
+                break
+            due.expose(balls_at)
+        out = [f for cam in self.cameras for f in cam.deliver(now)]
+        return sorted(out, key=lambda f: (f.delivery, f.camera))
+
+    def flush(self) -> list[Frame]:
+        """Return every frame still waiting (before its delivery time), oldest first."""
+        out = [f for cam in self.cameras for f in cam.deliver(math.inf)]
+        return sorted(out, key=lambda f: (f.delivery, f.camera))
+
+    @property
+    def counts(self) -> collections.Counter:
+        """Return the cameras' counts added up."""
+        return sum((cam.counts for cam in self.cameras), collections.Counter())
 
 
 def simulate(
@@ -145,28 +197,27 @@ def simulate(
     length: float, diameter: float,
 ) -> list[Frame]:
     """
-    Return every frame of every camera exposed in (``start``, ``end``] [s], in delivery order
-    (the whole flight offline: nothing waits in a queue).
+    Return every frame of every camera exposed in (``start``, ``end``] [s].
+
+    In delivery order: the whole flight offline, in strides that keep the queues from
+    overflowing.
     """
-    frames = []
-    for spec in rig:
-        sim = CameraSimulator(spec, length, diameter)
-        sim.start(start)
-        k = sim._next_k
-        while spec.phase + k / spec.rate <= end + 1e-12:
-            t = spec.phase + k / spec.rate
-            centres, axes = balls_at(t)
-            frames.append(sim.frame(t, centres, axes))
-            k += 1
-    frames.sort(key=lambda f: (f.delivery, f.camera))
-    return frames
+    sim = RigSimulator(rig, length, diameter)
+    sim.start(start)
+    stride = 0.5 * QUEUE_DEPTH / max(spec.rate for spec in rig)
+    frames, now = [], start
+    while now < end:
+        now = min(now + stride, end)
+        frames += sim.step(now, balls_at)
+    return frames + sim.flush()
 
 
 def sampled_flight(times, positions, velocities, axes) -> BallsAt:
     """
-    Return balls_at(t) of one ball sampled at ``times`` [s] (increasing): the centre by cubic
-    Hermite interpolation of ``positions`` [m] and ``velocities`` [m/s], the axis linearly
-    (renormalised); outside the samples, no ball.
+    Return balls_at(t) of one ball sampled at ``times`` [s] (increasing).
+
+    The centre by cubic Hermite interpolation of ``positions`` [m] and ``velocities`` [m/s],
+    the axis linearly (renormalised); outside the samples, no ball.
     """
     times = np.asarray(times, dtype=float)
     positions, velocities = np.asarray(positions, float), np.asarray(velocities, float)

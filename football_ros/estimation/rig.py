@@ -93,7 +93,7 @@ class RigCamera:
 
 
 def look_at_rotation(position, target) -> np.ndarray:
-    """Optical frame (columns x right, y down, z forward) looking from ``position`` at ``target``."""
+    """Optical frame (columns: x right, y down, z forward) from ``position`` toward ``target``."""
     z = np.asarray(target, dtype=float) - np.asarray(position, dtype=float)
     norm = np.linalg.norm(z)
     if not norm > 1e-9:
@@ -101,7 +101,9 @@ def look_at_rotation(position, target) -> np.ndarray:
     z = z / norm
     x = np.cross(z, UP)
     if not np.linalg.norm(x) > 1e-6:
-        raise ValueError('look_at must not be straight above or below position (give orientation)')
+        raise ValueError(
+            'look_at must not be straight above or below position (give orientation)'
+        )
     x = x / np.linalg.norm(x)
     return np.column_stack([x, np.cross(z, x), z])
 
