@@ -209,6 +209,19 @@ class Camera:
         pixels, jac = self.project_camera(self.to_camera(points))
         return pixels, jac @ self.rotation.T
 
+    def image_width(self, points: np.ndarray, diameter: float) -> np.ndarray:
+        """
+        Return the apparent diameter [px] (...,) of a sphere of ``diameter`` [m] at ``points``.
+
+        In ``field``; to first order in diameter / depth: f D / Z with f the lens's local
+        scale (the root of the determinant of d(u, v) / d(x, y)). NaN behind the camera.
+        """
+        p = self.to_camera(points)
+        z = np.where(p[..., 2] > MIN_DEPTH, p[..., 2], np.nan)
+        _, jd = self.distort(p[..., :2] / z[..., None])
+        scale = np.sqrt(np.abs(np.linalg.det(self.K[:2, :2] @ jd)))
+        return scale * diameter / z
+
     def unproject(self, pixels: np.ndarray) -> np.ndarray:
         """Return the normalised rays (..., 3) (x, y, 1) in the optical frame of raw pixels."""
         uv = np.asarray(pixels, dtype=float)
