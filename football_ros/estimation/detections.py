@@ -112,11 +112,13 @@ class CameraSimulator:
             outlier = bool(draws[1] < s.outlier_rate)
             if outlier:
                 centre_px = self._rng.uniform((0.0, 0.0), (cam.width - 1, cam.height - 1))
-            found.append(Detection(
-                centre_px, float(max(image.length + noise[2], 1.0)),
-                float(max(image.width + noise[3], 1.0)),
-                image.angle, outlier,
-            ))
+            length = max(image.length + noise[2], 1.0)
+            width = max(image.width + noise[3], 1.0)
+            angle = image.angle
+            if width > length:  # the noise turned a round outline: the long axis is the other
+                length, width = width, length
+                angle += 0.5 * math.pi if angle <= 0.0 else -0.5 * math.pi
+            found.append(Detection(centre_px, float(length), float(width), angle, outlier))
         stamp = exposure + (self._rng.normal(0.0, s.stamp_jitter) if s.stamp_jitter else 0.0)
         return Frame(s.name, stamp, exposure, exposure + s.latency, tuple(found))
 
