@@ -13,8 +13,10 @@
 # limitations under the License.
 
 """
-Camera rigs across processes: the simulator's CameraInfo, detections and /tf_static, the
-tracker fusing them, and hostile camera input.
+Camera rigs across processes.
+
+The simulator's CameraInfo, detections and /tf_static, the tracker fusing them, and hostile
+camera input.
 """
 
 import math
@@ -26,6 +28,7 @@ from football_ros.estimation.rig import load_rig
 from football_ros.nodes import messages as mb
 from football_ros.nodes import qos
 from football_ros.physics import Flight, Release
+from football_ros.physics.frames import quaternion_to_matrix
 from geometry_msgs.msg import PoseStamped, PoseWithCovarianceStamped, TransformStamped
 import numpy as np
 import pytest
@@ -70,7 +73,6 @@ def test_simulator_publishes_the_rig_and_the_tracker_fuses_its_pixels(start_node
         assert t.header.frame_id == 'field'
         p, q = t.transform.translation, t.transform.rotation
         assert np.allclose([p.x, p.y, p.z], cam.camera.position)
-        from football_ros.physics.frames import quaternion_to_matrix
         assert np.allclose(quaternion_to_matrix(np.array([q.x, q.y, q.z, q.w])),
                            cam.camera.rotation, atol=1e-12)
     time.sleep(1.0)
@@ -87,7 +89,8 @@ def test_simulator_publishes_the_rig_and_the_tracker_fuses_its_pixels(start_node
         infos = collector.get(qos.camera_topic(cam.name, qos.CAMERA_INFO))
         assert len(infos) == len(frames)
         assert infos[0].header.frame_id == frames[0].header.frame_id == cam.frame_id
-        assert np.allclose(infos[0].k, cam.camera.K.ravel()) and list(infos[0].d) == list(cam.camera.D)
+        assert np.allclose(infos[0].k, cam.camera.K.ravel())
+        assert list(infos[0].d) == list(cam.camera.D)
         stamps = np.array([stamp_s(f) for f in frames]) - release_stamp
         # exposures at k / 120 s of flight time (0.1 ms jitter), none after the landing
         assert np.abs(stamps - np.round(stamps * 120) / 120).max() < 0.0006

@@ -53,14 +53,15 @@ def check_detection(camera: Camera, center, width: float) -> str | None:
     if not (np.all(np.isfinite(c)) and math.isfinite(w)):
         return 'non-finite centre or size'
     if not (-0.5 <= c[0] <= camera.width - 0.5 and -0.5 <= c[1] <= camera.height - 0.5):
-        return f'centre ({c[0]:.1f}, {c[1]:.1f}) px outside the {camera.width}x{camera.height} image'
+        size = f'{camera.width}x{camera.height}'
+        return f'centre ({c[0]:.1f}, {c[1]:.1f}) px outside the {size} image'
     if not MIN_WIDTH <= w <= max(camera.width, camera.height):
         return f'width {w:g} px outside [{MIN_WIDTH:g}, image size]'
     return None
 
 
 def pixel_fix(camera: Camera, center, width: float, noise: float, diameter: float) -> ProjectedFix:
-    """The detection as a :class:`ProjectedFix` of (u, v, w) [px] (module docstring)."""
+    """Return the detection as a :class:`ProjectedFix` of (u, v, w) [px] (module docstring)."""
     w = float(width)
     cov = np.diag([noise**2, noise**2, noise**2 + (WIDTH_MODEL * w) ** 2])
 
@@ -74,7 +75,7 @@ def pixel_fix(camera: Camera, center, width: float, noise: float, diameter: floa
 
 def range_fix(camera: Camera, center, width: float, noise: float, diameter: float) -> PositionFix:
     """
-    The detection as a :class:`PositionFix` in ``field``: the ray at depth f D / w [m].
+    Return the detection as a :class:`PositionFix` in ``field``: the ray at depth f D / w [m].
 
     Its covariance: the depth's (from the width's noise) along the ray, the centre's across.
     """
@@ -96,8 +97,10 @@ def range_fix(camera: Camera, center, width: float, noise: float, diameter: floa
 
 class CameraFusion:
     """
-    Feed camera detections to a tracker (:class:`.multi.MultiTracker` or
-    :class:`.tracker.FlightTracker`, anything with ``observe(stamp, meas, now)``).
+    Feed camera detections to a tracker.
+
+    A :class:`.multi.MultiTracker` or :class:`.tracker.FlightTracker` (anything with
+    ``observe(stamp, meas, now)``).
 
     ``noise`` [px] 1 sigma of a detection's centre and width; ``diameter`` [m] of the ball.
     :attr:`counts` tells what became of the detections ('refused', 'pixels', 'range').
@@ -112,7 +115,8 @@ class CameraFusion:
         Process one detection taken at ``stamp`` [s]; return the tracker's answer.
 
         As pixels; when no live throw can take them (a 'candidate': pixels cannot start a
-        throw), as a range fix instead, which can. A refused detection gives (None, reason) and counts 'refused'.
+        throw), as a range fix instead, which can. A refused detection gives (None, reason)
+        and counts 'refused'.
         """
         why = check_detection(camera, center, width)
         if why is None:

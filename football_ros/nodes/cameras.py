@@ -203,16 +203,17 @@ class CameraInputs:
         if len(self._said) >= 1000:
             self._said.clear()
         self._said[kind] = now
-        self._node.get_logger().warning(f"camera '{name}': {why}" if name else f'/tf_static: {why}')
+        text = f"camera '{name}': {why}" if name else f'/tf_static: {why}'
+        self._node.get_logger().warning(text)
 
     def _on_info(self, name: str, msg) -> None:
         try:
             r, p = np.array(msg.r, dtype=float), np.array(msg.p, dtype=float)
-            fields = dict(  # all-zero R and P: not given (as an unrectified camera sends)
-                width=int(msg.width), height=int(msg.height), K=np.array(msg.k),
-                D=np.array(msg.d), distortion_model=msg.distortion_model,
-                R=np.eye(3) if not np.any(r) else r, P=None if not np.any(p) else p,
-            )
+            fields = {  # all-zero R and P: not given (as an unrectified camera sends)
+                'width': int(msg.width), 'height': int(msg.height), 'K': np.array(msg.k),
+                'D': np.array(msg.d), 'distortion_model': msg.distortion_model,
+                'R': np.eye(3) if not np.any(r) else r, 'P': None if not np.any(p) else p,
+            }
             Camera(**fields)  # checked now, posed when its frame is known
         except (ValueError, TypeError) as exc:
             self.refuse(name, f'camera_info refused: {exc}')
@@ -235,7 +236,7 @@ class CameraInputs:
             norm = float(np.linalg.norm(q))
             if not (child and parent and np.all(np.isfinite(p)) and abs(norm - 1.0) < 1e-3):
                 self.refuse(None, f"transform to '{child[:40]}' refused: empty frame, "
-                             'non-finite translation or a rotation that is not a unit quaternion')
+                            'non-finite translation or a rotation that is not a unit quaternion')
                 continue
             if child not in self._static and len(self._static) >= MAX_FRAMES:
                 self.refuse(None, f'more than {MAX_FRAMES} static frames: the rest ignored')
@@ -265,7 +266,7 @@ class CameraInputs:
             return
         if msg.header.frame_id != self._info[name][0]:
             self.refuse(name, f"detections in frame '{msg.header.frame_id[:40]}', not its "
-                         f"camera_info's '{self._info[name][0][:40]}': ignored")
+                        f"camera_info's '{self._info[name][0][:40]}': ignored")
             return
         stamp = msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec
         for det in msg.detections[:MAX_DETECTIONS]:
@@ -275,7 +276,7 @@ class CameraInputs:
             self._on_detection(stamp, name, camera, center, width)
         if len(msg.detections) > MAX_DETECTIONS:
             self.refuse(name, f'more than {MAX_DETECTIONS} detections in a frame: the rest '
-                         'ignored')
+                        'ignored')
 
 
 MAX_DETECTIONS = 16

@@ -159,7 +159,7 @@ PARAMETERS = (
     ParamSpec(
         'cameras',
         [''],
-        "Cameras whose football/camera/<name>/detections are fused as pixels (intrinsics from "
+        'Cameras whose football/camera/<name>/detections are fused as pixels (intrinsics from '
         "camera_info, poses from /tf_static); [] or [''] = none",
         read_only=True,
         optional=True,
