@@ -55,12 +55,12 @@ def test_simulator_publishes_the_rig_and_the_tracker_fuses_its_pixels(start_node
         '-p', 'prediction_rate:=10.0',
     )
     for name in names:
-        collector.subscribe(CameraInfo, qos.camera_topic(name, qos.CAMERA_INFO), qos.STATE)
-        collector.subscribe(mb.Detection2DArray, qos.camera_topic(name, qos.DETECTIONS), qos.STATE)
+        collector.subscribe(CameraInfo, qos.camera_topic(name, 'camera_info'), qos.STATE)
+        collector.subscribe(mb.Detection2DArray, qos.camera_topic(name, 'detections'), qos.STATE)
     collector.subscribe(mb.TFMessage, qos.TF_STATIC, qos.TF_STATIC_QOS)
     collector.subscribe(PoseStamped, qos.POSE, qos.STATE)
     collector.subscribe(PoseWithCovarianceStamped, qos.LANDING, qos.STATE)
-    detections = '/' + qos.camera_topic(names[0], qos.DETECTIONS)
+    detections = '/' + qos.camera_topic(names[0], 'detections')
     collector.wait_for(
         lambda: collector.node.count_subscribers(detections) >= 2 and collector.get(qos.TF_STATIC),
         20.0, 'the tracker, the cameras and /tf_static',
@@ -85,8 +85,8 @@ def test_simulator_publishes_the_rig_and_the_tracker_fuses_its_pixels(start_node
     time.sleep(1.0)
     release_stamp = stamp_s(collector.get(qos.POSE)[0])
     for cam in rig:
-        frames = collector.get(qos.camera_topic(cam.name, qos.DETECTIONS))
-        infos = collector.get(qos.camera_topic(cam.name, qos.CAMERA_INFO))
+        frames = collector.get(qos.camera_topic(cam.name, 'detections'))
+        infos = collector.get(qos.camera_topic(cam.name, 'camera_info'))
         assert len(infos) == len(frames)
         assert infos[0].header.frame_id == frames[0].header.frame_id == cam.frame_id
         assert np.allclose(infos[0].k, cam.camera.K.ravel())
@@ -136,9 +136,9 @@ def _detections(stamp, centers, frame='cam_optical', size=(12.0, 8.0)):
 
 def test_hostile_camera_input_is_refused_with_a_reason(start_node, collector):
     tracker = start_node('tracker', '--ros-args', '-p', 'cameras:=[cam]')
-    info = collector.publisher(CameraInfo, qos.camera_topic('cam', qos.CAMERA_INFO), qos.STATE)
+    info = collector.publisher(CameraInfo, qos.camera_topic('cam', 'camera_info'), qos.STATE)
     dets = collector.publisher(
-        mb.Detection2DArray, qos.camera_topic('cam', qos.DETECTIONS), qos.STATE
+        mb.Detection2DArray, qos.camera_topic('cam', 'detections'), qos.STATE
     )
     static = collector.publisher(mb.TFMessage, qos.TF_STATIC, qos.TF_STATIC_QOS)
     collector.wait_for_subscribers(dets)

@@ -64,13 +64,13 @@ class CameraRigPublisher:
         self._ball = None  # the flight's ball preset (its size and name)
         self._info = {
             c.name: node.create_publisher(
-                CameraInfo, qos.camera_topic(c.name, qos.CAMERA_INFO), qos.STATE
+                CameraInfo, qos.camera_topic(c.name, 'camera_info'), qos.STATE
             )
             for c in rig
         }
         self._detections = {
             c.name: node.create_publisher(
-                mb.Detection2DArray, qos.camera_topic(c.name, qos.DETECTIONS), qos.STATE
+                mb.Detection2DArray, qos.camera_topic(c.name, 'detections'), qos.STATE
             )
             for c in rig
         }
@@ -175,11 +175,11 @@ class CameraInputs:
         self._said: dict[tuple, float] = {}  # kind of refusal -> when last logged
         for name in names:
             node.create_subscription(
-                CameraInfo, qos.camera_topic(name, qos.CAMERA_INFO),
+                CameraInfo, qos.camera_topic(name, 'camera_info'),
                 functools.partial(self._guard, self._on_info, name), qos.STATE,
             )
             node.create_subscription(
-                mb.Detection2DArray, qos.camera_topic(name, qos.DETECTIONS),
+                mb.Detection2DArray, qos.camera_topic(name, 'detections'),
                 functools.partial(self._guard, self._on_detections, name), qos.STATE,
             )
         node.create_subscription(

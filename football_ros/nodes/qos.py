@@ -30,7 +30,7 @@ DIAGNOSTICS = '/diagnostics'
 CLOCK = '/clock'
 TF = '/tf'  # absolute, as tf2_ros uses it: one TF tree per domain (see msg_docs/tf.md)
 TF_STATIC = '/tf_static'  # the cameras' optical frames (msg_docs/tf_static.md)
-CAMERA_INFO, DETECTIONS = 'camera_info', 'detections'  # leaves of camera_topic
+CAMERA_LEAVES = ('camera_info', 'detections')  # a rig camera's topics (camera_topic)
 RELEASE_REQUEST = 'football/release/request'
 RELEASE_RESPONSE = 'football/release/response'
 RELEASE_STATE = 'football/release/state'
@@ -145,7 +145,9 @@ TF_STATIC_QOS = QoSProfile(
 
 
 def camera_topic(camera: str, leaf: str) -> str:
-    """Topic of a rig camera: football/camera/<camera>/<leaf> (CAMERA_INFO or DETECTIONS)."""
+    """Topic of a rig camera: football/camera/<camera>/<leaf>, leaf one of CAMERA_LEAVES."""
+    if leaf not in CAMERA_LEAVES:
+        raise ValueError(f'a camera topic ends in one of {CAMERA_LEAVES}, got {leaf!r}')
     return f'football/camera/{camera}/{leaf}'
 
 
