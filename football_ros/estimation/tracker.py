@@ -947,7 +947,8 @@ class FlightTracker:
         times = np.array([buffer[k][0] for k in idx])
         fixes = [buffer[k][1] for k in idx]
         zs = np.array([f.position_guess() for f in fixes])
-        sig2 = np.array([np.linalg.eigvalsh(f.R)[-1] for f in fixes])
+        covs = np.array([f.R for f in fixes])
+        sig2 = np.linalg.eigvalsh(covs)[:, -1]
         jit2 = s.stamp_jitter**2
         z = meas.position_guess()
         g = np.array([0.0, 0.0, self.params[dyn.P_GRAVITY]])
@@ -969,7 +970,7 @@ class FlightTracker:
         order = best[np.argsort(times[best], kind='stable')]
         keep = list(order)
         for _ in range(3):  # drop the worst fix at most a few times
-            fit = self._ballistic_fit(times[keep], zs[keep], sig2[keep], jit2)
+            fit = self._ballistic_fit(times[keep], zs[keep], covs[keep], jit2)
             if fit is None:
                 break
             x0, cov, resid, sigma = fit
@@ -983,13 +984,15 @@ class FlightTracker:
             del keep[worst]
         return 'the recent fixes do not fit a ballistic arc yet'
 
-    def _ballistic_fit(self, times, zs, sig2, jit2: float):
+    def _ballistic_fit(self, times, zs, covs, jit2: float):
         """
-        r(t) = r1 + v1 (t - t1) - g/2 (t - t1)^2 z_hat, least squares per axis (t1 = last).
+        r(t) = r1 + v1 (t - t1) - g/2 (t - t1)^2 z_hat, generalised least squares (t1 = last).
 
-        Each fix weighted by 1 / (``sig2`` + ``jit2`` v^2) (its variance [m^2], the stamps'
-        jitter [s^2] times the speed of an unweighted first fit). Returns (x0, cov, residuals
-        [m], sigmas [m]) or None.
+        Each fix weighted by the inverse of its covariance ``covs`` (k, 3, 3) [m^2] plus
+        ``jit2`` v v' (the stamps' jitter [s^2] along the velocity of an unweighted first fit),
+        so that fixes good across and poor along a camera's ray (a range from the apparent
+        size) pin the arc where they are good. Returns (x0, cov, residuals and sigmas: the
+        Mahalanobis distances and ones) or None.
         """
         tau = times - times[-1]
         if tau[0] > -1e-3:
@@ -998,21 +1001,18 @@ class FlightTracker:
         target = zs.copy()
         target[:, 2] += 0.5 * self.params[dyn.P_GRAVITY] * tau**2
         coef, *_ = np.linalg.lstsq(A, target, rcond=None)
-        var = sig2 + jit2 * float(coef[1] @ coef[1])
-        w = 1.0 / np.sqrt(var)
-        coef, *_ = np.linalg.lstsq(A * w[:, None], target * w[:, None], rcond=None)
-        resid = np.linalg.norm(A @ coef - target, axis=1)
-        cov2 = np.linalg.inv((A * w[:, None] ** 2).T @ A)
-        x0 = np.concatenate([coef[0], coef[1]])
-        cov = np.zeros((6, 6))
-        for i in range(3):
-            cov[i, i], cov[i, 3 + i], cov[3 + i, i], cov[3 + i, 3 + i] = (
-                cov2[0, 0],
-                cov2[0, 1],
-                cov2[1, 0],
-                cov2[1, 1],
-            )
-        return x0, cov, resid, np.sqrt(var)
+        try:
+            W = np.linalg.inv(covs + jit2 * np.outer(coef[1], coef[1]))  # (k, 3, 3)
+            H = np.concatenate([np.broadcast_to(np.eye(3), W.shape),
+                                tau[:, None, None] * np.eye(3)], axis=2)  # (k, 3, 6)
+            info = np.einsum('kji,kjl,klm->im', H, W, H)
+            cov = np.linalg.inv(info)
+            x0 = cov @ np.einsum('kji,kjl,kl->i', H, W, target)
+        except np.linalg.LinAlgError:
+            return None
+        err = target - np.einsum('kij,j->ki', H, x0)
+        resid = np.sqrt(np.einsum('ki,kij,kj->k', err, W, err))
+        return x0, 0.5 * (cov + cov.T), resid, np.ones_like(resid)
 
     def _spin_prior(self) -> list[tuple[float, float, float]]:
         """
