@@ -242,3 +242,79 @@ def test_the_online_camera_delivers_what_the_offline_one_does():
         np.array_equal(a.center, b.center)
         for x, y in zip(online, offline) for a, b in zip(x.detections, y.detections)
     )
+
+
+def test_range_fix_covers_the_ball_as_its_covariance_says():
+    """Monte Carlo of the width's noise: the range fix's errors match its covariance."""
+    from football_ros.estimation.camera_fusion import range_fix
+
+    camera = Camera(1920, 1080, K, LENSES['plumb_bob'])
+    ball = np.array([1.0, -0.5, 25.0])
+    width = camera.image_width(ball, 0.17)
+    rng = np.random.default_rng(5)
+    d2 = []
+    for _ in range(400):
+        center = camera.project(ball)[0] + rng.normal(0.0, 1.0, 2)
+        fix = range_fix(camera, center, width + rng.normal(0.0, 1.0), 1.0, 0.17)
+        e = fix.z - ball
+        d2.append(e @ np.linalg.solve(fix.R, e))
+    # the noises' share of the covariance is exact to first order; the width model adds 3 %
+    assert 1.0 < np.mean(d2) < 3.5
+
+
+def test_pixel_fix_predicts_the_camera_s_pixels_and_width():
+    from football_ros.estimation.camera_fusion import pixel_fix
+
+    camera = Camera(1920, 1080, K, LENSES['rational_polynomial'],
+                    'rational_polynomial')
+    points = _points(camera, 20)
+    fix = pixel_fix(camera, (960.0, 540.0), 12.0, 1.0, 0.17)
+    out = fix.predict(points)
+    assert np.allclose(out[:, :2], camera.project(points)[0])
+    # the apparent diameter of a sphere on the axis is f D / Z
+    on_axis = fix.predict(np.array([[0.0, 0.0, 10.0]]))[0]
+    assert on_axis[2] == pytest.approx(math.sqrt(1400.0 * 1390.0) * 0.17 / 10.0, rel=1e-9)
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    st.lists(st.floats(allow_nan=True, allow_infinity=True), min_size=3, max_size=3),
+    st.floats(allow_nan=True, allow_infinity=True),
+)
+def test_any_detection_is_taken_or_refused_with_a_reason(values, stamp):
+    from football_ros.estimation import FlightTracker
+    from football_ros.estimation.camera_fusion import CameraFusion
+
+    fusion = CameraFusion(FlightTracker(), 1.0, 0.17)
+    camera = Camera(1920, 1080, K)
+    track_id, result = None, None
+    answer = fusion.observe(stamp, camera, values[:2], values[2])
+    if isinstance(answer, tuple):
+        track_id, result = answer
+        assert track_id is None and isinstance(result, str)
+    else:
+        assert answer.status in ('candidate', 'invalid'), answer
+    assert sum(fusion.counts.values()) >= 1
+
+
+@pytest.mark.parametrize('rig_name', ['sideline'])
+def test_the_tracker_fuses_a_rig_s_pixels_to_the_landing(rig_name):
+    from football_ros.estimation import FlightTracker
+    from football_ros.estimation.camera_fusion import CameraFusion
+
+    rig = load_rig(CONFIG / f'rig_{rig_name}.yaml')
+    ball, truth, balls_at = _flight()
+    frames = simulate(rig, balls_at, 0.0, truth.times[-1], ball.length, ball.diameter)
+    cams = {c.name: c.camera for c in rig}
+    fusion = CameraFusion(FlightTracker(), 1.0, ball.diameter)
+    t_eval = truth.times[-1] - 0.5
+    for f in frames:
+        if f.delivery > t_eval:
+            break
+        for d in f.detections:
+            fusion.observe(f.stamp, cams[f.camera], d.center, d.width)
+    pred = fusion.tracker.predict_landing()
+    err = pred.position[:2] - truth.positions[-1, :2]
+    assert np.linalg.norm(err) < 0.3
+    assert err @ np.linalg.solve(pred.covariance, err) < 13.8  # inside the 99.9 % ellipse
+    assert fusion.tracker.counts['accepted'] > 0.9 * fusion.counts['pixels']

@@ -132,6 +132,10 @@ class CameraFusion:
         if result.status != 'candidate':  # taken, or refused by a live throw's gate
             self.counts['pixels'] += 1
             return answer
+        try:
+            fix = range_fix(camera, center, width, self.noise, self.diameter)
+        except ValueError as exc:  # a ball so small that its range means nothing
+            self.counts['refused'] += 1
+            return None, f'no range from a {float(width):g} px width: {exc}'
         self.counts['range'] += 1
-        fix = range_fix(camera, center, width, self.noise, self.diameter)
         return self.tracker.observe(stamp, fix, now)
