@@ -47,8 +47,8 @@ from __future__ import annotations
 
 import argparse
 import collections
-import importlib
 from dataclasses import dataclass, field, replace
+import importlib
 import itertools
 import math
 import time
@@ -384,8 +384,9 @@ def triangulate(cam_a, uv_a, cam_b, uv_b) -> np.ndarray:
 
 def run_camera_flight(release: Release, seed: int, rig) -> tuple[dict, dict, float]:
     """
-    Replay one flight's rig detections into the pixel tracker (and, for a synchronised pair,
-    the triangulating baseline) and compute the pixel-space bound at each lead.
+    Replay one flight's rig detections into the pixel tracker; compute the bound at each lead.
+
+    For a synchronised pair also the triangulating baseline; the bound in pixel space.
 
     Returns ({lead: {method: (error [m], time error [s], NEES) or None}}, {lead: bound
     median [m]}, flight time [s]).
@@ -428,7 +429,8 @@ def run_camera_flight(release: Release, seed: int, rig) -> tuple[dict, dict, flo
                         if balls_at(e)[0].size])
         inliers = np.linalg.norm(err, axis=1) < np.percentile(np.linalg.norm(err, axis=1), 99)
         noise = float(np.sqrt(np.mean(err[inliers] ** 2)))
-        baseline = FlightTracker(TrackerSettings(ball=release.ball, noise=min(max(noise, 1e-3), 10.0)))
+        noise = min(max(noise, 1e-3), 10.0)
+        baseline = FlightTracker(TrackerSettings(ball=release.ball, noise=noise))
     else:
         baseline = None
     results, bounds = {}, {}
@@ -459,7 +461,7 @@ def run_camera_flight(release: Release, seed: int, rig) -> tuple[dict, dict, flo
 
 
 def camera_main(args) -> None:
-    """The ``cameras`` case set: the pixel tracker, the bound, the triangulating baseline."""
+    """Run the ``cameras`` case set: the pixel tracker, the bound, the triangulating baseline."""
     from pathlib import Path
 
     from football_ros.estimation.rig import load_rig
