@@ -453,8 +453,9 @@ def run_camera_flight(release: Release, seed: int, rig) -> tuple[dict, dict, flo
         results[lead] = row
         seen = [(f.exposure, cams[f.camera].camera, d.width, cams[f.camera].pixel_noise)
                 for f in frames[:i] for d in f.detections if not d.outlier]
-        try:
-            bounds[lead] = radial_median(bound.camera_bound(release, seen, CASES['defaults']))
+        try:  # no detection yet: no bound (NaN)
+            bounds[lead] = (radial_median(bound.camera_bound(release, seen, CASES['defaults']))
+                            if seen else math.nan)
         except (np.linalg.LinAlgError, ValueError):
             bounds[lead] = math.nan
     return results, bounds, t_land
@@ -497,8 +498,8 @@ def camera_main(args) -> None:
                 nees = np.array([g[0][2] for g in got])
                 b = np.array([g[1] for g in got])
                 print(f'{rig_name:>28} {lead:>5.1f} {m:>13} {len(got):>4} {np.median(err):>7.3f} '
-                      f'{np.sqrt(np.mean(err**2)):>7.3f} {np.median(b):>7.3f} '
-                      f'{np.median(err / b):>6.2f} {np.mean(nees):>6.2f} '
+                      f'{np.sqrt(np.mean(err**2)):>7.3f} {np.nanmedian(b):>7.3f} '
+                      f'{np.nanmedian(err / b):>6.2f} {np.mean(nees):>6.2f} '
                       f'{np.mean(nees <= CHI2_2_95):>7.2f}')
 
 
