@@ -67,8 +67,8 @@ setup(
             # pip_ros/simulation_interfaces depends on.
             'ros-jazzy-action-msgs',
             'ros-jazzy-rcl-action',
-            # To build pip_ros/tf2_msgs and pip_ros/simulation_interfaces (no wheels) with colcon
-            # into the venv: scripts/setup.sh.
+            # To build pip_ros/tf2_msgs, simulation_interfaces and vision_msgs (no wheels) with
+            # colcon into the venv: scripts/setup.sh.
             'ros-jazzy-ament-cmake',
             'ros-jazzy-ament-cmake-ros',
             'ros-jazzy-ament-cmake-gmock',
@@ -106,6 +106,8 @@ setup(
             'flake8-docstrings',
             'flake8-import-order',
             'flake8-quotes',
+            # test/test_camera.py checks the camera model against OpenCV's.
+            'opencv-python-headless>=4.8',
         ],
     },
     zip_safe=True,

@@ -48,6 +48,7 @@ from __future__ import annotations
 import argparse
 import collections
 from dataclasses import dataclass, field, replace
+import importlib
 import itertools
 import math
 import time
@@ -59,6 +60,7 @@ from football_ros.estimation import (
     Observation,
     TrackerSettings,
 )
+from football_ros.estimation.bound import radial_median
 from football_ros.estimation.multi import MultiTracker
 from football_ros.physics import Flight, Release
 from football_ros.physics.aero import AeroModel
@@ -357,6 +359,150 @@ def run_flight(
     return results, t_land
 
 
+CAMERA_RIGS = {  # the ``cameras`` case set: rig name -> rig file (config/)
+    'two 60 Hz sideline cameras': 'rig_sideline.yaml',
+    '1 m stereo pair, 120 Hz': 'rig_stereo.yaml',
+    'one 120 Hz camera': 'rig_mono.yaml',
+}
+CAMERA_BASELINE = '1 m stereo pair, 120 Hz'
+"""The rig whose synchronised pairs the baseline triangulates."""
+
+
+def triangulate(cam_a, uv_a, cam_b, uv_b) -> np.ndarray:
+    """Midpoint of the closest points of two pixels' rays [m] in ``field``."""
+    rays = []
+    for cam, uv in ((cam_a, uv_a), (cam_b, uv_b)):
+        d = cam.rotation @ cam.unproject(np.asarray(uv, dtype=float))
+        rays.append((cam.position, d / np.linalg.norm(d)))
+    (p, d), (q, e) = rays
+    w = p - q
+    b, dd, ee = d @ e, d @ w, e @ w
+    den = 1.0 - b * b
+    s_, t_ = (b * ee - dd) / den, (ee - b * dd) / den
+    return 0.5 * (p + s_ * d + q + t_ * e)
+
+
+def run_camera_flight(release: Release, seed: int, rig) -> tuple[dict, dict, float]:
+    """
+    Replay one flight's rig detections into the pixel tracker; compute the bound at each lead.
+
+    For a synchronised pair also the triangulating baseline; the bound in pixel space.
+
+    Returns ({lead: {method: (error [m], time error [s], NEES) or None}}, {lead: bound
+    median [m]}, flight time [s]).
+    """
+    import dataclasses
+
+    from football_ros.estimation.camera_fusion import CameraFusion
+    from football_ros.estimation.detections import sampled_flight, simulate
+    from football_ros.physics import get_preset
+    bound = importlib.import_module('prediction_bound')
+
+    ball = get_preset(release.ball)
+    truth = Flight.from_release(release).simulate(rate=1000.0, duration=20.0)
+    t_land = float(truth.times[-1])
+    xy_land = truth.positions[-1, :2]
+    rng = np.random.default_rng(seed)
+    rig = tuple(dataclasses.replace(c, seed=seed * 31 + k) for k, c in enumerate(rig))
+    shift = float(rng.uniform(0.0, 1.0 / max(c.rate for c in rig)))  # release vs the frames
+    rig = tuple(dataclasses.replace(c, phase=c.phase + shift) for c in rig)
+    balls_at = sampled_flight(truth.times, truth.positions, truth.velocities, truth.axes)
+    frames = [f for f in simulate(rig, balls_at, 0.0, t_land, ball.length, ball.diameter)
+              if f.stamp < t_land]
+    cams = {c.name: c for c in rig}
+    fusion = CameraFusion(FlightTracker(TrackerSettings(ball=release.ball)),
+                          rig[0].pixel_noise, ball.diameter)
+    pairs = {}  # exposure -> {camera: detection} for the baseline
+    baseline_fixes = []
+    for f in frames:
+        if len(f.detections) == 1:
+            pairs.setdefault(round(f.exposure, 9), {})[f.camera] = (f, f.detections[0])
+    if len(rig) == 2:
+        for exposure, both in sorted(pairs.items()):
+            if len(both) == 2:
+                (fa, da), (fb, db) = both[rig[0].name], both[rig[1].name]
+                p = triangulate(cams[fa.camera].camera, da.center, cams[fb.camera].camera,
+                                db.center)
+                baseline_fixes.append((max(fa.delivery, fb.delivery), fa.stamp, p, exposure))
+    if baseline_fixes:  # the isotropic noise a user would measure: RMS per axis of the fixes
+        err = np.array([p - balls_at(e)[0][0] for _d, _s, p, e in baseline_fixes
+                        if balls_at(e)[0].size])
+        inliers = np.linalg.norm(err, axis=1) < np.percentile(np.linalg.norm(err, axis=1), 99)
+        noise = float(np.sqrt(np.mean(err[inliers] ** 2)))
+        noise = min(max(noise, 1e-3), 10.0)
+        baseline = FlightTracker(TrackerSettings(ball=release.ball, noise=noise))
+    else:
+        baseline = None
+    results, bounds = {}, {}
+    i = j = 0
+    for lead in sorted(LEADS, reverse=True):
+        t_eval = t_land - lead
+        while i < len(frames) and frames[i].delivery <= t_eval:
+            f = frames[i]
+            i += 1
+            for d in f.detections:
+                fusion.observe(f.stamp, cams[f.camera].camera, d.center, d.width)
+        while baseline is not None and j < len(baseline_fixes) and baseline_fixes[j][0] <= t_eval:
+            baseline.update(baseline_fixes[j][1], baseline_fixes[j][2])
+            j += 1
+        row = {}
+        for name, tracker in (('pixels', fusion.tracker), ('triangulated', baseline)):
+            pred = tracker.predict_landing() if tracker is not None else None
+            row[name] = None if pred is None else _errors(
+                (pred.time, pred.position[:2], pred.covariance), xy_land, t_land)
+        results[lead] = row
+        seen = [(f.exposure, cams[f.camera].camera, d.width, cams[f.camera].pixel_noise)
+                for f in frames[:i] for d in f.detections if not d.outlier]
+        try:  # no detection yet: no bound (NaN)
+            bounds[lead] = (radial_median(bound.camera_bound(release, seen, CASES['defaults']))
+                            if seen else math.nan)
+        except (np.linalg.LinAlgError, ValueError):
+            bounds[lead] = math.nan
+    return results, bounds, t_land
+
+
+def camera_main(args) -> None:
+    """Run the ``cameras`` case set: the pixel tracker, the bound, the triangulating baseline."""
+    from pathlib import Path
+
+    from football_ros.estimation.rig import load_rig
+
+    config = Path(__file__).resolve().parents[1] / 'config'
+    print(
+        f'cameras: config/rig_*.yaml (1080p, 60 deg, 1 px noise, 2 % dropouts, 1 % outliers, '
+        f'0.1 ms stamp jitter, 30 ms latency); the release at a random phase of the frames; '
+        f'{args.flights} flights x {args.draws} draws (defaults case), seeds {args.seed}..'
+        f'{args.seed + args.draws - 1}. pixels: the tracker fed the detections as pixels '
+        '(camera_fusion); triangulated: synchronised pairs triangulated, fed as isotropic '
+        'fixes (noise = their RMS error per axis); bound: pixel-space Cramer-Rao bound '
+        '(benchmark prior), its per-flight median |e|; ratio: median over flights of error / '
+        'bound. NEES 2 and 0.95 inside the 95 % ellipse when honest.'
+    )
+    print(f'{"rig":>28} {"lead":>5} {"method":>13} {"n":>4} {"median":>7} {"rms":>7} '
+          f'{"bound":>7} {"ratio":>6} {"NEES":>6} {"in 95%":>7}')
+    for ri, (rig_name, file) in enumerate(CAMERA_RIGS.items()):
+        rig = load_rig(config / file)
+        per, bnd = [], []
+        for seed in range(args.seed, args.seed + args.draws):
+            rng = np.random.default_rng(seed * 1000 + 77)
+            for k, r in enumerate(random_releases(rng, args.flights, CASES['defaults'])):
+                res, bounds, _ = run_camera_flight(r, seed * 100000 + ri * 1000 + k, rig)
+                per.append(res)
+                bnd.append(bounds)
+        for lead in (1.0, 0.5):
+            for m in ('pixels', 'triangulated'):
+                got = [(p[lead][m], b[lead]) for p, b in zip(per, bnd) if p[lead][m] is not None]
+                if not got:
+                    continue
+                err = np.array([g[0][0] for g in got])
+                nees = np.array([g[0][2] for g in got])
+                b = np.array([g[1] for g in got])
+                print(f'{rig_name:>28} {lead:>5.1f} {m:>13} {len(got):>4} {np.median(err):>7.3f} '
+                      f'{np.sqrt(np.mean(err**2)):>7.3f} {np.nanmedian(b):>7.3f} '
+                      f'{np.nanmedian(err / b):>6.2f} {np.mean(nees):>6.2f} '
+                      f'{np.mean(nees <= CHI2_2_95):>7.2f}')
+
+
 def _errors(pred, xy_land, t_land) -> tuple[float, float, float]:
     """
     Return the landing point error [m], the landing time error [s] and the NEES.
@@ -444,7 +590,12 @@ def main() -> None:
     ap.add_argument(
         '--two-balls', action='store_true', help='a second ball in the air (SECOND_BALL)'
     )
+    ap.add_argument('--cameras', action='store_true',
+                    help='the cameras case set (config/rig_*.yaml) instead of the cases')
     args = ap.parse_args()
+    if args.cameras:
+        camera_main(args)
+        return
     unknown = sorted(set(args.cases) - set(CASES))
     if unknown:
         ap.error(f'unknown case(s) {unknown}; the cases: {list(CASES)}')
@@ -533,9 +684,10 @@ if __name__ == '__main__':
     pre.add_argument('--wind-sigma', type=float, default=0.0)
     pre.add_argument('--clutter', type=float, default=0.0)
     pre.add_argument('--two-balls', action='store_true')
+    pre.add_argument('--cameras', action='store_true')
     flags, _ = pre.parse_known_args()
     section = 'prediction' + ''.join(
         f', {name} {value:g}' for name, value in
         (('wind_sigma', flags.wind_sigma), ('clutter Hz', flags.clutter)) if value > 0.0
-    ) + (', two balls' if flags.two_balls else '')
+    ) + (', two balls' if flags.two_balls else '') + (', cameras' if flags.cameras else '')
     raise SystemExit(results.recorded(section, main))

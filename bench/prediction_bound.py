@@ -166,6 +166,43 @@ WIND_SIGMA = [0.0]
 """The wind's prior sigma [m/s] of this run (``--wind-sigma``; 0: the wind is known)."""
 
 
+def camera_bound(release, detections, case, prior: str = 'benchmark') -> np.ndarray:
+    """
+    Return the landing covariance (2, 2) of the bound from camera detections, in pixel space.
+
+    ``detections``: (exposure time [s], :class:`football_ros.estimation.camera.Camera`,
+    width [px], pixel noise [px]) of each inlier detection; each measures (u, v) with the
+    camera's pixel noise and the apparent width w with the noise the tracker assumes
+    (camera_fusion.WIDTH_MODEL), through the camera model (no triangulation).
+    """
+    from football_ros.estimation.camera_fusion import WIDTH_MODEL
+
+    ball = get_preset(case.ball)
+    model = ThrowModel(0.0, 1.0, 0, ball=case.ball, aero=AeroModel(wind=release.aero_model().wind))
+    model.times = np.array([d[0] for d in detections])
+    theta = model.theta_of(release)
+    f0, jac = central_jacobian(model.evaluate, theta, [FD_STEPS[n] for n in model.names])
+    count = model.times.size
+    rows = []
+    for k, (_t, camera, width, noise) in enumerate(detections):
+        r = f0[3 * k: 3 * k + 3]
+        _, h_uv = camera.project(r)
+        h_w = np.array([
+            (camera.image_width(r + e, ball.diameter) - camera.image_width(r - e, ball.diameter))
+            / 2e-4 for e in 1e-4 * np.eye(3)
+        ])
+        j_pos = jac[3 * k: 3 * k + 3]
+        rows += [h_uv[0] @ j_pos / noise, h_uv[1] @ j_pos / noise,
+                 h_w @ j_pos / math.hypot(noise, WIDTH_MODEL * width)]
+    sigmas = prior_sigmas(case, prior)
+    names = [n for n in model.names if sigmas.get(n, math.inf) > 0.0]
+    keep = [model.names.index(n) for n in names]
+    info_prior = np.diag([1.0 / sigmas[n] ** 2 if n in sigmas else 0.0 for n in names])
+    cov = posterior_covariance(np.array(rows)[:, keep], 1.0, info_prior)
+    g = jac[3 * count: 3 * count + 2][:, keep]
+    return g @ cov @ g.T
+
+
 def prior_sigmas(case, prior: str, known=(), **changes) -> dict:
     """Prior sigma per parameter for a case's :func:`priors` entry, ``known`` ones at 0."""
     axis_s, spin_s, scale_s = priors(case)[prior]

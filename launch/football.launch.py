@@ -22,6 +22,7 @@ Simulator and release node; optionally recorder, tracker, planner, RViz, Foxglov
     ros2 launch football_ros football.launch.py tracker:=true rviz:=true
     ros2 launch football_ros football.launch.py planner:=true       # + the throw planner
     ros2 launch football_ros football.launch.py view:=true          # + Foxglove viewer (8765)
+    ros2 launch football_ros football.launch.py tracker:=true camera_rig:=config/rig_stereo.yaml
 
 Parameters come from ``params_file`` (keys ``/**/NODE_NAME``, so they apply in any namespace).
 An argument left empty overrides nothing: ``publish_rate`` only replaces the file's value when
@@ -29,6 +30,9 @@ given (an integer is taken as Hz like a float). ``use_sim_time:=true`` makes the
 clock source (``publish_clock``) and the release node, the recorder and RViz follow /clock.
 ``tracker:=true`` also runs the tracker and turns the simulator's camera on (``camera_rate``,
 default 60 Hz; a given ``camera_rate`` always replaces the file's ``observation_rate``).
+``camera_rig:=FILE`` (config/rig_*.yaml) gives the simulator a rig of calibrated cameras
+(CameraInfo and Detection2DArray per camera) and, with ``tracker:=true``, has the tracker fuse
+all of its cameras' pixels instead of the 3D camera (which ``camera_rate`` still turns on).
 /tf is global (tf2 convention): with several namespaced simulators give each its own
 ``child_frame_id`` in its params file.
 
@@ -110,11 +114,28 @@ def simulator_overrides(context):
     if _flag(context, 'use_sim_time'):
         overrides['publish_clock'] = True
     camera = _ranged(context, 'camera_rate', 'observation_rate')
-    if camera is None and _flag(context, 'tracker'):
+    if camera is None and _flag(context, 'tracker') and not camera_rig(context):
         camera = DEFAULT_CAMERA_RATE
     if camera is not None:
         overrides['observation_rate'] = camera
+    rig = camera_rig(context)
+    if rig:
+        overrides['camera_rig'] = rig[0]
     return overrides
+
+
+def camera_rig(context):
+    """Return (absolute path, camera names) of the ``camera_rig`` argument, or None (empty)."""
+    text = LaunchConfiguration('camera_rig').perform(context).strip()
+    if not text:
+        return None
+    from football_ros.estimation.rig import load_rig  # the one reader of rig files
+
+    try:
+        rig = load_rig(text)
+    except ValueError as exc:
+        raise ValueError(f"launch argument 'camera_rig': {exc}") from None
+    return os.path.abspath(text), [camera.name for camera in rig]
 
 
 def _optional_flag(context, name):
@@ -185,11 +206,13 @@ def _nodes(context, *args, **kwargs):
             **secure['release'],
         ),
     ]
-    for flag, executable, name in (
-        ('tracker', 'tracker', 'football_tracker'),
-        ('planner', 'planner', 'football_planner'),
-        ('record', 'recorder', 'football_recorder'),
-        ('view', 'view', 'football_view'),
+    rig = camera_rig(context)
+    cameras = {'cameras': rig[1]} if rig else {}
+    for flag, executable, name, extra in (
+        ('tracker', 'tracker', 'football_tracker', cameras),
+        ('planner', 'planner', 'football_planner', {}),
+        ('record', 'recorder', 'football_recorder', {}),
+        ('view', 'view', 'football_view', {}),
     ):
         if flags[flag]:
             actions.append(
@@ -198,7 +221,7 @@ def _nodes(context, *args, **kwargs):
                     executable=executable,
                     name=name,
                     output='screen',
-                    parameters=[params_file, dict(sim_time, **guard)],
+                    parameters=[params_file, dict(sim_time, **guard, **extra)],
                     **secure[executable],
                 )
             )
@@ -255,6 +278,12 @@ def generate_launch_description():
                 default_value='',
                 description='simulated camera frames per second [Hz]; empty = '
                 'params file, or 60 with tracker:=true',
+            ),
+            DeclareLaunchArgument(
+                'camera_rig',
+                default_value='',
+                description='camera rig file (config/rig_*.yaml) for the simulator; with '
+                "tracker:=true the tracker fuses its cameras' pixels; empty = params file",
             ),
             DeclareLaunchArgument(
                 'rviz',

@@ -15,7 +15,8 @@
 """
 Build the message packages in pip_ros/ with colcon into a venv of pip-installed ROS 2 Jazzy.
 
-tf2_msgs and simulation_interfaces (1.5.1, the Jazzy branch's interface files) have no wheel.
+tf2_msgs, simulation_interfaces (1.5.1, the Jazzy branch's interface files) and vision_msgs
+(4.1.1, Detection2DArray and what it holds) have no wheel.
 
 Only for the pip ROS (scripts/setup.sh runs it): a real Jazzy install has these packages.
 The ROS wheels' CMake config files name the Python include directories of the machine that
@@ -48,6 +49,7 @@ HERE = Path(__file__).resolve().parent
 PACKAGES = (
     'tf2_msgs',
     'simulation_interfaces',
+    'vision_msgs',
 )
 HEARTBEAT = 20.0
 """Longest silence [s] while colcon builds."""

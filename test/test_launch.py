@@ -166,6 +166,7 @@ def test_defaults_leave_the_params_file_in_force(monkeypatch):
         'security',
         'keystore',
         'allow_reconfigure',
+        'camera_rig',
     }
     assert set(nodes) == {'football_simulator', 'football_release'}
     assert nodes['football_simulator'][1] == [str(CONFIG)]  # no override of the file's values
@@ -245,6 +246,19 @@ def test_tracker_turns_the_camera_on(monkeypatch):
     assert nodes['football_simulator'][1][1] == {'observation_rate': 30.0}
     with pytest.raises(ValueError, match="'camera_rate'"):
         launch(monkeypatch, camera_rate='often')
+
+
+def test_a_camera_rig_goes_to_the_simulator_and_its_cameras_to_the_tracker(monkeypatch):
+    rig = REPO / 'config' / 'rig_sideline.yaml'
+    _, nodes = launch(monkeypatch, tracker='true', camera_rig=str(rig))
+    assert nodes['football_simulator'][1][1] == {'camera_rig': str(rig)}  # no 3D camera
+    assert nodes['football_tracker'][1][1]['cameras'] == ['sideline_near', 'sideline_far']
+    _, nodes = launch(monkeypatch, camera_rig=str(rig), camera_rate='30')
+    assert nodes['football_simulator'][1][1] == {'camera_rig': str(rig), 'observation_rate': 30.0}
+    with pytest.raises(ValueError, match="'camera_rig': .*cannot read"):
+        launch(monkeypatch, camera_rig='/nonexistent/rig.yaml')
+    with pytest.raises(ValueError, match="'camera_rig': .*football.yaml: a rig is a mapping"):
+        launch(monkeypatch, camera_rig=str(REPO / 'config' / 'football.yaml'))
 
 
 def test_every_launched_node_has_a_section_in_the_yaml(monkeypatch):

@@ -35,6 +35,7 @@ import math
 
 import numpy as np
 
+from .measurement import Measurement, position_fix
 from .tracker import FlightTracker, TrackerSettings, UpdateResult
 from ..physics import dynamics as dyn
 
@@ -97,27 +98,41 @@ class MultiTracker:
         return self._initiator.ball
 
     def update(
-        self, stamp: float, position, now: float | None = None
+        self, stamp: float, position, now: float | None = None, covariance=None
     ) -> tuple[int | None, UpdateResult]:
         """
         Route one fix (capture time ``stamp`` [s], ``position`` (3,) [m]) and process it.
 
+        ``covariance`` (3, 3) [m^2] of the fix in ``field`` (None: the settings' noise).
         Returns (id of the track that took it or started from it, or None; the result).
         :attr:`events` gets the tracks started and ended meanwhile (the caller empties it).
         """
         try:
+            meas = position_fix(position, covariance, self.settings.noise)
+        except (TypeError, ValueError) as exc:
+            field_name = 'covariance' if covariance is not None else 'position'
+            return None, UpdateResult('invalid', f'{field_name}: {exc}')
+        return self.observe(stamp, meas, now)
+
+    def observe(
+        self, stamp: float, meas: Measurement, now: float | None = None
+    ) -> tuple[int | None, UpdateResult]:
+        """Route one fix of any measurement model (:mod:`.measurement`): :meth:`update`."""
+        try:
             t = float(stamp)
-            z = np.asarray(position, dtype=float).reshape(3)
         except (TypeError, ValueError):
-            return None, UpdateResult('invalid', 'stamp and position must be 3 numbers')
-        if not (math.isfinite(t) and np.all(np.isfinite(z))):
-            return None, UpdateResult('invalid', 'non-finite stamp or position')
-        if np.any(np.abs(z) > 1e5) or abs(t) > 1e12:
+            return None, UpdateResult('invalid', 'stamp must be a number')
+        if not isinstance(meas, Measurement):
+            return None, UpdateResult('invalid', 'not a measurement')
+        guess = meas.position_guess()
+        if not math.isfinite(t):
+            return None, UpdateResult('invalid', 'non-finite stamp')
+        if (guess is not None and np.any(np.abs(guess) > 1e5)) or abs(t) > 1e12:
             return None, UpdateResult('invalid', 'position beyond 100 km or absurd stamp')
-        track_id = self._nearest(t, z)
+        track_id = self._nearest(t, meas)
         if track_id is not None:
             tracker = self.taken_by = self.tracks[track_id]
-            result = tracker.update(t, z, now)
+            result = tracker.observe(t, meas, now)
             if result.used:
                 self._newest = max(self._newest, t)
                 self._end_silent(self._newest)
@@ -130,7 +145,7 @@ class MultiTracker:
                     self._initiator.learn_from(tracker)
             return track_id, result
         self.taken_by = self._initiator
-        result = self._initiator.update(t, z, now)
+        result = self._initiator.observe(t, meas, now)
         if result.status == 'started':
             if result.reason:  # the clock jumped back: every track belongs to the old clock
                 for tid in list(self.tracks):
@@ -172,10 +187,14 @@ class MultiTracker:
             if tr.track is None or t - tr.track.t > self.settings.max_gap:
                 self._end(tid, 'lost: no fix for max_gap', t)
 
-    def _nearest(self, t: float, z: np.ndarray) -> int | None:
-        """Id of the live track whose gate holds the fix, the nearest; None if none."""
+    def _nearest(self, t: float, meas: Measurement) -> int | None:
+        """
+        Id of the live track whose gate holds the fix, the nearest; None if none.
+
+        The innovation in the measurement's own space: its model linearised at the predicted
+        position (a central difference; exact for a position).
+        """
         best, best_d2 = None, self.settings.gate
-        r_var = self.settings.noise**2
         for tid, tr in self.tracks.items():
             est = tr.estimate
             if est is None or tr.landed:
@@ -186,13 +205,24 @@ class MultiTracker:
                 continue
             pred = x[:3] + x[3:6] * dt - 0.5 * self._g * dt * dt * np.array([0.0, 0.0, 1.0])
             J = np.hstack([np.eye(3), dt * np.eye(3)])
-            S = J @ P[:6, :6] @ J.T + (r_var + (0.5 * AERO_REACH * dt * dt) ** 2) * np.eye(3)
-            nu = z - pred
+            cov = J @ P[:6, :6] @ J.T + (0.5 * AERO_REACH * dt * dt) ** 2 * np.eye(3)
             try:
                 with np.errstate(all='ignore'):
+                    H = _jacobian(meas, pred)
+                    S = H @ cov @ H.T + meas.R
+                    nu = meas.z - meas.predict(pred[None, :])[0]
                     d2 = float(nu @ np.linalg.solve(S, nu))
-            except np.linalg.LinAlgError:
+            except (np.linalg.LinAlgError, ValueError):
+                continue
+            if not math.isfinite(d2):
                 continue
             if d2 <= best_d2:
                 best, best_d2 = tid, d2
         return best
+
+
+def _jacobian(meas: Measurement, r: np.ndarray, step: float = 1e-3) -> np.ndarray:
+    """d(predict)/d(position) (m, 3) at ``r`` [m], central differences of ``step`` [m]."""
+    pts = np.vstack([r + step * np.eye(3), r - step * np.eye(3)])
+    images = meas.predict(pts)
+    return ((images[:3] - images[3:]) / (2.0 * step)).T

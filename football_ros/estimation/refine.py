@@ -25,7 +25,8 @@ The unknown is the state at the track's first fix, time ``times[0]`` (``N_X`` or
 floats, :mod:`.motion`), moved by a local step delta: position and velocity [m, m/s], two
 angles [rad] turning the axis in its tangent plane, h [rad/s] in ``field``, kd, kl and the
 wind [m/s] if the state has it. The objective is
-sum_k |r(t_k) - z_k|^2 / noise^2 + the prior's terms (:class:`Prior`, as the filter starts:
+sum_k |L_k^-1 (h_k(r(t_k)) - z_k)|^2 (each fix's model h_k and covariance L_k L_k',
+:mod:`.measurement`) + the prior's terms (:class:`Prior`, as the filter starts:
 the axis off the velocity by N(0, axis_sigma) per angle, the spin momentum h.s and the
 transverse momentum, the scales and the wind), minimised by Levenberg-Marquardt steps with a
 forward-difference Jacobian whose n + 1 states are flown together
@@ -42,6 +43,7 @@ import math
 
 import numpy as np
 
+from .measurement import Measurement, position_fix, Whitener
 from .motion import fly_state, fly_through, N_X_WIND, X_H, X_KD, X_KL, X_R, X_S, X_V, X_W
 
 FD_STEP = np.array(
@@ -136,13 +138,12 @@ def _prior_terms(states: np.ndarray, prior: Prior) -> np.ndarray:
     return np.stack(cols, axis=1)
 
 
-def _residuals(states, rel, zs, noise, params, step, prior):
-    """Whitened residuals (m, 3K + n_prior) of states at the first fix; states end at the last."""
+def _residuals(states, rel, whiten, params, step, prior):
+    """Whitened residuals (m, n_fix + n_prior) of states at the first fix; states end at the last."""
     first = states.copy()
     out = np.empty((states.shape[0], rel.size, 3))
     fly_through(states, rel, params, step, out)
-    fixes = (out - zs[None, :, :]).reshape(states.shape[0], -1) / noise
-    return np.concatenate([fixes, _prior_terms(first, prior)], axis=1)
+    return np.concatenate([whiten(out), _prior_terms(first, prior)], axis=1)
 
 
 def refine(
@@ -158,16 +159,23 @@ def refine(
     """
     Fit the throw to every fix (batch MAP) from ``x0``, the state at ``times[0]``.
 
-    ``times`` (K,) [s] ascending, ``zs`` (K, 3) [m] the fixes in ``field``, ``noise`` [m]
-    their 1-sigma per axis; ``params`` the motion kernel's parameters, ``step`` [s] its
-    longest RK4 step. Levenberg-Marquardt from ``x0`` until a step lowers the objective by
-    less than :data:`CONVERGED`, no step lowers it, or ``max_iterations`` Jacobians. At
+    ``times`` (K,) [s] ascending; ``zs`` the fixes: (K, 3) positions [m] in ``field`` of
+    1-sigma ``noise`` [m] per axis, or K :class:`~.measurement.Measurement` (each with its own
+    covariance and model; ``noise`` unused); ``params`` the motion kernel's parameters,
+    ``step`` [s] its longest RK4 step. Levenberg-Marquardt from ``x0`` until a step lowers the
+    objective by less than :data:`CONVERGED`, no step lowers it, or ``max_iterations``
+    Jacobians. At
     ``times[-1]``: the fit flown there, and the posterior's covariance carried there by the
-    derivatives of the Jacobian's flights (linear: the posterior is narrow). None if a flight
-    fails or the information matrix is singular.
+    derivatives of the Jacobian's flights (linear: the posterior is narrow). None if a fix or a
+    flight is not finite, or the information matrix is singular.
     """
     times = np.asarray(times, dtype=float)
-    zs = np.asarray(zs, dtype=float)
+    if not all(isinstance(z, Measurement) for z in zs):
+        zs = np.asarray(zs, dtype=float)
+        if not np.all(np.isfinite(zs)):
+            return None
+        zs = [position_fix(z, noise=noise) for z in zs]
+    whiten = Whitener(zs)
     rel = times - times[0]
     n = 15 if x0.size >= N_X_WIND else 13
     steps = FD_STEP[:n]
@@ -176,7 +184,7 @@ def refine(
     def linearise(x: np.ndarray):
         """(residuals at x, their Jacobian (m, n), d x(times[-1]) / d delta (n, n_x)) or None."""
         pts = _apply(x, fd)
-        res = _residuals(pts, rel, zs, noise, params, step, prior)  # pts end at the last fix
+        res = _residuals(pts, rel, whiten, params, step, prior)  # pts end at the last fix
         if not (np.all(np.isfinite(res)) and np.all(np.isfinite(pts))):
             return None
         return res[0], ((res[1:] - res[0]) / steps[:, None]).T, (pts[1:] - pts[0]) / steps[:, None]
@@ -197,7 +205,7 @@ def refine(
             except np.linalg.LinAlgError:
                 return None
             trial = _apply(x, d[None, :])
-            rt = _residuals(trial.copy(), rel, zs, noise, params, step, prior)[0]
+            rt = _residuals(trial.copy(), rel, whiten, params, step, prior)[0]
             new = float(rt @ rt) if np.all(np.isfinite(rt)) else math.inf
             if new < cost:
                 break

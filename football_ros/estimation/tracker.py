@@ -101,6 +101,7 @@ from .motion import (
     X_V,
     X_W,
 )
+from .measurement import Measurement, position_fix, PositionFix, unscented_update, with_timing
 from .refine import Prior, refine, Refined
 from .sensor import check_numbers
 from .unscented import moments, sigma_points
@@ -147,7 +148,10 @@ class TrackerSettings:
     another filter (a hand, a spin component); ``gate`` squared Mahalanobis distance; ``max_lag``
     [s] oldest fix accepted behind the newest; ``max_future`` [s] newest fix ahead of ``now``;
     ``max_gap`` [s] silence that ends a track; ``min_points``, ``init_window`` [s], ``min_speed``
-    [m/s] for a new throw; ``spread`` the unscented transform's alpha (points at alpha sqrt(n)
+    [m/s] for a new throw (the window grows to ``min_points`` + 1 fix intervals of a slow
+    camera, the interval measured from the fixes' stamps); ``stamp_jitter`` [s, 1 sigma] of the
+    fixes' stamps, folded into each fix's noise along the velocity (the larger of it and the
+    jitter measured from the stamps' spacing, :func:`measured_jitter`); ``spread`` the unscented transform's alpha (points at alpha sqrt(n)
     sigma); ``reinit_after`` rejected fixes in a row that may start a new throw; ``step`` [s]
     filter integration step, ``landing_step`` [s] for predictions; ``horizon`` [s] of the landing
     search; ``ground`` [m] height of the landing plane; ``ball`` preset; ``aero`` the full model's
@@ -184,6 +188,7 @@ class TrackerSettings:
     min_points: int = 5
     init_window: float = 0.25
     min_speed: float = 3.0
+    stamp_jitter: float = 0.0
     reinit_after: int = 6
     step: float = 0.005
     landing_step: float = 0.01
@@ -217,6 +222,7 @@ class TrackerSettings:
         'min_points': (3, 100),
         'init_window': (0.01, 10.0),
         'min_speed': (0.0, 100.0),
+        'stamp_jitter': (0.0, 0.1),
         'reinit_after': (1, 1000),
         'step': (1e-4, 0.02),
         'landing_step': (1e-4, 0.05),
@@ -333,7 +339,7 @@ class _Hypothesis:
 @dataclass
 class _Entry:
     stamp: float
-    z: np.ndarray
+    meas: Measurement  # as given (its stamp's jitter is folded in when it is filtered)
     hyps: list  # hypotheses after this fix (accepted or not)
     t: float  # time of their state
     rejected_in_row: int
@@ -346,13 +352,14 @@ class _Track:
     history: collections.deque = field(default_factory=lambda: collections.deque(maxlen=90))
     landed: bool = False
     rejected_in_row: int = 0
-    fixes: dict = field(default_factory=dict)  # stamp -> fix the filter took, the arc's too
+    fixes: dict = field(default_factory=dict)  # stamp -> Measurement the filter took (jitter
+    # folded in), the arc's too
     prior: tuple = ()  # (index, mean, sigma) of the scales (and wind) at the start
     fit: tuple | None = None  # (key, Refined or None) of the last batch fit
 
-    def keep(self, t: float, z: np.ndarray) -> None:
+    def keep(self, t: float, meas: Measurement) -> None:
         """Record a fix the filter took; past MAX_FIXES every other older one is dropped."""
-        self.fixes[t] = z
+        self.fixes[t] = meas
         if len(self.fixes) > MAX_FIXES:
             stamps = sorted(self.fixes)
             for stamp in stamps[1:-1:2]:
@@ -409,14 +416,34 @@ class FlightTracker:
         return True
 
     # --- public API -----------------------------------------------------------------------
-    def update(self, stamp: float, position, now: float | None = None) -> UpdateResult:
+    def update(
+        self, stamp: float, position, now: float | None = None, covariance=None
+    ) -> UpdateResult:
         """
-        Process one fix.
+        Process one position fix.
 
         Capture time ``stamp`` [s], ``position`` (3,) [m] in ``field``; ``now`` [s]
-        (optional, same clock) refuses fixes from the future.
+        (optional, same clock) refuses fixes from the future; ``covariance`` (3, 3) [m^2] in
+        ``field`` of this fix (None: ``noise``^2 I). A bad one is refused ('invalid', the
+        reason naming it).
         """
-        result = self._update(stamp, position, now)
+        try:
+            meas = position_fix(position, covariance, self.settings.noise)
+        except (TypeError, ValueError) as exc:
+            field_name = 'covariance' if covariance is not None else 'position'
+            result = UpdateResult('invalid', f'{field_name}: {exc}')
+            self.counts[result.status] += 1
+            return result
+        return self.observe(stamp, meas, now)
+
+    def observe(self, stamp: float, meas: Measurement, now: float | None = None) -> UpdateResult:
+        """
+        Process one fix of any measurement model (:mod:`.measurement`) taken at ``stamp`` [s].
+
+        Only a fix that gives a position (:meth:`Measurement.position_guess`) can start a throw;
+        any can update one.
+        """
+        result = self._update(stamp, meas, now)
         self.counts[result.status] += 1
         return result
 
@@ -600,8 +627,8 @@ class FlightTracker:
             return None
         prior = Prior((hand * self.nominal_h1, self.nominal_h1 * s.spin_sigma), s.axis_sigma,
                       s.rate_sigma, tr.prior)
-        zs = np.array([tr.fixes[t] for t in times])
-        return refine(times, zs, x0, prior, s.noise, self.params, s.step, s.refine_iterations)
+        fixes = [tr.fixes[t] for t in times]
+        return refine(times, fixes, x0, prior, s.noise, self.params, s.step, s.refine_iterations)
 
     def _prediction(self, moments_, q: float, normal, height: float = math.nan):
         """
@@ -654,23 +681,23 @@ class FlightTracker:
         return tr.t + times, pos
 
     # --- internals ------------------------------------------------------------------------
-    def _update(self, stamp, position, now) -> UpdateResult:
+    def _update(self, stamp, meas, now) -> UpdateResult:
         s = self.settings
         try:
             t = float(stamp)
-            z = np.asarray(position, dtype=float).reshape(-1)
         except (TypeError, ValueError):
-            return UpdateResult('invalid', 'stamp and position must be numbers')
-        if z.size != 3:
-            return UpdateResult('invalid', f'position must have 3 components, got {z.size}')
-        if not math.isfinite(t) or not np.all(np.isfinite(z)):
-            return UpdateResult('invalid', 'non-finite stamp or position')
-        if np.any(np.abs(z) > 1e5) or abs(t) > 1e12:
+            return UpdateResult('invalid', 'stamp must be a number')
+        if not isinstance(meas, Measurement):
+            return UpdateResult('invalid', 'not a measurement')
+        guess = meas.position_guess()
+        if not math.isfinite(t):
+            return UpdateResult('invalid', 'non-finite stamp')
+        if (guess is not None and np.any(np.abs(guess) > 1e5)) or abs(t) > 1e12:
             return UpdateResult('invalid', 'position beyond 100 km or absurd stamp')
         if now is not None and math.isfinite(now) and t > now + s.max_future:
             return UpdateResult('future', f'stamp {t - now:.3f} s ahead of now')
         if t < self._newest - s.max_lag:
-            result = self._behind(t, z)
+            result = self._behind(t, meas)
             if result.used:
                 self._newest = t
             return result
@@ -678,49 +705,40 @@ class FlightTracker:
         if tr is None or tr.landed or abs(t - tr.t) > s.max_gap:
             # No live throw, or a fix far from it in time (the ball lost for a while, or a
             # wild stamp): it can only help start a new throw.
-            result = self._candidate(t, z)
+            result = self._candidate(t, meas)
         elif t < tr.t or (tr.history and t < tr.history[-1].stamp):
-            result = self._late(tr, t, z)
-        elif tr.history and _same(tr.history[-1], t, z):
+            result = self._late(tr, t, meas)
+        elif tr.history and _same(tr.history[-1], t, meas):
             result = UpdateResult('duplicate', 'this fix was already processed')
         else:
-            result = self._filter(tr, t, z, record=True)
+            result = self._filter(tr, t, meas, record=True)
         if result.used:  # only fixes the filter took move the "newest" (no wild stamp can)
             self._newest = max(self._newest, t)
         return result
 
-    def _filter(self, tr: _Track, t: float, z: np.ndarray, record: bool) -> UpdateResult:
+    def _filter(self, tr: _Track, t: float, meas: Measurement, record: bool) -> UpdateResult:
         s = self.settings
-        R = s.noise**2 * np.eye(3)
-        new_hyps, accepted = [], False
+        new_hyps, accepted, taken = [], False, meas
         best = tr.best
+        jitter = self._jitter(tr, t)
         for hyp in tr.hyps:
             x, P, ok = self._predict(hyp.x, hyp.P, t - tr.t)
             new = hyp.copy()
             if ok:
-                S = P[:3, :3] + R
-                nu = z - x[:3]
-                try:
-                    d2 = float(nu @ np.linalg.solve(S, nu))
-                    logdet = float(np.linalg.slogdet(S)[1])
-                except np.linalg.LinAlgError:
-                    d2, logdet = math.inf, 0.0
-                if d2 <= s.gate:
-                    K = np.linalg.solve(S, P[:3, :]).T  # (n, 3)
-                    x = x + K @ nu
-                    ikh = np.eye(x.size)
-                    ikh[:, :3] -= K
-                    P = ikh @ P @ ikh.T + s.noise**2 * K @ K.T
-                    P = 0.5 * (P + P.T)
+                folded = with_timing(meas, x[:3], x[X_V:X_V + 3], jitter)
+                up = unscented_update(x, P, folded, s.spread)
+                if up is not None and up.d2 <= s.gate:
+                    x = up.x
                     x[X_S:X_S + 3] /= np.linalg.norm(x[X_S:X_S + 3])
-                    if np.all(np.isfinite(x)) and np.all(np.isfinite(P)):
-                        new = _Hypothesis(x, P, hyp.loglik - 0.5 * (d2 + logdet), hyp.hand)
+                    if np.all(np.isfinite(x)):
+                        new = _Hypothesis(x, up.P, hyp.loglik - 0.5 * (up.d2 + up.logdet),
+                                          hyp.hand)
                         if hyp is best:
-                            accepted = True
+                            accepted, taken = True, folded
             new_hyps.append(new)
         if accepted:
             tr.hyps, tr.t = new_hyps, t
-            tr.keep(t, z)
+            tr.keep(t, taken)
             tr.rejected_in_row = 0
             self._candidates.clear()
             self._prune(tr)
@@ -729,14 +747,16 @@ class FlightTracker:
             tr.rejected_in_row += 1
             result = UpdateResult('outlier', 'innovation beyond the Mahalanobis gate')
         if record:
-            tr.history.append(_Entry(t, z, [h.copy() for h in tr.hyps], tr.t, tr.rejected_in_row))
+            tr.history.append(
+                _Entry(t, meas, [h.copy() for h in tr.hyps], tr.t, tr.rejected_in_row)
+            )
         if not accepted:
             if record and tr.rejected_in_row >= s.reinit_after:
-                restart = self._candidate(t, z)
+                restart = self._candidate(t, meas)
                 if restart.status == 'started':
                     return restart
-            elif record:
-                self._candidates.append((t, z))
+            elif record and meas.position_guess() is not None:
+                self._candidates.append((t, meas))
             return result
         if tr.best.x[2] <= s.ground or self._below_ground_soon(tr):
             tr.landed = True
@@ -769,13 +789,13 @@ class FlightTracker:
         propagate_points(pt, ahead, self.params, self.settings.step)
         return bool(pt[0, 2] <= self.settings.ground)
 
-    def _late(self, tr: _Track, t: float, z: np.ndarray) -> UpdateResult:
+    def _late(self, tr: _Track, t: float, meas: Measurement) -> UpdateResult:
         """Roll back to the checkpoint before ``t`` and re-apply the later fixes in order."""
         stamps = [e.stamp for e in tr.history]
         j = bisect.bisect_right(stamps, t)
         if j == 0:
             return UpdateResult('late', 'older than the kept history of the throw')
-        if any(_same(e, t, z) for e in list(tr.history)[max(0, j - 8):j]):
+        if any(_same(e, t, meas) for e in list(tr.history)[max(0, j - 8):j]):
             return UpdateResult('duplicate', 'this fix was already processed')
         later = list(tr.history)[j:]
         base = tr.history[j - 1]
@@ -785,11 +805,11 @@ class FlightTracker:
             del tr.fixes[stamp]
         tr.hyps, tr.t = [h.copy() for h in base.hyps], base.t
         tr.rejected_in_row, tr.landed = base.rejected_in_row, False
-        result = self._filter(tr, t, z, record=True)
+        result = self._filter(tr, t, meas, record=True)
         for e in later:
             if self.track is not tr or tr.landed:
                 break
-            self._filter(tr, e.stamp, e.z, record=True)
+            self._filter(tr, e.stamp, e.meas, record=True)
         return result
 
     def _predict(self, x, P, dt):
@@ -838,20 +858,22 @@ class FlightTracker:
         unstable = min(max(1.0 - self.gyroscopic_stability(x), 0.0), 1.0)
         return s.accel_noise**2 + (s.tumble_noise * unstable) ** 2
 
-    def _candidate(self, t: float, z: np.ndarray) -> UpdateResult:
+    def _candidate(self, t: float, meas: Measurement) -> UpdateResult:
         """Keep the fix; start a throw when it and recent ones fit a ballistic arc."""
-        self._candidates.append((t, z))
-        arc = self._find_arc(self._candidates, t, z)
+        if meas.position_guess() is None:
+            return UpdateResult('candidate', 'a fix without a position cannot start a throw')
+        self._candidates.append((t, meas))
+        arc = self._find_arc(self._candidates, t, meas)
         if isinstance(arc, str):
             return UpdateResult('candidate', arc)
-        times, zs, x0, cov, used = arc
+        times, fixes, x0, cov, used = arc
         self._candidates = collections.deque(
             (c for k, c in enumerate(self._candidates) if k not in used),
             maxlen=self._candidates.maxlen,
         )
-        return self._start(times, zs, x0, cov)
+        return self._start(times, fixes, x0, cov)
 
-    def _behind(self, t: float, z: np.ndarray) -> UpdateResult:
+    def _behind(self, t: float, meas: Measurement) -> UpdateResult:
         """
         Handle a fix older than the newest by more than ``max_lag``: late or a clock restart.
 
@@ -859,14 +881,16 @@ class FlightTracker:
         their own, the clock of the fixes jumped back (a simulator restarted under
         use_sim_time, a detector rebooted): the time base is reset and a throw starts.
         """
-        self._old.append((t, z))
-        arc = self._find_arc(self._old, t, z)
+        if meas.position_guess() is None:
+            return UpdateResult('late', f'stamp {self._newest - t:.3f} s behind the newest fix')
+        self._old.append((t, meas))
+        arc = self._find_arc(self._old, t, meas)
         if isinstance(arc, str):
             return UpdateResult('late', f'stamp {self._newest - t:.3f} s behind the newest fix')
         jump = self._newest - t
         self.reset_time_base()
-        times, zs, x0, cov, _ = arc
-        self._start(times, zs, x0, cov)
+        times, fixes, x0, cov, _ = arc
+        self._start(times, fixes, x0, cov)
         return UpdateResult('started', f'the clock jumped back {jump:.3f} s: time base reset')
 
     def reset_time_base(self) -> None:
@@ -877,23 +901,57 @@ class FlightTracker:
         self._old.clear()
         self.time_resets += 1
 
-    def _find_arc(self, buffer, t: float, z: np.ndarray):
+    def start_window(self, stamps) -> float:
         """
-        Find a ballistic arc through the fix (``t``, ``z``) among the ``buffer``'s fixes.
+        Return the window [s] in which ``min_points`` fixes must fit an arc to start a throw.
 
-        Fixes within ``init_window`` of ``t``; consensus (RANSAC over the pairs with the new
-        fix, at most one fix per stamp) so that clutter, a second ball or wild stamps among
-        them do not hide it; then a least-squares fit of the inliers to within the noise.
+        ``init_window``, or ``min_points`` + 1 fix intervals where the camera is slower (the
+        median spacing of the distinct ``stamps`` [s], at most 2 s).
+        """
+        s = self.settings
+        gaps = np.diff(np.unique(np.asarray(stamps, dtype=float)))
+        if gaps.size == 0:
+            return s.init_window
+        return max(s.init_window, min((s.min_points + 1) * float(np.median(gaps)), 2.0))
+
+    def jitter(self, stamps, min_gaps: int = 8) -> float:
+        """
+        Return the jitter [s] folded into the fixes: told or measured, the larger.
+
+        Measured (:func:`measured_jitter`) from ``stamps`` [s] of one ball's fixes.
+        """
+        return max(self.settings.stamp_jitter, measured_jitter(stamps, min_gaps))
+
+    def _jitter(self, tr: _Track, t: float) -> float:
+        """Return :meth:`jitter` of the fixes the throw took lately and ``t``."""
+        return self.jitter(list(tr.fixes)[-40:] + [t])
+
+    def _find_arc(self, buffer, t: float, meas: Measurement):
+        """
+        Find a ballistic arc through the fix (``t``, ``meas``) among the ``buffer``'s fixes.
+
+        Fixes within :meth:`start_window` of ``t``; consensus (RANSAC over the pairs with the
+        new fix, at most one fix per stamp) so that clutter, a second ball or wild stamps
+        among them do not hide it; then a least-squares fit of the inliers to within each
+        fix's noise (its covariance's largest sigma, and the stamps' jitter times the speed).
         Returns (times, fixes, x0, cov, buffer indices used) or the reason (str) there is none.
         """
         s = self.settings
-        idx = [k for k, c in enumerate(buffer) if abs(c[0] - t) <= s.init_window]
+        window = self.start_window([c[0] for c in buffer])
+        idx = [k for k, c in enumerate(buffer) if abs(c[0] - t) <= window]
         if len(idx) < s.min_points:
-            return 'waiting for enough fixes to start a throw'
+            return (
+                f'waiting for enough fixes to start a throw ({len(idx)} of {s.min_points} '
+                f'within {window:.2f} s)'
+            )
         times = np.array([buffer[k][0] for k in idx])
-        zs = np.array([buffer[k][1] for k in idx])
+        fixes = [buffer[k][1] for k in idx]
+        zs = np.array([f.position_guess() for f in fixes])
+        covs = np.array([f.R for f in fixes])
+        sig2 = np.linalg.eigvalsh(covs)[:, -1]
+        jit2 = s.stamp_jitter**2
+        z = meas.position_guess()
         g = np.array([0.0, 0.0, self.params[dyn.P_GRAVITY]])
-        loose = 8.0 * s.noise + 0.05
         best = None
         for j in range(len(idx)):
             dt = times[j] - t
@@ -902,30 +960,40 @@ class FlightTracker:
             v = (zs[j] - z) / dt + 0.5 * g * dt  # velocity at t of the arc through both
             tau = (times - t)[:, None]
             err = np.linalg.norm(z + v * tau - 0.5 * g * tau**2 - zs, axis=1)
-            inl = _one_per_stamp(times, err, loose)
+            loose = 8.0 * np.sqrt(sig2 + jit2 * float(v @ v)) + 0.05
+            inl = _one_per_stamp(times, err / loose, 1.0)
             if best is None or inl.size > best.size:
                 best = inl
         if best is None or best.size < s.min_points:
             return 'the recent fixes do not fit a ballistic arc yet'
+        jit2 = self.jitter(times[best], min_gaps=4) ** 2  # measured on this ball's fixes alone
         order = best[np.argsort(times[best], kind='stable')]
         keep = list(order)
         for _ in range(3):  # drop the worst fix at most a few times
-            fit = self._ballistic_fit(times[keep], zs[keep])
+            fit = self._ballistic_fit(times[keep], zs[keep], covs[keep], jit2)
             if fit is None:
                 break
-            x0, cov, resid = fit
-            worst = int(np.argmax(resid))
-            if resid[worst] <= 4.0 * s.noise + 0.01:
+            x0, cov, resid, sigma = fit
+            worst = int(np.argmax(resid / (4.0 * sigma + 0.01)))
+            if resid[worst] <= 4.0 * sigma[worst] + 0.01:
                 if np.linalg.norm(x0[3:6]) < s.min_speed:
                     return 'the fixes do not move like a throw'
-                return times[keep], zs[keep], x0, cov, {idx[k] for k in keep}
+                return times[keep], [fixes[k] for k in keep], x0, cov, {idx[k] for k in keep}
             if len(keep) - 1 < s.min_points:
                 break
             del keep[worst]
         return 'the recent fixes do not fit a ballistic arc yet'
 
-    def _ballistic_fit(self, times, zs):
-        """r(t) = r1 + v1 (t - t1) - g/2 (t - t1)^2 z_hat, least squares per axis (t1 = last)."""
+    def _ballistic_fit(self, times, zs, covs, jit2: float):
+        """
+        r(t) = r1 + v1 (t - t1) - g/2 (t - t1)^2 z_hat, generalised least squares (t1 = last).
+
+        Each fix weighted by the inverse of its covariance ``covs`` (k, 3, 3) [m^2] plus
+        ``jit2`` v v' (the stamps' jitter [s^2] along the velocity of an unweighted first fit),
+        so that fixes good across and poor along a camera's ray (a range from the apparent
+        size) pin the arc where they are good. Returns (x0, cov, residuals and sigmas: the
+        Mahalanobis distances and ones) or None.
+        """
         tau = times - times[-1]
         if tau[0] > -1e-3:
             return None
@@ -933,18 +1001,18 @@ class FlightTracker:
         target = zs.copy()
         target[:, 2] += 0.5 * self.params[dyn.P_GRAVITY] * tau**2
         coef, *_ = np.linalg.lstsq(A, target, rcond=None)
-        resid = np.linalg.norm(A @ coef - target, axis=1)
-        cov2 = np.linalg.inv(A.T @ A) * self.settings.noise**2
-        x0 = np.concatenate([coef[0], coef[1]])
-        cov = np.zeros((6, 6))
-        for i in range(3):
-            cov[i, i], cov[i, 3 + i], cov[3 + i, i], cov[3 + i, 3 + i] = (
-                cov2[0, 0],
-                cov2[0, 1],
-                cov2[1, 0],
-                cov2[1, 1],
-            )
-        return x0, cov, resid
+        try:
+            W = np.linalg.inv(covs + jit2 * np.outer(coef[1], coef[1]))  # (k, 3, 3)
+            H = np.concatenate([np.broadcast_to(np.eye(3), W.shape),
+                                tau[:, None, None] * np.eye(3)], axis=2)  # (k, 3, 6)
+            info = np.einsum('kji,kjl,klm->im', H, W, H)
+            cov = np.linalg.inv(info)
+            x0 = cov @ np.einsum('kji,kjl,kl->i', H, W, target)
+        except np.linalg.LinAlgError:
+            return None
+        err = target - np.einsum('kij,j->ki', H, x0)
+        resid = np.sqrt(np.einsum('ki,kij,kj->k', err, W, err))
+        return x0, 0.5 * (cov + cov.T), resid, np.ones_like(resid)
 
     def _spin_prior(self) -> list[tuple[float, float, float]]:
         """
@@ -966,10 +1034,10 @@ class FlightTracker:
             for i in range(k)
         ]
 
-    def _start(self, times, zs, x0, cov6) -> UpdateResult:
-        """Start a throw from its arc: fixes ``times`` (k,), ``zs`` (k, 3); x0, cov6 at the end."""
+    def _start(self, times, fixes, x0, cov6) -> UpdateResult:
+        """Start a throw from its arc: ``times`` (k,), ``fixes`` (k); x0, cov6 at the end."""
         s = self.settings
-        t, z_last, t_span = times[-1], zs[-1], times[-1] - times[0]
+        t, t_span = times[-1], times[-1] - times[0]
         v = x0[3:6]
         # The axis of a spiral leaves the hand along the velocity and stays nearly fixed in
         # space at first: take the velocity at the first fix of the arc.
@@ -1018,28 +1086,45 @@ class FlightTracker:
         self.track.prior = tuple(
             (i, float(x[i]), math.sqrt(P[i, i])) for i in (X_KD, X_KL, X_W, X_W + 1) if i < n_x
         )
-        for tk, zk in zip(times, zs):
-            self.track.keep(float(tk), np.asarray(zk, dtype=float).copy())
+        jitter = self.jitter(times, min_gaps=4)
+        g = np.array([0.0, 0.0, self.params[dyn.P_GRAVITY]])
+        for tk, fix in zip(times, fixes):  # the arc's velocity at each fix for its jitter
+            v_k = v - g * (tk - t)
+            self.track.keep(float(tk), with_timing(fix, fix.position_guess(), v_k, jitter))
         self.track.history.append(
-            _Entry(
-                float(t),
-                np.asarray(z_last, dtype=float).copy(),
-                [h.copy() for h in hyps],
-                float(t),
-                0,
-            )
+            _Entry(float(t), fixes[-1], [h.copy() for h in hyps], float(t), 0)
         )
         self.throws += 1
         return UpdateResult('started')
 
 
-def _same(entry: _Entry, t: float, z: np.ndarray) -> bool:
+def _same(entry: _Entry, t: float, meas: Measurement) -> bool:
     """
-    Tell whether the fix (``t``, ``z``) is the one ``entry`` holds.
+    Tell whether the fix (``t``, ``meas``) is the one ``entry`` holds.
 
     Another detection in the same frame (clutter, a second ball) is not a duplicate.
     """
-    return abs(entry.stamp - t) < 1e-9 and bool(np.all(np.abs(entry.z - z) < 1e-9))
+    z = entry.meas.z
+    return (
+        abs(entry.stamp - t) < 1e-9
+        and z.size == meas.z.size
+        and bool(np.all(np.abs(z - meas.z) < 1e-9))
+    )
+
+
+def measured_jitter(stamps, min_gaps: int = 8) -> float:
+    """
+    Return the jitter [s, 1 sigma] of a camera's stamps [s], from the spread of their spacing.
+
+    A regular camera's stamps are k T + e_k: the spacing's spread is sqrt(2) sigma_e. Robust
+    (median absolute deviation, distinct stamps): dropped frames and a second detection in a
+    frame do not count. 0 with fewer than ``min_gaps`` spacings.
+    """
+    gaps = np.diff(np.unique(np.asarray(stamps, dtype=float)))
+    if gaps.size < min_gaps:
+        return 0.0
+    mad = float(np.median(np.abs(gaps - np.median(gaps))))
+    return 1.4826 * mad / math.sqrt(2.0)
 
 
 def _one_per_stamp(times: np.ndarray, err: np.ndarray, limit: float) -> np.ndarray:

@@ -39,8 +39,11 @@ from geometry_msgs.msg import (
 )
 from nav_msgs.msg import Odometry
 import numpy as np
+from sensor_msgs.msg import CameraInfo
 from std_msgs.msg import ColorRGBA, Header
 from visualization_msgs.msg import Marker, MarkerArray
+
+from ..physics.frames import quaternion_from_matrix
 
 if TYPE_CHECKING:  # type hints only: the command-line tools start without the compiled kernels
     from ..physics.flight import BallSample
@@ -50,6 +53,13 @@ try:  # the real tf2_msgs on a Jazzy install; pip_ros/tf2_msgs built by setup.sh
     from tf2_msgs.msg import TFMessage
 except ImportError:  # pragma: no cover - no TF without tf2_msgs
     TFMessage = None
+
+try:  # the real vision_msgs on a Jazzy install; pip_ros/vision_msgs built by setup.sh on pip ROS
+    from vision_msgs.msg import (
+        BoundingBox2D, Detection2D, Detection2DArray, ObjectHypothesisWithPose,
+    )
+except ImportError:  # pragma: no cover - no camera topics without vision_msgs
+    Detection2DArray = None
 
 ANGLES_FRAME = ''
 """header.frame_id of football/aero_angles(_linear): angles are no vector of any frame, and
@@ -148,6 +158,51 @@ def tf_message(sample: BallSample, stamp: Time, frame_id: str, child_frame_id: s
     transform.transform.translation = vector3(sample.position)
     transform.transform.rotation = quaternion(sample.orientation)
     return TFMessage(transforms=[transform])
+
+
+def camera_info(camera, stamp: Time, frame_id: str):
+    """sensor_msgs/CameraInfo of a :class:`~football_ros.estimation.camera.Camera`."""
+    return CameraInfo(
+        header=header(stamp, frame_id),
+        width=int(camera.width),
+        height=int(camera.height),
+        distortion_model=camera.distortion_model,
+        d=[float(v) for v in camera.D],
+        k=[float(v) for v in camera.K.ravel()],
+        r=[float(v) for v in camera.R.ravel()],
+        p=[float(v) for v in camera.P.ravel()],
+    )
+
+
+def detection_array(detections, stamp: Time, frame_id: str, class_id: str):
+    """
+    vision_msgs/Detection2DArray of ball detections.
+
+    Of :class:`~football_ros.estimation.detections.Detection`: bbox centre = the ball's centre
+    pixel, theta = the outline's long-axis angle [rad], size_x / size_y = its long / short
+    axis [px]; one hypothesis ``class_id``, score 1.
+    """
+    head = header(stamp, frame_id)
+    out = Detection2DArray(header=head)
+    for d in detections:
+        box = BoundingBox2D(size_x=float(d.length), size_y=float(d.width))
+        box.center.position.x, box.center.position.y = float(d.center[0]), float(d.center[1])
+        box.center.theta = float(d.angle)
+        hypothesis = ObjectHypothesisWithPose()
+        hypothesis.hypothesis.class_id, hypothesis.hypothesis.score = class_id, 1.0
+        out.detections.append(Detection2D(header=head, results=[hypothesis], bbox=box))
+    return out
+
+
+def static_transforms(poses, stamp: Time, frame_id: str):
+    """tf2_msgs/TFMessage of (child_frame_id, rotation 3x3, position [m]) in ``frame_id``."""
+    transforms = []
+    for child, rotation, position in poses:
+        t = TransformStamped(header=header(stamp, frame_id), child_frame_id=child)
+        t.transform.translation = vector3(position)
+        t.transform.rotation = quaternion(quaternion_from_matrix(rotation))
+        transforms.append(t)
+    return TFMessage(transforms=transforms)
 
 
 def key_values(values: Mapping[str, object]) -> list[KeyValue]:

@@ -29,6 +29,8 @@ MARKERS = 'football/markers'
 DIAGNOSTICS = '/diagnostics'
 CLOCK = '/clock'
 TF = '/tf'  # absolute, as tf2_ros uses it: one TF tree per domain (see msg_docs/tf.md)
+TF_STATIC = '/tf_static'  # the cameras' optical frames (msg_docs/tf_static.md)
+CAMERA_LEAVES = ('camera_info', 'detections')  # a rig camera's topics (camera_topic)
 RELEASE_REQUEST = 'football/release/request'
 RELEASE_RESPONSE = 'football/release/response'
 RELEASE_STATE = 'football/release/state'
@@ -130,6 +132,23 @@ REQUEST_INBOX = inbox(REQUEST)
 # node): reliable, volatile (a simulator that is not there when a release is accepted must not
 # fly it later), as deep as the requests so that a burst is not cut short in transit.
 ORDER = REQUEST
+
+
+# /tf_static as tf2_ros's StaticBroadcasterQoS: reliable, transient local (a late listener
+# gets the transforms), one message holding every static transform.
+TF_STATIC_QOS = QoSProfile(
+    history=HistoryPolicy.KEEP_LAST,
+    depth=1,
+    reliability=ReliabilityPolicy.RELIABLE,
+    durability=DurabilityPolicy.TRANSIENT_LOCAL,
+)
+
+
+def camera_topic(camera: str, leaf: str) -> str:
+    """Topic of a rig camera: football/camera/<camera>/<leaf>, leaf one of CAMERA_LEAVES."""
+    if leaf not in CAMERA_LEAVES:
+        raise ValueError(f'a camera topic ends in one of {CAMERA_LEAVES}, got {leaf!r}')
+    return f'football/camera/{camera}/{leaf}'
 
 
 def entity_topic(entity: str, leaf: str) -> str:

@@ -66,6 +66,7 @@ from visualization_msgs.msg import MarkerArray
 
 from . import messages as mb
 from . import qos
+from .cameras import CameraRigPublisher
 from .observation_hook import ObservationHook, PARAMETERS as OBSERVATION_PARAMETERS
 from .params import declare_all, ParamSpec
 from .runner import run_node
@@ -74,6 +75,7 @@ try:  # the system package on a Jazzy install; pip_ros/simulation_interfaces on 
     from .simulation_services import SimulationServices
 except ImportError:  # pragma: no cover - no simulation_interfaces: the node runs without them
     SimulationServices = None
+from ..estimation.rig import load_rig
 from ..physics import Release
 from ..physics.flight import BallSample, Flight
 from ..physics.frames import BODY_FRAME, FIELD_FRAME
@@ -210,6 +212,13 @@ PARAMETERS = (
         '~/<name>',
         read_only=True,
     ),
+    ParamSpec(
+        'camera_rig',
+        '',
+        "Camera rig file (YAML, config/rig_*.yaml): each camera's CameraInfo and ball "
+        "detections on football/camera/<name>/..., '' = none",
+        read_only=True,
+    ),
 )
 PUBLISH_TF = ParamSpec(
     'publish_tf',
@@ -279,6 +288,10 @@ class SimulatorNode(Node):
         )
         self._tf_last = (None, -1)  # (publish_clock, stamp ns) of the last transform sent
         self._observation = ObservationHook(self)  # simulated camera: observation_* (tracker)
+        self._rig = (  # camera rig: CameraInfo and Detection2DArray per camera (cameras.py)
+            CameraRigPublisher(self, load_rig(self.camera_rig), self.frame_id)
+            if self.camera_rig else None
+        )
         self.add_on_set_parameters_callback(self._on_parameters)
         self.diagnostic_name = f'football_ros: {self.get_fully_qualified_name()}'
         self.hardware_id = f'football_ros{self.get_fully_qualified_name()}'
@@ -612,6 +625,8 @@ class SimulatorNode(Node):
                 self._clock_pub.publish(self._clock_msg)
             if frame.default_t is not None or sim.world.default.run is None:
                 self._observation.tick(sim.world.default.run, stamp, frame.default_t)
+            if self._rig is not None and frame.default_t is not None:  # camera rig (cameras.py)
+                self._rig.tick(sim.world.default.run, stamp, frame.default_t)
             self._publish_frame(frame, stamp, wall_stamp_ns)
 
     def _publish_frame(self, frame: Frame, stamp, wall_ns: int) -> None:

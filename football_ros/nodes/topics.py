@@ -17,7 +17,8 @@ Every topic the package's nodes publish or subscribe: name -> (message type, QoS
 
 Names and profiles are defined in :mod:`.qos`; this is the one table that pairs them with their
 message types (the recorder records, ``echo`` prints and the tests subscribe from it). Each
-topic's page in msg_docs/ says what it carries.
+topic's page in msg_docs/ says what it carries. A camera rig's topics are named per camera:
+:data:`CAMERA_TOPICS` (the leaves of :func:`qos.camera_topic`).
 """
 
 from __future__ import annotations
@@ -32,11 +33,12 @@ from geometry_msgs.msg import (
 from nav_msgs.msg import Odometry, Path
 from rclpy.qos import QoSProfile
 from rosgraph_msgs.msg import Clock
+from sensor_msgs.msg import CameraInfo
 from std_msgs.msg import String
 from visualization_msgs.msg import MarkerArray
 
 from . import qos
-from .messages import TFMessage
+from .messages import Detection2DArray, TFMessage
 
 STATE_TOPICS: dict[str, type] = {
     qos.POSE: PoseStamped,
@@ -68,7 +70,15 @@ TOPICS: dict[str, tuple[type, QoSProfile]] = {
     qos.PLAN_RESPONSE: (DiagnosticStatus, qos.REQUEST),
     qos.PLAN_PATH: (Path, qos.PLAN_PATH_QOS),
     **({qos.TF: (TFMessage, qos.TF_QOS)} if TFMessage is not None else {}),
+    **({qos.TF_STATIC: (TFMessage, qos.TF_STATIC_QOS)} if TFMessage is not None else {}),
 }
+
+
+CAMERA_TOPICS: dict[str, type] = (
+    {'camera_info': CameraInfo, 'detections': Detection2DArray}
+    if Detection2DArray is not None else {}
+)
+"""Leaf of football/camera/<name>/<leaf> -> message type (QoS ``qos.STATE``)."""
 
 
 def type_name(cls: type) -> str:

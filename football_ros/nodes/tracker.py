@@ -54,9 +54,11 @@ from rclpy.node import Node
 
 from . import messages as mb
 from . import qos
+from .cameras import CameraInputs
 from .params import declare_all, ParamSpec
 from .runner import run_node
 from ..estimation import TrackerSettings
+from ..estimation.camera_fusion import CameraFusion
 from ..estimation.motion import X_H, X_S, X_V
 from ..estimation.multi import MultiTracker
 from ..estimation.tracker import vertical_plane, warm_up
@@ -115,6 +117,12 @@ PARAMETERS = (
         ('prediction_rate', 30.0, 'Landing and path predictions per second [Hz]', (0.1, 1000.0)),
         ('max_tracks', 4, 'Balls tracked at once (each on football/track_<id>/...)', (1, 64)),
         (
+            'pixel_noise',
+            1.0,
+            "Cameras' detection noise: centre and apparent width, 1 sigma [px]",
+            (0.01, 100.0),
+        ),
+        (
             'catch_height',
             1.2,
             'Height whose downward crossing is predicted (football/prediction/catch) [m], 0 = off',
@@ -147,6 +155,15 @@ PARAMETERS = (
             'Start each throw from the drag/lift scales (and wind) the last landed throw learnt',
         ),
     )
+) + (
+    ParamSpec(
+        'cameras',
+        [''],
+        'Cameras whose football/camera/<name>/detections are fused as pixels (intrinsics from '
+        "camera_info, poses from /tf_static); [] or [''] = none",
+        read_only=True,
+        optional=True,
+    ),
 )
 
 
@@ -182,6 +199,15 @@ class TrackerNode(Node):
         )
         self._streams = {None: self._stream(None)}  # None: the primary stream (legacy topics)
         self.create_subscription(PointStamped, qos.OBSERVATION, self._on_fix, qos.STATE)
+        names = [name for name in self.cameras if name]
+        bad = [name for name in names if not name.replace('_', 'a').isalnum()]
+        if bad:
+            raise ValueError(f"parameter 'cameras': {bad[0][:40]!r} is not a camera name "
+                             '(letters, digits and _)')
+        self._fusion = CameraFusion(self.tracker, self.pixel_noise, PRESETS[self.ball].diameter)
+        self._camera_inputs = (
+            CameraInputs(self, names, self.frame_id, self._on_detection) if names else None
+        )
         self._jump = self.get_clock().create_jump_callback(
             JumpThreshold(min_forward=None, min_backward=Duration(seconds=-1.0)),
             post_callback=self._on_clock_jump,
@@ -225,6 +251,21 @@ class TrackerNode(Node):
         track_id, result = self.tracker.update(
             stamp, (msg.point.x, msg.point.y, msg.point.z), now
         )
+        self._took(track_id, result, (msg.point.x, msg.point.y), stamp)
+
+    def _on_detection(self, stamp: float, name: str, camera, center, width: float) -> None:
+        """One camera detection (nodes/cameras.py): fused as pixels (estimation/camera_fusion)."""
+        now = self.get_clock().now().nanoseconds * 1e-9 if self.max_future > 0 else None
+        track_id, result = self._fusion.observe(stamp, camera, center, width, now)
+        if track_id is None and isinstance(result, str):
+            self._camera_inputs.refuse(name, f'detection refused: {result}')
+            return
+        est = self.tracker.taken_by.estimate if result.used else None
+        seen = est[1][:2] if est is not None else (math.nan, math.nan)
+        self._took(track_id, result, seen, stamp)
+
+    def _took(self, track_id, result, seen, stamp: float) -> None:
+        """Publish and log what a fix (a position or a detection) changed."""
         if result.status == 'started' and result.reason:  # the clock of the fixes jumped back
             self.get_logger().warning(result.reason)
             for stream in self._streams.values():
@@ -246,7 +287,7 @@ class TrackerNode(Node):
             est = tracker.estimate
             if result.landed or (est is not None and stream.throttle.due(est[0])):
                 self._publish_predictions(tracker, stream, result.landed and key is None)
-        self._say(track_id, tracker, result.landed, (msg.point.x, msg.point.y), stamp)
+        self._say(track_id, tracker, result.landed, seen, stamp)
         if result.landed:
             self._drop_stream(track_id)
 

@@ -1,0 +1,320 @@
+# Copyright 2026 football_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""The camera model against OpenCV, its Jacobians, the ball's outline, rigs and detections."""
+
+import math
+from pathlib import Path
+
+from football_ros.estimation.camera import ball_image, Camera
+from football_ros.estimation.detections import CameraSimulator, sampled_flight, simulate
+from football_ros.estimation.rig import load_rig, parse_rig
+from football_ros.physics import Flight, Release
+from football_ros.physics.presets import get_preset
+from hypothesis import given, settings, strategies as st
+import numpy as np
+import pytest
+
+cv2 = pytest.importorskip('cv2')
+CONFIG = Path(__file__).resolve().parents[1] / 'config'
+K = np.array([[1400.0, 0.0, 960.0], [0.0, 1390.0, 540.0], [0.0, 0.0, 1.0]])
+LENSES = {
+    'plumb_bob': [-0.25, 0.08, 0.001, -0.0005, -0.01],
+    'rational_polynomial': [0.3, -0.1, 0.001, -0.002, 0.02, 0.5, -0.05, 0.01],
+}
+CRITERIA = (cv2.TERM_CRITERIA_COUNT | cv2.TERM_CRITERIA_EPS, 200, 1e-16)
+
+
+def _points(camera, n=300, seed=1):
+    p = np.random.default_rng(seed).uniform([-4.0, -3.0, 3.0], [4.0, 3.0, 40.0], (n, 3))
+    return p[camera.in_view(p)]
+
+
+def _opencv_undistort(pixels, camera):
+    src = pixels.reshape(-1, 1, 2)
+    if hasattr(cv2, 'undistortPointsIter'):  # OpenCV 4
+        out = cv2.undistortPointsIter(src, camera.K, camera.D, camera.R, camera.P, CRITERIA)
+    else:  # OpenCV 5: undistortPoints takes the criteria
+        out = cv2.undistortPoints(src, camera.K, camera.D, None, camera.R, camera.P, CRITERIA)
+    return out[:, 0]
+
+
+@pytest.mark.parametrize('model', sorted(LENSES))
+def test_projection_and_unprojection_equal_opencv(model):
+    rotation = cv2.Rodrigues(np.array([0.01, -0.02, 0.005]))[0]
+    p_rect = np.column_stack([K * 1.01, [-100.0, 0.0, 0.0]])
+    p_rect[2, 2] = 1.0
+    camera = Camera(1920, 1080, K, np.array(LENSES[model]), model, rotation, p_rect)
+    points = _points(camera)
+    assert len(points) > 200
+    pixels, _ = camera.project_camera(points)
+    ref = cv2.projectPoints(points.reshape(-1, 1, 3), np.zeros(3), np.zeros(3), K, camera.D)[0]
+    assert np.abs(pixels - ref[:, 0]).max() < 1e-9
+    assert np.abs(camera.rectify(pixels) - _opencv_undistort(pixels, camera)).max() < 1e-6
+    rays = camera.unproject(pixels)
+    assert np.abs(rays - points / points[:, 2:]).max() < 1e-12
+
+
+def test_pose_moves_points_into_the_optical_frame():
+    rotation = np.array([[0.0, 0.0, 1.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])  # looking +x
+    camera = Camera(1920, 1080, K, rotation=rotation, position=(1.0, 2.0, 3.0))
+    px, jac = camera.project(np.array([11.0, 2.0, 3.0]))
+    assert np.allclose(px, [960.0, 540.0])
+    # 1 m to the left (+y) at 10 m is 140 px to the left (-u); 1 m up is 139 px up (-v).
+    assert np.allclose(jac, [[0.0, -140.0, 0.0], [0.0, 0.0, -139.0]])
+
+
+@pytest.mark.parametrize('model', sorted(LENSES))
+def test_jacobians_match_finite_differences(model):
+    rotation = cv2.Rodrigues(np.array([0.3, -1.2, 0.4]))[0]
+    camera = Camera(1920, 1080, K, LENSES[model], model, rotation=rotation, position=(2, -1, 1))
+    points = camera.position + _points(Camera(1920, 1080, K, LENSES[model], model)) @ rotation.T
+    _, jac = camera.project(points)
+    h = 1e-6
+    fd = np.stack(
+        [(camera.project(points + h * e)[0] - camera.project(points - h * e)[0]) / (2 * h)
+         for e in np.eye(3)], axis=-1,
+    )
+    assert np.abs(jac - fd).max() < 1e-6 * np.abs(jac).max()
+
+
+def test_outline_of_the_ball_is_the_hull_of_its_surface():
+    """Without a lens the outline is exact: its box is the extent of the surface's pixels."""
+    ball = get_preset('american')
+    camera = Camera(1920, 1080, K)
+    rng = np.random.default_rng(3)
+    u = rng.normal(size=(200_000, 3))
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    for centre, axis in (((0.5, -0.3, 6.0), (1.0, 0.2, 0.3)), ((-1.0, 0.4, 12.0), (0, 1, 0))):
+        axis = np.array(axis, float) / np.linalg.norm(axis)
+        image = ball_image(camera, np.array(centre), axis, ball.length, ball.diameter)
+        # surface points: x = c + a (u.axis) axis + b (u - (u.axis) axis)
+        along = u @ axis
+        surface = (np.array(centre) + 0.5 * ball.length * along[:, None] * axis
+                   + 0.5 * ball.diameter * (u - along[:, None] * axis))
+        px = camera.project(surface)[0]
+        hull = np.concatenate([px.min(axis=0), px.max(axis=0)])
+        assert np.abs(image.box - hull).max() < 0.05
+        assert np.allclose(image.center, camera.project(np.array(centre))[0])
+        # the short axis is close to f D / depth; the long one between it and f L / depth
+        assert image.width == pytest.approx(1395.0 * ball.diameter / centre[2], rel=0.03)
+        assert image.width <= image.length <= 1400.0 * ball.length / centre[2] * 1.02
+
+
+def test_long_axis_angle_follows_the_ball():
+    camera = Camera(1920, 1080, np.array([[1400.0, 0, 960], [0, 1400.0, 540], [0, 0, 1]]))
+    for deg in (-80.0, -30.0, 0.0, 45.0, 89.0):
+        axis = np.array([math.cos(math.radians(deg)), math.sin(math.radians(deg)), 0.0])
+        image = ball_image(camera, np.array([0.0, 0.0, 10.0]), axis, 0.28, 0.17)
+        assert image.angle == pytest.approx(math.radians(deg), abs=1e-9)
+        assert image.length == pytest.approx(1400.0 * 0.28 / 10.0, rel=1e-3)
+
+
+def test_points_behind_or_beyond_the_lens_fold_are_not_seen():
+    camera = Camera(1920, 1080, K, [-0.4, 0.05, 0, 0, 0])  # folds back at r^2 = 1.07
+    assert not camera.in_view(np.array([0.0, 0.0, -5.0]))
+    assert np.all(np.isnan(camera.project(np.array([0.0, 0.0, -5.0]))[0]))
+    assert ball_image(camera, np.array([0.0, 0.0, 0.1]), np.array([1.0, 0, 0]), 0.28, 0.17) is None
+    # r = 2 lies beyond the fold, where the polynomial maps it back inside the image
+    far = np.array([2.0, 0.0, 1.0])
+    assert 0 <= camera.project(far)[0][0] < 1920 and not camera.in_view(far)
+    assert camera.in_view(np.array([0.3, 0.2, 1.0]))
+
+
+def test_bad_camera_info_is_refused_naming_the_field():
+    cases = [
+        ({'width': 0}, 'width'),
+        ({'K': [1, 2, 3]}, "'K'"),
+        ({'K': np.diag([-1.0, 1.0, 1.0])}, "'K'"),
+        ({'D': [0.1, 0.2]}, "'D'"),
+        ({'D': [np.nan] * 5}, "'D'"),
+        ({'distortion_model': 'equidistant'}, 'distortion_model'),
+        ({'R': np.diag([1.0, 1.0, -1.0])}, "'R'"),
+        ({'P': np.zeros((3, 4))}, "'P'"),
+        ({'position': (0, 0, math.inf)}, 'position'),
+    ]
+    for change, name in cases:
+        args = {'width': 1920, 'height': 1080, 'K': K} | change
+        with pytest.raises(ValueError, match=name):
+            Camera(**args)
+
+
+RIG = """
+cameras:
+  a:
+    width: 640
+    height: 480
+    K: [500, 0, 320, 0, 500, 240, 0, 0, 1]
+    position: [0, 10, 2]
+    look_at: [0, 0, 2]
+    rate: 50
+"""
+
+
+def test_rig_files_read_and_bad_fields_are_named():
+    for name in ('sideline', 'stereo', 'mono'):
+        rig = load_rig(CONFIG / f'rig_{name}.yaml')
+        assert len(rig) == (1 if name == 'mono' else 2)
+    (a,) = parse_rig(RIG)
+    assert a.frame_id == 'a_optical' and a.rate == 50.0 and a.pixel_noise == 1.0
+    # looking along -y from y = 10: the optical axis is -y, image right is -x, down is -z
+    assert np.allclose(a.camera.rotation, [[-1, 0, 0], [0, 0, -1], [0, -1, 0]])
+    bad = [
+        ('rate: 50', 'rate: -1', "'a' field 'rate'"),
+        ('rate: 50', 'rate: 50\n    pixel_noise: .nan', "'pixel_noise'"),
+        ('K: [500, 0, 320, 0, 500, 240, 0, 0, 1]', 'K: [500, 0, 320]', "'a' field 'K'"),
+        ('look_at: [0, 0, 2]', 'orientation: [0, 0, 0, 1]\n    look_at: [0, 0, 2]', 'exactly one'),
+        ('look_at: [0, 0, 2]', 'look_at: [0, 10, 2]', "camera 'a': look_at"),
+        ('width: 640', 'width: 640\n    zoom: 2', "unknown field 'zoom'"),
+        ('  a:', '  1a:', 'camera name'),
+        ('    width: 640\n', '', "'width' is missing"),
+    ]
+    for old, new, message in bad:
+        with pytest.raises(ValueError, match=message):
+            parse_rig(RIG.replace(old, new), 'x.yaml')
+    with pytest.raises(ValueError, match='rig.yaml: cannot read'):
+        load_rig('/nonexistent/rig.yaml')
+
+
+SIDE = RIG.replace('[0, 10, 2]', '[20, 40, 5]').replace('[0, 0, 2]', '[20, 0, 5]')
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.text(max_size=400))
+def test_any_rig_text_is_read_or_refused_with_a_value_error(text):
+    try:
+        parse_rig(text)
+    except ValueError:
+        pass
+
+
+def _flight():
+    ball = get_preset('american')
+    release = Release(speed=22, elevation_deg=35, spin_rpm=600, position=(0, 0, 1.8), model='full')
+    truth = Flight.from_release(release).simulate(rate=500.0, duration=20.0)
+    return ball, truth, sampled_flight(truth.times, truth.positions, truth.velocities, truth.axes)
+
+
+def test_detections_follow_the_ball_with_the_rig_s_noise_and_timing():
+    ball, truth, balls_at = _flight()
+    text = SIDE.replace('rate: 50', 'rate: 60\n    phase: 0.004\n    latency: 0.03\n'
+                        '    pixel_noise: 0.5\n    dropout: 0.1\n    seed: 4')
+    (spec,) = parse_rig(text)
+    frames = simulate((spec,), balls_at, 0.0, truth.times[-1], ball.length, ball.diameter)
+    stamps = np.array([f.stamp for f in frames])
+    assert np.allclose(np.diff(stamps), 1 / 60) and stamps[0] == pytest.approx(0.004)
+    assert all(f.delivery == pytest.approx(f.stamp + 0.03) for f in frames)
+    errors, seen = [], 0
+    for f in frames:
+        centre, axis = balls_at(f.exposure)
+        visible = bool(spec.camera.in_view(centre)[0])
+        seen += visible
+        for d in f.detections:
+            errors.append(d.center - spec.camera.project(centre[0])[0])
+    errors = np.array(errors)
+    assert 0.8 * seen < len(errors) < 0.97 * seen  # 10 % dropped
+    assert np.std(errors) == pytest.approx(0.5, rel=0.15) and abs(np.mean(errors)) < 0.1
+
+
+def test_the_online_camera_delivers_what_the_offline_one_does():
+    ball, truth, balls_at = _flight()
+    (spec,) = parse_rig(SIDE)
+    offline = simulate((spec,), balls_at, 0.0, 2.0, ball.length, ball.diameter)
+    sim = CameraSimulator(spec, ball.length, ball.diameter)
+    sim.start(0.0)
+    online = []
+    for now in np.arange(0.0, 2.5, 0.001):
+        online += sim.step(now, balls_at)
+    online = [f for f in online if f.exposure <= 2.0]
+    assert [f.stamp for f in online] == [f.stamp for f in offline]
+    assert all(
+        np.array_equal(a.center, b.center)
+        for x, y in zip(online, offline) for a, b in zip(x.detections, y.detections)
+    )
+
+
+def test_range_fix_covers_the_ball_as_its_covariance_says():
+    """Monte Carlo of the width's noise: the range fix's errors match its covariance."""
+    from football_ros.estimation.camera_fusion import range_fix
+
+    camera = Camera(1920, 1080, K, LENSES['plumb_bob'])
+    ball = np.array([1.0, -0.5, 25.0])
+    width = camera.image_width(ball, 0.17)
+    rng = np.random.default_rng(5)
+    d2 = []
+    for _ in range(400):
+        center = camera.project(ball)[0] + rng.normal(0.0, 1.0, 2)
+        fix = range_fix(camera, center, width + rng.normal(0.0, 1.0), 1.0, 0.17)
+        e = fix.z - ball
+        d2.append(e @ np.linalg.solve(fix.R, e))
+    # the noises' share of the covariance is exact to first order; the width model adds 3 %
+    assert 1.0 < np.mean(d2) < 3.5
+
+
+def test_pixel_fix_predicts_the_camera_s_pixels_and_width():
+    from football_ros.estimation.camera_fusion import pixel_fix
+
+    camera = Camera(1920, 1080, K, LENSES['rational_polynomial'],
+                    'rational_polynomial')
+    points = _points(camera, 20)
+    fix = pixel_fix(camera, (960.0, 540.0), 12.0, 1.0, 0.17)
+    out = fix.predict(points)
+    assert np.allclose(out[:, :2], camera.project(points)[0])
+    # the apparent diameter of a sphere on the axis is f D / Z
+    on_axis = fix.predict(np.array([[0.0, 0.0, 10.0]]))[0]
+    assert on_axis[2] == pytest.approx(math.sqrt(1400.0 * 1390.0) * 0.17 / 10.0, rel=1e-9)
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    st.lists(st.floats(allow_nan=True, allow_infinity=True), min_size=3, max_size=3),
+    st.floats(allow_nan=True, allow_infinity=True),
+)
+def test_any_detection_is_taken_or_refused_with_a_reason(values, stamp):
+    from football_ros.estimation import FlightTracker
+    from football_ros.estimation.camera_fusion import CameraFusion
+
+    fusion = CameraFusion(FlightTracker(), 1.0, 0.17)
+    camera = Camera(1920, 1080, K)
+    track_id, result = None, None
+    answer = fusion.observe(stamp, camera, values[:2], values[2])
+    if isinstance(answer, tuple):
+        track_id, result = answer
+        assert track_id is None and isinstance(result, str)
+    else:
+        assert answer.status in ('candidate', 'invalid'), answer
+    assert sum(fusion.counts.values()) >= 1
+
+
+@pytest.mark.parametrize('rig_name', ['sideline'])
+def test_the_tracker_fuses_a_rig_s_pixels_to_the_landing(rig_name):
+    from football_ros.estimation import FlightTracker
+    from football_ros.estimation.camera_fusion import CameraFusion
+
+    rig = load_rig(CONFIG / f'rig_{rig_name}.yaml')
+    ball, truth, balls_at = _flight()
+    frames = simulate(rig, balls_at, 0.0, truth.times[-1], ball.length, ball.diameter)
+    cams = {c.name: c.camera for c in rig}
+    fusion = CameraFusion(FlightTracker(), 1.0, ball.diameter)
+    t_eval = truth.times[-1] - 0.5
+    for f in frames:
+        if f.delivery > t_eval:
+            break
+        for d in f.detections:
+            fusion.observe(f.stamp, cams[f.camera], d.center, d.width)
+    pred = fusion.tracker.predict_landing()
+    err = pred.position[:2] - truth.positions[-1, :2]
+    assert np.linalg.norm(err) < 0.3
+    assert err @ np.linalg.solve(pred.covariance, err) < 13.8  # inside the 99.9 % ellipse
+    assert fusion.tracker.counts['accepted'] > 0.9 * fusion.counts['pixels']
