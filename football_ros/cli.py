@@ -334,10 +334,12 @@ def _cmd_compile(args: argparse.Namespace) -> int:
     where = numba_cache_dir() or 'beside the sources (__pycache__)'
     print(f'football-ros compile: numba kernels; cache: {where}', flush=True)
     steps = compile_ahead(lambda line: print(line, flush=True) if not args.quiet else None)
+    from .estimation.tracker import warm_up as tracker_kernels
     from .simulation.kernel import warm_up as world_kernel
     from .tools.fastcsv import warm_up as csv_writer
 
-    for warm_up in (world_kernel, csv_writer):  # the simulator's world, the Monte Carlo CSV
+    # the simulator's world, the Monte Carlo CSV, the tracker
+    for warm_up in (world_kernel, csv_writer, tracker_kernels):
         steps.append(warm_up())
         if not args.quiet:
             print(f'[+] {steps[-1].name}: {steps[-1].seconds:.1f} s', flush=True)

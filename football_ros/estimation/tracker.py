@@ -80,12 +80,13 @@ from __future__ import annotations
 
 import bisect
 import collections
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 import math
 from types import SimpleNamespace
 
 import numpy as np
 
+from .measurement import Measurement, position_fix, unscented_update, with_timing
 from .motion import (
     fly_state,
     fly_to_planes,
@@ -101,7 +102,6 @@ from .motion import (
     X_V,
     X_W,
 )
-from .measurement import Measurement, position_fix, PositionFix, unscented_update, with_timing
 from .refine import Prior, refine, Refined
 from .sensor import check_numbers
 from .unscented import moments, sigma_points
@@ -151,7 +151,8 @@ class TrackerSettings:
     [m/s] for a new throw (the window grows to ``min_points`` + 1 fix intervals of a slow
     camera, the interval measured from the fixes' stamps); ``stamp_jitter`` [s, 1 sigma] of the
     fixes' stamps, folded into each fix's noise along the velocity (the larger of it and the
-    jitter measured from the stamps' spacing, :func:`measured_jitter`); ``spread`` the unscented transform's alpha (points at alpha sqrt(n)
+    jitter measured from the stamps' spacing, :func:`measured_jitter`); ``spread`` the
+    unscented transform's alpha (points at alpha sqrt(n)
     sigma); ``reinit_after`` rejected fixes in a row that may start a new throw; ``step`` [s]
     filter integration step, ``landing_step`` [s] for predictions; ``horizon`` [s] of the landing
     search; ``ground`` [m] height of the landing plane; ``ball`` preset; ``aero`` the full model's
@@ -947,7 +948,8 @@ class FlightTracker:
         times = np.array([buffer[k][0] for k in idx])
         fixes = [buffer[k][1] for k in idx]
         zs = np.array([f.position_guess() for f in fixes])
-        sig2 = np.array([np.linalg.eigvalsh(f.R)[-1] for f in fixes])
+        covs = np.array([f.R for f in fixes])
+        sig2 = np.linalg.eigvalsh(covs)[:, -1]
         jit2 = s.stamp_jitter**2
         z = meas.position_guess()
         g = np.array([0.0, 0.0, self.params[dyn.P_GRAVITY]])
@@ -969,12 +971,13 @@ class FlightTracker:
         order = best[np.argsort(times[best], kind='stable')]
         keep = list(order)
         for _ in range(3):  # drop the worst fix at most a few times
-            fit = self._ballistic_fit(times[keep], zs[keep], sig2[keep], jit2)
+            fit = self._ballistic_fit(times[keep], zs[keep], covs[keep], jit2)
             if fit is None:
                 break
             x0, cov, resid, sigma = fit
-            worst = int(np.argmax(resid / (4.0 * sigma + 0.01)))
-            if resid[worst] <= 4.0 * sigma[worst] + 0.01:
+            bad = resid / (4.0 + 0.01 / sigma)  # within 4 sigma + 1 cm: <= 1
+            worst = int(np.argmax(bad))
+            if bad[worst] <= 1.0:
                 if np.linalg.norm(x0[3:6]) < s.min_speed:
                     return 'the fixes do not move like a throw'
                 return times[keep], [fixes[k] for k in keep], x0, cov, {idx[k] for k in keep}
@@ -983,36 +986,35 @@ class FlightTracker:
             del keep[worst]
         return 'the recent fixes do not fit a ballistic arc yet'
 
-    def _ballistic_fit(self, times, zs, sig2, jit2: float):
+    def _ballistic_fit(self, times, zs, covs, jit2: float):
         """
-        r(t) = r1 + v1 (t - t1) - g/2 (t - t1)^2 z_hat, least squares per axis (t1 = last).
+        r(t) = r1 + v1 (t - t1) - g/2 (t - t1)^2 z_hat, generalised least squares (t1 = last).
 
-        Each fix weighted by 1 / (``sig2`` + ``jit2`` v^2) (its variance [m^2], the stamps'
-        jitter [s^2] times the speed of an unweighted first fit). Returns (x0, cov, residuals
-        [m], sigmas [m]) or None.
+        Fix k weighted by the inverse of ``covs``[k] (3, 3) [m^2] + ``jit2`` v v' (the stamps'
+        jitter [s^2], v the velocity of an unweighted first fit at the fix). Returns (x0, cov,
+        each fix's Mahalanobis residual, its largest sigma [m]) or None.
         """
         tau = times - times[-1]
         if tau[0] > -1e-3:
             return None
+        g = np.array([0.0, 0.0, self.params[dyn.P_GRAVITY]])
         A = np.column_stack([np.ones_like(tau), tau])
-        target = zs.copy()
-        target[:, 2] += 0.5 * self.params[dyn.P_GRAVITY] * tau**2
+        target = zs + 0.5 * np.outer(tau**2, g)
         coef, *_ = np.linalg.lstsq(A, target, rcond=None)
-        var = sig2 + jit2 * float(coef[1] @ coef[1])
-        w = 1.0 / np.sqrt(var)
-        coef, *_ = np.linalg.lstsq(A * w[:, None], target * w[:, None], rcond=None)
-        resid = np.linalg.norm(A @ coef - target, axis=1)
-        cov2 = np.linalg.inv((A * w[:, None] ** 2).T @ A)
-        x0 = np.concatenate([coef[0], coef[1]])
-        cov = np.zeros((6, 6))
-        for i in range(3):
-            cov[i, i], cov[i, 3 + i], cov[3 + i, i], cov[3 + i, 3 + i] = (
-                cov2[0, 0],
-                cov2[0, 1],
-                cov2[1, 0],
-                cov2[1, 1],
-            )
-        return x0, cov, resid, np.sqrt(var)
+        vel = coef[1][None, :] - np.outer(tau, g)
+        C = covs + jit2 * np.einsum('ki,kj->kij', vel, vel)
+        W = np.linalg.inv(C)
+        blocks = np.concatenate([np.repeat(np.eye(3)[None], tau.size, 0),
+                                 tau[:, None, None] * np.eye(3)], axis=2)  # (k, 3, 6)
+        info = np.einsum('kai,kab,kbj->ij', blocks, W, blocks)
+        try:
+            cov = np.linalg.inv(info)
+        except np.linalg.LinAlgError:
+            return None
+        x0 = cov @ np.einsum('kai,kab,kb->i', blocks, W, target)
+        err = target - np.einsum('kai,i->ka', blocks, x0)
+        resid = np.sqrt(np.einsum('ka,kab,kb->k', err, W, err))
+        return x0, 0.5 * (cov + cov.T), resid, np.sqrt(np.linalg.eigvalsh(C)[:, -1])
 
     def _spin_prior(self) -> list[tuple[float, float, float]]:
         """
@@ -1051,7 +1053,14 @@ class FlightTracker:
         for i in range(3):
             P[3 + i, 3 + i] += (0.01 * speed) ** 2
             P[i, i] += 1e-4
-        P[X_S:X_S + 3, X_S:X_S + 3] = s.axis_sigma**2 * perp + 1e-8 * np.eye(3)
+        # The axis is guessed along the arc's velocity, so it shares that velocity's error: a
+        # noisy view (a mono camera's depth) leaves the direction itself uncertain.
+        J = perp / float(np.linalg.norm(v_first))
+        P[X_S:X_S + 3, :6] = J @ P[3:6, :6]
+        P[:6, X_S:X_S + 3] = P[X_S:X_S + 3, :6].T
+        P[X_S:X_S + 3, X_S:X_S + 3] = (
+            s.axis_sigma**2 * perp + J @ P[3:6, 3:6] @ J.T + 1e-8 * np.eye(3)
+        )
         P[X_KD, X_KD] = P[X_KL, X_KL] = s.scale_sigma**2
         if n_x == N_X_WIND:  # unknown steady wind beyond the known ``wind``, mean 0
             P[X_W, X_W] = P[X_W + 1, X_W + 1] = s.wind_sigma**2
@@ -1080,6 +1089,8 @@ class FlightTracker:
             c = hand * h1 * P[X_S:X_S + 3, X_S:X_S + 3]
             Ph[X_H:X_H + 3, X_S:X_S + 3] = c
             Ph[X_S:X_S + 3, X_H:X_H + 3] = c.T
+            Ph[X_H:X_H + 3, :6] = hand * h1 * P[X_S:X_S + 3, :6]
+            Ph[:6, X_H:X_H + 3] = Ph[X_H:X_H + 3, :6].T
             Ph[X_H:X_H + 3, X_H:X_H + 3] += hand * h1 * c
             hyps.append(_Hypothesis(x, Ph, 0.0, hand))
         self.track = _Track(hyps, float(t))
@@ -1096,6 +1107,41 @@ class FlightTracker:
         )
         self.throws += 1
         return UpdateResult('started')
+
+
+def warm_up(settings: TrackerSettings | None = None):
+    """
+    Load (or compile) every kernel the tracker runs; return a CompileStep.
+
+    A throw seen by a scratch tracker of ``settings`` and of its wind-estimating variant:
+    the filter, the predictions on all planes, the path, the batch fit and a late fix's
+    roll-back.
+    """
+    import time
+
+    from ..physics.precompile import CompileStep
+    from . import motion
+
+    def counts():
+        stats = [d.stats for d in vars(motion).values() if hasattr(d, 'stats')]
+        return (sum(sum(st.cache_hits.values()) for st in stats),
+                sum(sum(st.cache_misses.values()) for st in stats))
+
+    start, (hits, misses) = time.perf_counter(), counts()
+    base = settings or TrackerSettings()
+    for s in (base, replace(base, wind_sigma=base.wind_sigma or 1.0)):
+        scratch = FlightTracker(s)
+        for k in range(40):
+            t = k / 60.0
+            scratch.update(t, (20.0 * t, 0.5 * t, 1.8 + 12.0 * t - 4.905 * t * t))
+        scratch.predict_planes(1.2, vertical_plane(10.0, 0.0, 0.0))
+        scratch.predict_path(0.05)
+        _, x, _ = scratch.estimate
+        fly_state(x, [-0.01], scratch.params, s.step)  # the batch fit's kernel
+        scratch.update(0.5 / 60.0, (0.2, 0.0, 1.9))  # a late fix: the roll-back path
+    new_hits, new_misses = counts()
+    return CompileStep('tracker kernels (filter, predictions, batch fit)',
+                       time.perf_counter() - start, new_hits - hits, new_misses - misses)
 
 
 def _same(entry: _Entry, t: float, meas: Measurement) -> bool:

@@ -59,6 +59,7 @@ TOPICS: dict[str, tuple[type, QoSProfile]] = {
     qos.FLIGHT_ORDER: (String, qos.ORDER),
     qos.FLIGHT_ACK: (DiagnosticStatus, qos.ORDER),
     qos.OBSERVATION: (PointStamped, qos.STATE),
+    qos.OBSERVATION_COV: (PoseWithCovarianceStamped, qos.STATE),
     qos.ESTIMATE: (Odometry, qos.STATE),
     qos.LANDING: (PoseWithCovarianceStamped, qos.STATE),
     qos.CATCH: (PoseWithCovarianceStamped, qos.STATE),
@@ -68,6 +69,7 @@ TOPICS: dict[str, tuple[type, QoSProfile]] = {
     qos.PLAN_RESPONSE: (DiagnosticStatus, qos.REQUEST),
     qos.PLAN_PATH: (Path, qos.PLAN_PATH_QOS),
     **({qos.TF: (TFMessage, qos.TF_QOS)} if TFMessage is not None else {}),
+    **({qos.TF_STATIC: (TFMessage, qos.TF_STATIC_QOS)} if TFMessage is not None else {}),
 }
 
 

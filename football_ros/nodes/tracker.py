@@ -16,7 +16,10 @@
 Tracker node: ball positions from any detector in, state estimate and landing prediction out.
 
 Subscribes ``football/observation`` (geometry_msgs/msg/PointStamped, header.stamp = capture
-time) and runs :class:`football_ros.estimation.FlightTracker` (an unscented Kalman filter on
+time) and ``football/observation_with_covariance`` (geometry_msgs/msg/PoseWithCovarianceStamped:
+the position and its 3x3 covariance block, the orientation ignored), in ``frame_id`` or in any
+frame /tf_static connects to it (the fix and its covariance rotated into ``frame_id``), and
+runs :class:`football_ros.estimation.FlightTracker` (an unscented Kalman filter on
 the package's full flight model, its predictions from a batch fit of every fix once the hand
 is known, ``refine_iterations``; the filter, its choices and its limits are documented
 there). Publishes ``football/estimate`` (nav_msgs/msg/Odometry with covariances),
@@ -34,8 +37,9 @@ ended: why') and its own topics ``football/track_<id>/estimate``,
 ``football/track_<id>/prediction/landing``, ``.../catch``, ``.../receiver`` and
 ``football/track_<id>/prediction/path`` (:func:`qos.track_topic`), created at its start and
 removed after its end; the topics without an id carry the oldest live track (the only one when
-one ball flies). Predictions are throttled
-to ``prediction_rate`` per second of the fixes' own clock (not the node's); a clock that jumps
+one ball flies). When fixes keep arriving for a second and no throw starts, or a track is lost
+or replaced by a new throw, one log line and a WARN status on /diagnostics say why.
+Predictions are throttled to ``prediction_rate`` per second of the fixes' own clock (not the node's); a clock that jumps
 back (a /clock source restarted under use_sim_time) ends every track and resets the time base,
 with a log line.
 """
@@ -45,6 +49,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 import math
 
+from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import Point, PointStamped, PoseStamped, PoseWithCovarianceStamped
 from nav_msgs.msg import Odometry, Path
 import numpy as np
@@ -56,10 +61,11 @@ from . import messages as mb
 from . import qos
 from .params import declare_all, ParamSpec
 from .runner import run_node
-from ..estimation import FlightTracker, TrackerSettings
-from ..estimation.motion import fly_state, X_H, X_S, X_V
+from ..estimation import TrackerSettings
+from ..estimation.motion import X_H, X_S, X_V
 from ..estimation.multi import MultiTracker
-from ..estimation.tracker import vertical_plane
+from ..estimation.static_frames import StaticFrames
+from ..estimation.tracker import vertical_plane, warm_up
 from ..physics.frames import attitude_with_axis, FIELD_FRAME
 from ..physics.presets import PRESETS
 
@@ -102,6 +108,24 @@ PARAMETERS = (
             TrackerSettings.LIMITS['refine_iterations'],
         ),
         ('spin_rpm', 0.0, "Nominal |spin| [rev/min] of a throw, 0 = the preset's", (0.0, 3000.0)),
+        (
+            'stamp_jitter',
+            TrackerSettings.stamp_jitter,
+            "Jitter of the fixes' stamps, 1 sigma [s] (the measured one if larger)",
+            TrackerSettings.LIMITS['stamp_jitter'],
+        ),
+        (
+            'min_points',
+            TrackerSettings.min_points,
+            'Fixes on a ballistic arc that start a throw',
+            TrackerSettings.LIMITS['min_points'],
+        ),
+        (
+            'init_window',
+            TrackerSettings.init_window,
+            'Window of those fixes [s] (grows to min_points + 1 intervals of a slow camera)',
+            TrackerSettings.LIMITS['init_window'],
+        ),
         ('gate', 21.11, 'Outlier gate: squared Mahalanobis distance', (1.0, 10000.0)),
         ('max_lag', 0.5, 'Oldest fix accepted behind the newest [s]', (0.0, 10.0)),
         ('max_gap', 0.5, 'Silence that ends a throw [s]', (0.01, 100.0)),
@@ -165,6 +189,9 @@ class TrackerNode(Node):
                 refine_iterations=int(self.refine_iterations),
                 ball=self.ball,
                 spin_rpm=self.spin_rpm or None,
+                stamp_jitter=self.stamp_jitter,
+                min_points=int(self.min_points),
+                init_window=self.init_window,
                 gate=self.gate,
                 max_lag=self.max_lag,
                 max_gap=self.max_gap,
@@ -182,11 +209,23 @@ class TrackerNode(Node):
         )
         self._streams = {None: self._stream(None)}  # None: the primary stream (legacy topics)
         self.create_subscription(PointStamped, qos.OBSERVATION, self._on_fix, qos.STATE)
+        self.create_subscription(
+            PoseWithCovarianceStamped, qos.OBSERVATION_COV, self._on_fix, qos.STATE
+        )
+        self.frames = StaticFrames()
+        if mb.TFMessage is not None:
+            self.create_subscription(
+                mb.TFMessage, qos.TF_STATIC, self._on_tf_static, qos.TF_STATIC_QOS
+            )
+        self._diag_pub = self.create_publisher(
+            DiagnosticArray, qos.DIAGNOSTICS, qos.DIAGNOSTICS_QOS
+        )
+        self.diagnostic_name = f'football_ros: {self.get_fully_qualified_name()}'
         self._jump = self.get_clock().create_jump_callback(
             JumpThreshold(min_forward=None, min_backward=Duration(seconds=-1.0)),
             post_callback=self._on_clock_jump,
         )
-        _warm_up(self.tracker.settings)
+        warm_up(self.tracker.settings)  # every kernel of the tracker, before 'ready'
         self.get_logger().info(
             f"ready: tracking '{self.resolve_topic_name(qos.OBSERVATION)}' in "
             f"'{self.frame_id}' ({self.ball}, noise {self.observation_noise:g} m)"
@@ -206,25 +245,38 @@ class TrackerNode(Node):
         except Exception as exc:  # noqa: BLE001 - never from a clock callback
             self.get_logger().error(f'clock jump not handled: {exc!r}'[:300])
 
-    def _on_fix(self, msg: PointStamped) -> None:
+    def _on_tf_static(self, msg) -> None:
+        """Record the static transforms (each checked; a bad one is refused with a log line)."""
+        try:
+            for tf in msg.transforms[:256]:
+                tr, rot = tf.transform.translation, tf.transform.rotation
+                try:
+                    self.frames.add(
+                        tf.header.frame_id, tf.child_frame_id, (tr.x, tr.y, tr.z),
+                        (rot.x, rot.y, rot.z, rot.w),
+                    )
+                except ValueError as exc:
+                    self.get_logger().warning(
+                        f'/tf_static transform refused: {exc}', throttle_duration_sec=2.0
+                    )
+        except Exception as exc:  # noqa: BLE001 - a bad message must never stop the node
+            self.get_logger().error(f'/tf_static ignored after an internal error: {exc!r}'[:300])
+
+    def _on_fix(self, msg) -> None:
         try:
             self._handle(msg)
         except Exception as exc:  # noqa: BLE001 - a bad fix must never stop the node
             self.get_logger().error(f'fix ignored after an internal error: {exc!r}'[:300])
 
-    def _handle(self, msg: PointStamped) -> None:
-        if msg.header.frame_id != self.frame_id:
-            self.get_logger().warning(
-                f"fix refused: header.frame_id '{msg.header.frame_id[:40]}' is not "
-                f"'{self.frame_id}'",
-                throttle_duration_sec=2.0,
-            )
+    def _handle(self, msg) -> None:
+        fix = fix_of(msg, self.frame_id, self.frames)
+        if isinstance(fix, str):
+            self.get_logger().warning(f'fix refused: {fix}', throttle_duration_sec=2.0)
             return
+        position, covariance = fix
         stamp = _ns(msg.header.stamp) * 1e-9
         now = self.get_clock().now().nanoseconds * 1e-9 if self.max_future > 0 else None
-        track_id, result = self.tracker.update(
-            stamp, (msg.point.x, msg.point.y, msg.point.z), now
-        )
+        track_id, result = self.tracker.update(stamp, position, now, covariance)
         if result.status == 'started' and result.reason:  # the clock of the fixes jumped back
             self.get_logger().warning(result.reason)
             for stream in self._streams.values():
@@ -246,7 +298,7 @@ class TrackerNode(Node):
             est = tracker.estimate
             if result.landed or (est is not None and stream.throttle.due(est[0])):
                 self._publish_predictions(tracker, stream, result.landed and key is None)
-        self._say(track_id, tracker, result.landed, (msg.point.x, msg.point.y), stamp)
+        self._say(track_id, tracker, result.landed, position[:2], stamp)
         if result.landed:
             self._drop_stream(track_id)
 
@@ -305,7 +357,10 @@ class TrackerNode(Node):
         """Log the tracks started and ended; open and close their streams."""
         events, self.tracker.events = self.tracker.events, []
         for ev in events:
-            if ev.kind == 'started':
+            if ev.kind == 'no_start':
+                self.get_logger().warning(ev.reason)
+                self._diagnose('no_start', ev.reason, ev.time)
+            elif ev.kind == 'started':
                 self._streams[ev.track_id] = self._stream(ev.track_id)
                 self.get_logger().info(
                     f'new throw #{ev.track_id} at t = {ev.time:.3f} s '
@@ -314,7 +369,19 @@ class TrackerNode(Node):
             else:
                 if ev.reason != 'landed':
                     self._drop_stream(ev.track_id)
+                    self._diagnose('track_ended', f'throw #{ev.track_id} ended: {ev.reason}',
+                                   ev.time)
                 self.get_logger().info(f'throw #{ev.track_id} ended: {ev.reason}')
+
+    def _diagnose(self, event: str, text: str, t: float) -> None:
+        """Publish one WARN status on /diagnostics (stamped ``t`` [s] of the fixes' clock)."""
+        msg = DiagnosticArray()
+        if _stampable(t):
+            msg.header.stamp = _seconds_msg(t)
+        msg.status = [mb.diagnostic_status(
+            self.diagnostic_name, 'WARN', text, {'event': event, 'time': float(t)}
+        )]
+        self._diag_pub.publish(msg)
 
     def _publish_estimate(self, tracker, stream) -> None:
         est = tracker.estimate
@@ -385,6 +452,37 @@ class PredictionThrottle:
     def reset(self) -> None:
         """Forget the last prediction's time."""
         self._last = -math.inf
+
+
+def fix_of(msg, frame_id: str, frames: StaticFrames):
+    """
+    Return (position (3,) [m], covariance (3, 3) [m^2] or None) of a fix in ``frame_id``.
+
+    ``msg`` a PointStamped (no covariance) or a PoseWithCovarianceStamped (its position block);
+    in ``frame_id`` or a frame ``frames`` connects to it (rotated and moved into it). A str
+    (the reason, naming the field) if the fix cannot be used.
+    """
+    source = msg.header.frame_id
+    if isinstance(msg, PointStamped):
+        p, cov = msg.point, None
+    else:
+        p = msg.pose.pose.position
+        full = np.asarray(msg.pose.covariance, dtype=float)
+        if full.size != 36 or not np.all(np.isfinite(full)):
+            return 'pose.covariance must be 36 finite numbers'
+        cov = full.reshape(6, 6)[:3, :3]
+        if not np.any(cov):  # all zero: not given (the ROS convention), the node's noise
+            cov = None
+    position = np.array([p.x, p.y, p.z], dtype=float)
+    if source != frame_id:
+        transform = frames.lookup(frame_id, source)
+        if transform is None:
+            return (f"header.frame_id '{source[:40]}' is not '{frame_id}' nor a frame "
+                    '/tf_static connects to it')
+        R, t = transform
+        position = R @ position + t
+        cov = None if cov is None else R @ cov @ R.T
+    return position, cov
 
 
 def _finite(*arrays) -> bool:
@@ -461,23 +559,6 @@ def path_message(t: float, times: np.ndarray, positions: np.ndarray, frame_id: s
         pose.pose.orientation.w = 1.0
         msg.poses.append(pose)
     return msg
-
-
-def _warm_up(settings: TrackerSettings) -> None:
-    """
-    Compile the filter's kernels now, not on the first real fix.
-
-    A throw seen on a scratch tracker.
-    """
-    scratch = FlightTracker(settings)
-    for k in range(12):
-        t = k / 60.0
-        scratch.update(t, (20.0 * t, 0.0, 1.8 + 12.0 * t - 4.905 * t * t))
-    scratch.predict_planes(1.2, vertical_plane(10.0, 0.0, 0.0))
-    scratch.predict_path(0.05)
-    _, x, _ = scratch.estimate  # the batch fit's kernel (this short throw keeps both hands)
-    fly_state(x, [-0.01], scratch.params, settings.step)
-    scratch.update(0.5 / 60.0, (0.2, 0.0, 1.9))  # a late fix: the roll-back path
 
 
 def main(argv=None) -> int:
