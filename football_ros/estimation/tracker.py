@@ -80,7 +80,7 @@ from __future__ import annotations
 
 import bisect
 import collections
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 import math
 from types import SimpleNamespace
 
@@ -158,7 +158,11 @@ class TrackerSettings:
     search; ``ground`` [m] height of the landing plane; ``ball`` preset; ``aero`` the full model's
     settings the filter assumes (None = the defaults); ``wind`` (x, y) [m/s] a known steady wind in
     ``field`` (an anemometer's); ``wind_sigma`` [m/s] > 0 adds two states, the unknown horizontal
-    wind beyond ``wind`` (prior sigma per axis), with random walk ``wind_rate`` [m/s/sqrt(s)].
+    wind beyond ``wind`` (prior sigma per axis), with random walk ``wind_rate`` [m/s/sqrt(s)];
+    ``gust_rate`` [m/s/sqrt(s)] > 0 (with ``wind_sigma`` > 0) runs each filter twice, in steady
+    air (``wind_rate``) and in gusts (the wind a random walk of this rate), mixed by likelihood
+    (a multiple model): while the gusty ones are the likelier, the predictions are theirs,
+    widened by the gusts still to come.
     ``refine_iterations`` > 0: once one hand is left, the predictions come from a batch MAP fit
     of every fix of the throw (:mod:`.refine`, at most that many Levenberg-Marquardt steps a
     prediction, warm-started from the last); 0 = the filter's own estimate.
@@ -200,6 +204,7 @@ class TrackerSettings:
     wind: tuple = (0.0, 0.0)
     wind_sigma: float = 0.0
     wind_rate: float = 0.2
+    gust_rate: float = 0.0
     refine_iterations: int = 25
 
     LIMITS = {
@@ -231,6 +236,7 @@ class TrackerSettings:
         'ground': (-100.0, 100.0),
         'wind_sigma': (0.0, 30.0),
         'wind_rate': (0.0, 10.0),
+        'gust_rate': (0.0, 20.0),
         'refine_iterations': (0, 100),
     }
 
@@ -332,9 +338,10 @@ class _Hypothesis:
     P: np.ndarray
     loglik: float = 0.0
     hand: float = 1.0  # sign of the spin it started with
+    gusty: bool = False  # its wind a random walk of gust_rate (else wind_rate)
 
     def copy(self) -> '_Hypothesis':
-        return _Hypothesis(self.x.copy(), self.P.copy(), self.loglik, self.hand)
+        return _Hypothesis(self.x.copy(), self.P.copy(), self.loglik, self.hand, self.gusty)
 
 
 @dataclass
@@ -548,11 +555,44 @@ class FlightTracker:
                     for f, m in zip(planes, self._mixture(tr, h, wall))
                 ]
         q = self._accel_variance(model)
+        gust = self._gust_variance(tr)
         return (
-            self._prediction(planes[0], q, (0.0, 0.0, 1.0), s.ground),
-            self._prediction(planes[1], q, (0.0, 0.0, 1.0), h),
-            self._prediction(planes[2], q, (wall[2], wall[3], 0.0)),
+            self._prediction(planes[0], q, (0.0, 0.0, 1.0), s.ground, gust),
+            self._prediction(planes[1], q, (0.0, 0.0, 1.0), h, gust),
+            self._prediction(planes[2], q, (wall[2], wall[3], 0.0), gust=gust),
         )
+
+    def _gust_variance(self, tr: _Track) -> np.ndarray | None:
+        """
+        Return the x, y variance rate [m^2/s] of the gusts still to come, or None in steady air.
+
+        In gusty air the wind is a random walk of ``gust_rate`` q from now: a change dw at time
+        tau before the landing (time T) moves it by about J dw ((T - tau) / T)^2 (the drift
+        grows with the square of the time it acts; J = d landing / d wind of the likeliest
+        filter's mean, flown), so the landing's variance grows by q J J' T / 5: whichever
+        filter is the likelier, since a gust may start at any time.
+        """
+        if not any(h.gusty for h in tr.hyps):
+            return None
+        pts = np.repeat(tr.best.x[None, :], 3, axis=0)
+        pts[1, X_W] += 1.0
+        pts[2, X_W + 1] += 1.0
+        s = self.settings
+        flown = fly_to_planes(pts, self.params, s.landing_step, -math.inf, s.ground, s.horizon,
+                              NO_PLANE)
+        if not np.all(flown[:, 3] == 1.0):
+            return None
+        J = (flown[1:, 1:3] - flown[0, 1:3]).T  # columns: per m/s of wind x, y
+        return s.gust_rate**2 * (J @ J.T) / 5.0
+
+    @staticmethod
+    def _gusty_weight(tr: _Track) -> float:
+        """Return the gusty filters' share of the likelihood (0 without them)."""
+        if not any(h.gusty for h in tr.hyps):
+            return 0.0
+        lls = np.array([h.loglik for h in tr.hyps])
+        w = np.exp(lls - lls.max())
+        return float(sum(wk for wk, h in zip(w, tr.hyps) if h.gusty) / w.sum())
 
     def _mixture(self, tr: _Track, height: float, wall: np.ndarray) -> list:
         """
@@ -600,14 +640,15 @@ class FlightTracker:
         """
         Return the batch MAP fit (:mod:`.refine`) of the throw's one hand left, or None.
 
-        None with ``refine_iterations`` 0, while both hands are alive, or when the fit fails.
+        None with ``refine_iterations`` 0, while both hands are alive, while the gusty filters
+        hold more than 5 % of the likelihood (the fit flies a steady wind), or when it fails.
         The prior is the filter's at the first fix, its spin the hand's whole spread (one
         Gaussian: a fit from the filter's estimate needs no slices). Cached per newest fix;
         warm-started from the last fit of the throw, else from the filter's estimate flown back
         to the first fix.
         """
         s, tr, hand = self.settings, self.track, self.hand
-        if s.refine_iterations == 0 or tr is None or hand is None:
+        if s.refine_iterations == 0 or tr is None or hand is None or self._gusty_weight(tr) > 0.05:
             return None
         key = (tr.t, len(tr.fixes), hand)
         if tr.fit is None or tr.fit[0] != key:
@@ -631,13 +672,14 @@ class FlightTracker:
         fixes = [tr.fixes[t] for t in times]
         return refine(times, fixes, x0, prior, s.noise, self.params, s.step, s.refine_iterations)
 
-    def _prediction(self, moments_, q: float, normal, height: float = math.nan):
+    def _prediction(self, moments_, q: float, normal, height: float = math.nan, gust=None):
         """
         Return the prediction on one plane of unit ``normal`` from its (mean, cov), or None.
 
         Horizontal planes (z = ``height``) carry (time, x, y) moments, vertical ones (time, x,
         y, z). The model error's variance q T^3 / 3 is added in the plane (``q``
-        [m^2/s^4/Hz] from :meth:`_accel_variance`, T the time to the plane).
+        [m^2/s^4/Hz] from :meth:`_accel_variance`, T the time to the plane), and ``gust`` T to
+        x, y (:meth:`_gust_variance`, None: none).
         """
         if moments_ is None:
             return None
@@ -646,6 +688,8 @@ class FlightTracker:
         extra = q * max(t_land, 0.0) ** 3 / 3.0
         n = np.asarray(normal, dtype=float)
         in_plane = extra * (np.eye(3) - np.outer(n, n))
+        if gust is not None:
+            in_plane[:2, :2] += gust * max(t_land, 0.0)
         if mean.size == 3:  # a horizontal plane
             if not math.isfinite(height):
                 return None
@@ -723,7 +767,7 @@ class FlightTracker:
         best = tr.best
         jitter = self._jitter(tr, t)
         for hyp in tr.hyps:
-            x, P, ok = self._predict(hyp.x, hyp.P, t - tr.t)
+            x, P, ok = self._predict(hyp.x, hyp.P, t - tr.t, hyp.gusty)
             new = hyp.copy()
             if ok:
                 folded = with_timing(meas, x[:3], x[X_V:X_V + 3], jitter)
@@ -733,7 +777,7 @@ class FlightTracker:
                     x[X_S:X_S + 3] /= np.linalg.norm(x[X_S:X_S + 3])
                     if np.all(np.isfinite(x)):
                         new = _Hypothesis(x, up.P, hyp.loglik - 0.5 * (up.d2 + up.logdet),
-                                          hyp.hand)
+                                          hyp.hand, hyp.gusty)
                         if hyp is best:
                             accepted, taken = True, folded
             new_hyps.append(new)
@@ -813,7 +857,7 @@ class FlightTracker:
             self._filter(tr, e.stamp, e.meas, record=True)
         return result
 
-    def _predict(self, x, P, dt):
+    def _predict(self, x, P, dt, gusty: bool = False):
         s = self.settings
         if dt <= 0.0:
             return x.copy(), P.copy(), True
@@ -831,8 +875,9 @@ class FlightTracker:
         Pm[X_KD, X_KD] += s.scale_rate**2 * dt
         Pm[X_KL, X_KL] += s.scale_rate**2 * dt
         if xm.size == N_X_WIND:
-            Pm[X_W, X_W] += s.wind_rate**2 * dt
-            Pm[X_W + 1, X_W + 1] += s.wind_rate**2 * dt
+            rate = s.gust_rate if gusty else s.wind_rate
+            Pm[X_W, X_W] += rate**2 * dt
+            Pm[X_W + 1, X_W + 1] += rate**2 * dt
         xm[X_S:X_S + 3] /= np.linalg.norm(xm[X_S:X_S + 3])
         ok = bool(np.all(np.isfinite(xm)) and np.all(np.isfinite(Pm)))
         return xm, 0.5 * (Pm + Pm.T), ok
@@ -1093,6 +1138,8 @@ class FlightTracker:
             Ph[:6, X_H:X_H + 3] = Ph[X_H:X_H + 3, :6].T
             Ph[X_H:X_H + 3, X_H:X_H + 3] += hand * h1 * c
             hyps.append(_Hypothesis(x, Ph, 0.0, hand))
+            if n_x == N_X_WIND and s.gust_rate > 0.0:  # its twin in gusty air
+                hyps.append(_Hypothesis(x.copy(), Ph.copy(), 0.0, hand, gusty=True))
         self.track = _Track(hyps, float(t))
         self.track.prior = tuple(
             (i, float(x[i]), math.sqrt(P[i, i])) for i in (X_KD, X_KL, X_W, X_W + 1) if i < n_x
@@ -1113,9 +1160,9 @@ def warm_up(settings: TrackerSettings | None = None):
     """
     Load (or compile) every kernel the tracker runs; return a CompileStep.
 
-    A throw seen by a scratch tracker of ``settings`` and of its wind-estimating variant:
-    the filter, the predictions on all planes, the path, the batch fit and a late fix's
-    roll-back.
+    A throw seen by a scratch tracker of ``settings``: the filter, the predictions on all
+    planes, the path, the batch fit's flights and a late fix's roll-back (a state with the
+    wind's two entries is the same array type: no other version).
     """
     import time
 
@@ -1128,17 +1175,16 @@ def warm_up(settings: TrackerSettings | None = None):
                 sum(sum(st.cache_misses.values()) for st in stats))
 
     start, (hits, misses) = time.perf_counter(), counts()
-    base = settings or TrackerSettings()
-    for s in (base, replace(base, wind_sigma=base.wind_sigma or 1.0)):
-        scratch = FlightTracker(s)
-        for k in range(40):
-            t = k / 60.0
-            scratch.update(t, (20.0 * t, 0.5 * t, 1.8 + 12.0 * t - 4.905 * t * t))
-        scratch.predict_planes(1.2, vertical_plane(10.0, 0.0, 0.0))
-        scratch.predict_path(0.05)
-        _, x, _ = scratch.estimate
-        fly_state(x, [-0.01], scratch.params, s.step)  # the batch fit's kernel
-        scratch.update(0.5 / 60.0, (0.2, 0.0, 1.9))  # a late fix: the roll-back path
+    s = settings or TrackerSettings()
+    scratch = FlightTracker(s)
+    for k in range(12):
+        t = k / 60.0
+        scratch.update(t, (20.0 * t, 0.0, 1.8 + 12.0 * t - 4.905 * t * t))
+    scratch.predict_planes(1.2, vertical_plane(10.0, 0.0, 0.0))
+    scratch.predict_path(0.05)
+    _, x, _ = scratch.estimate
+    fly_state(x, [-0.01], scratch.params, s.step)  # the batch fit's kernel
+    scratch.update(0.5 / 60.0, (0.2, 0.0, 1.9))  # a late fix: the roll-back path
     new_hits, new_misses = counts()
     return CompileStep('tracker kernels (filter, predictions, batch fit)',
                        time.perf_counter() - start, new_hits - hits, new_misses - misses)
@@ -1162,15 +1208,21 @@ def measured_jitter(stamps, min_gaps: int = 8) -> float:
     """
     Return the jitter [s, 1 sigma] of a camera's stamps [s], from the spread of their spacing.
 
-    A regular camera's stamps are k T + e_k: the spacing's spread is sqrt(2) sigma_e. Robust
-    (median absolute deviation, distinct stamps): dropped frames and a second detection in a
-    frame do not count. 0 with fewer than ``min_gaps`` spacings.
+    A regular camera's stamps are k T + e_k: the spacing of stamps L apart spreads by sqrt(2)
+    sigma_e. Robust (median absolute deviation, distinct stamps): dropped frames and a second
+    detection in a frame do not count; the largest over L = 1, 2, 3, since a jitter near T
+    reorders neighbours (and narrows their sorted spacing). 0 with fewer than ``min_gaps``
+    spacings.
     """
-    gaps = np.diff(np.unique(np.asarray(stamps, dtype=float)))
-    if gaps.size < min_gaps:
+    t = np.unique(np.asarray(stamps, dtype=float))
+    if t.size - 1 < min_gaps:
         return 0.0
-    mad = float(np.median(np.abs(gaps - np.median(gaps))))
-    return 1.4826 * mad / math.sqrt(2.0)
+    out = 0.0
+    for lag in (1, 2, 3):
+        gaps = t[lag:] - t[:-lag]
+        if gaps.size >= min_gaps:
+            out = max(out, float(np.median(np.abs(gaps - np.median(gaps)))))
+    return 1.4826 * out / math.sqrt(2.0)
 
 
 def _one_per_stamp(times: np.ndarray, err: np.ndarray, limit: float) -> np.ndarray:

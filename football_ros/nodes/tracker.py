@@ -166,6 +166,13 @@ PARAMETERS = (
             (0.0, 30.0),
         ),
         (
+            'gust_rate',
+            TrackerSettings.gust_rate,
+            'Gusts (with wind_sigma > 0): each filter also runs with the wind a random walk of '
+            'this rate [m/s/sqrt(s)], 0 = off',
+            TrackerSettings.LIMITS['gust_rate'],
+        ),
+        (
             'carry_over',
             False,
             'Start each throw from the drag/lift scales (and wind) the last landed throw learnt',
@@ -198,6 +205,7 @@ class TrackerNode(Node):
                 max_future=max(self.max_future, 1e-9),
                 wind=(self.wind_x, self.wind_y),
                 wind_sigma=self.wind_sigma,
+                gust_rate=self.gust_rate,
             ),
             max_tracks=int(self.max_tracks),
             carry_over=bool(self.carry_over),
