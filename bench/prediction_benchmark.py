@@ -29,8 +29,11 @@ landing point and time:
   what the tracker could do if the throw's unknowns were known; only the hand is left).
 Cases (:data:`CASES`): the defaults; true drag and lift 30 % off both ways; an unknown 5 m/s
 crosswind; rugby screw kicks at 60-600 rpm (gyroscopically unstable below about 230 rpm); long
-bombs carrying 50-60 m; the camera at 30 and 120 Hz; 5 mm and 5 cm noise. ``--clutter`` adds
-false detections, ``--wind-sigma`` lets the tracker estimate the wind, ``--draws`` repeats a case
+bombs carrying 50-60 m; the camera at 30 and 120 Hz; 5 mm and 5 cm noise; and the field's
+(:data:`FIELD_CASES`: a 10-30 Hz camera, stamp jitter 1-10 ms, a mono camera's depth noise 5-20x
+the lateral told per fix, rugby kicks at 0-120 rpm, end over end at 20-120 rpm, a crosswind gust
+of 2-8 m/s over 0.5-2 s; no oracle). ``--clutter`` adds false detections, ``--wind-sigma`` lets
+the tracker estimate the wind (``--gust-rate``: and gusts), ``--draws`` repeats a case
 over independent seeds (the summary gives the median of the per-draw medians and their range).
 NEES: mean over the flights of e' C^-1 e (e the landing point error, C the published 2x2
 covariance): 2 for an honest covariance (above: overconfident), and the fraction inside the
@@ -169,9 +172,14 @@ def random_releases(rng: np.random.Generator, n: int, case: Case) -> list[Releas
     return out
 
 
+GUST_RATE = [0.0]
+"""The tracker's gust_rate of this run (``--gust-rate``)."""
+
+
 def tracker_settings(case: Case, wind_sigma: float = 0.0) -> TrackerSettings:
-    """Return what the tracker is told in ``case``: the ball, the camera's noise, wind_sigma."""
-    return TrackerSettings(noise=case.noise, ball=case.ball, wind_sigma=wind_sigma)
+    """Return what the tracker is told in ``case``: the ball, the camera's noise, the wind's."""
+    return TrackerSettings(noise=case.noise, ball=case.ball, wind_sigma=wind_sigma,
+                           gust_rate=GUST_RATE[0])
 
 
 # --- baselines ----------------------------------------------------------------------------------
@@ -303,9 +311,10 @@ def field_fixes(release: Release, seed: int, case: Case):
     """
     Return a field case's fixes before the landing, the landing time [s] and x y [m].
 
-    Fixes: (Observation, covariance (3, 3) told to the tracker or None). The rate (drawn in
-    10-30 Hz where ``case.rate`` is None), stamp jitter, a mono camera's depth noise and a gust
-    are drawn per flight (:class:`Case`); no dropouts or outliers.
+    Fixes: (Observation, covariance (3, 3) told to the tracker or None); the capture time is
+    the delivery - LATENCY. The rate (drawn in 10-30 Hz where ``case.rate`` is None), stamp
+    jitter, a mono camera's depth noise and a gust are drawn per flight (:class:`Case`; the
+    draws in a 4th item {'rate', 'jitter', 'depth'}); no dropouts or outliers.
     """
     rng = np.random.default_rng(seed + 7)
     rate = case.rate or float(rng.uniform(10.0, 30.0))
@@ -328,7 +337,7 @@ def field_fixes(release: Release, seed: int, case: Case):
         z = np.array([np.interp(t, times, pos[:, i]) for i in range(3)]) + rng.normal(0.0, sig)
         stamp = t + float(rng.normal(0.0, jitter)) if jitter else t
         out.append((Observation(float(stamp), z, t + LATENCY), cov))
-    return out, t_land, pos[-1, :2]
+    return out, t_land, pos[-1, :2], {'rate': rate, 'jitter': jitter, 'depth': depth}
 
 
 def with_clutter(obs: list, rate: float, seed: int) -> list:
@@ -375,7 +384,7 @@ def run_flight(
     """
     told = {}  # id(observation) -> its covariance, where the tracker is told one
     if any(case is c for c in FIELD_CASES.values()):
-        fixes, t_land, xy_land = field_fixes(release, seed, case)
+        fixes, t_land, xy_land, _ = field_fixes(release, seed, case)
         told = {id(o): c for o, c in fixes if c is not None}
         obs = [(o, True) for o, _ in fixes]
         oracle = False
@@ -532,6 +541,8 @@ def main() -> None:
         default=0.0,
         help='the tracker estimates the horizontal wind with this prior sigma [m/s] (0 = not)',
     )
+    ap.add_argument('--gust-rate', type=float, default=0.0,
+                    help="the tracker's gust_rate [m/s/sqrt(s)] (with --wind-sigma)")
     ap.add_argument('--draws', type=int, default=1, help='independent draws (seeds seed..)')
     ap.add_argument(
         '--clutter', type=float, default=0.0, help='false detections per second [Hz] added'
@@ -540,6 +551,7 @@ def main() -> None:
         '--two-balls', action='store_true', help='a second ball in the air (SECOND_BALL)'
     )
     args = ap.parse_args()
+    GUST_RATE[0] = args.gust_rate
     unknown = sorted(set(args.cases) - set(CASES))
     if unknown:
         ap.error(f'unknown case(s) {unknown}; the cases: {list(CASES)}')
@@ -550,6 +562,7 @@ def main() -> None:
         f'camera {RATE:g} Hz, noise {NOISE * 100:g} cm, latency {LATENCY * 1000:g} ms unless the '
         f'case says; {args.flights} flights per case x {args.draws} draws, seeds {args.seed}..'
         f'{args.seed + args.draws - 1}, tracker wind_sigma {args.wind_sigma:g} m/s, '
+        f'gust_rate {args.gust_rate:g} m/s/sqrt(s), '
         f'clutter {args.clutter:g} Hz' + (', a second ball' if args.two_balls else '')
         + '. NEES: 2 and 0.95 in the 95 % ellipse when honest.'
     )
@@ -626,11 +639,15 @@ if __name__ == '__main__':
     # One section per kind of run: the plain cases, with the wind estimated, with clutter.
     pre = argparse.ArgumentParser(add_help=False)
     pre.add_argument('--wind-sigma', type=float, default=0.0)
+    pre.add_argument('--gust-rate', type=float, default=0.0)
     pre.add_argument('--clutter', type=float, default=0.0)
     pre.add_argument('--two-balls', action='store_true')
+    pre.add_argument('--cases', nargs='*', default=[])
     flags, _ = pre.parse_known_args()
-    section = 'prediction' + ''.join(
+    field_only = bool(flags.cases) and all(c in FIELD_CASES for c in flags.cases)
+    section = 'prediction' + (', field cases' if field_only else '') + ''.join(
         f', {name} {value:g}' for name, value in
-        (('wind_sigma', flags.wind_sigma), ('clutter Hz', flags.clutter)) if value > 0.0
+        (('wind_sigma', flags.wind_sigma), ('gust_rate', flags.gust_rate),
+         ('clutter Hz', flags.clutter)) if value > 0.0
     ) + (', two balls' if flags.two_balls else '')
     raise SystemExit(results.recorded(section, main))

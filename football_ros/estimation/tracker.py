@@ -648,7 +648,7 @@ class FlightTracker:
         to the first fix.
         """
         s, tr, hand = self.settings, self.track, self.hand
-        if s.refine_iterations == 0 or tr is None or hand is None or self._gusty_weight(tr) > 0.05:
+        if s.refine_iterations == 0 or tr is None or hand is None or self._gusty_weight(tr) > 0.5:
             return None
         key = (tr.t, len(tr.fixes), hand)
         if tr.fit is None or tr.fit[0] != key:

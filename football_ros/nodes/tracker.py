@@ -39,9 +39,9 @@ ended: why') and its own topics ``football/track_<id>/estimate``,
 removed after its end; the topics without an id carry the oldest live track (the only one when
 one ball flies). When fixes keep arriving for a second and no throw starts, or a track is lost
 or replaced by a new throw, one log line and a WARN status on /diagnostics say why.
-Predictions are throttled to ``prediction_rate`` per second of the fixes' own clock (not the node's); a clock that jumps
-back (a /clock source restarted under use_sim_time) ends every track and resets the time base,
-with a log line.
+Predictions are throttled to ``prediction_rate`` per second of the fixes' own clock (not the
+node's); a clock that jumps back (a /clock source restarted under use_sim_time) ends every
+track and resets the time base, with a log line.
 """
 
 from __future__ import annotations
