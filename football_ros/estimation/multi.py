@@ -140,6 +140,7 @@ class MultiTracker:
             return None, UpdateResult('invalid', 'position beyond 100 km or absurd stamp')
         track_id = self._nearest(t, meas)
         if track_id is not None:
+            self._initiator.frame_stamps.append(t)  # the camera's rate, for the next start
             tracker = self.taken_by = self.tracks[track_id]
             result = tracker.observe(t, meas, now)
             if result.used:
@@ -171,8 +172,8 @@ class MultiTracker:
 
     def _no_start(self, t: float, reason: str) -> None:
         """Note an idle fix; once fixes span :data:`NO_START_AFTER`, say why none started."""
-        if self._idle is None or t < self._idle[0]:
-            self._idle = (t, False)
+        if self._idle is None or not 0.0 <= t - self._idle[0] <= 10.0 * NO_START_AFTER:
+            self._idle = (t, False)  # the first, or a stamp far from the others: start again
             return
         first, told = self._idle
         if told or t - first < NO_START_AFTER:
@@ -190,6 +191,7 @@ class MultiTracker:
         if tracker is self._initiator:
             fresh = FlightTracker(self.settings)
             fresh.learned = tracker.learned
+            fresh.frame_stamps.extend(tracker.frame_stamps)
             fresh._candidates.extend(tracker._candidates)  # the other balls' fixes
             tracker._candidates.clear()
             self._initiator = fresh

@@ -169,7 +169,8 @@ class TrackerSettings:
 
     The noise and prior defaults make the covariance honest (landing NEES 1.5-3) on the
     prediction benchmark's flights, which have no model error beyond the unknowns the state
-    carries; in gusty air raise ``accel_noise`` (the tracker node's ``model_noise``).
+    carries. Outdoors set ``wind_sigma`` (a steady unknown wind) and ``gust_rate`` (gusts): an
+    unmodelled wind makes the covariance lie; both cost a little accuracy in still air.
     """
 
     noise: float = 0.02
@@ -403,6 +404,8 @@ class FlightTracker:
         self._candidates: collections.deque = collections.deque(maxlen=depth)
         self._old: collections.deque = collections.deque(maxlen=depth)
         self._newest = -math.inf
+        self.frame_stamps: collections.deque = collections.deque(maxlen=32)
+        """Stamps [s] of the latest fixes seen (any track's): the camera's measured rate."""
         self.time_resets = 0
         self.counts: collections.Counter = collections.Counter()
         self.learned: dict | None = None
@@ -741,6 +744,7 @@ class FlightTracker:
             return UpdateResult('invalid', 'position beyond 100 km or absurd stamp')
         if now is not None and math.isfinite(now) and t > now + s.max_future:
             return UpdateResult('future', f'stamp {t - now:.3f} s ahead of now')
+        self.frame_stamps.append(t)
         if t < self._newest - s.max_lag:
             result = self._behind(t, meas)
             if result.used:
@@ -947,15 +951,16 @@ class FlightTracker:
         self._old.clear()
         self.time_resets += 1
 
-    def start_window(self, stamps) -> float:
+    def start_window(self) -> float:
         """
         Return the window [s] in which ``min_points`` fixes must fit an arc to start a throw.
 
-        ``init_window``, or ``min_points`` + 1 fix intervals where the camera is slower (the
-        median spacing of the distinct ``stamps`` [s], at most 2 s).
+        ``init_window``, or ``min_points`` + 1 frame intervals where the camera is slower (the
+        median spacing of the distinct :attr:`frame_stamps`, every fix's, so that a few stray
+        detections alone do not look like a slow camera; at most 2 s).
         """
         s = self.settings
-        gaps = np.diff(np.unique(np.asarray(stamps, dtype=float)))
+        gaps = np.diff(np.unique(np.asarray(self.frame_stamps, dtype=float)))
         if gaps.size == 0:
             return s.init_window
         return max(s.init_window, min((s.min_points + 1) * float(np.median(gaps)), 2.0))
@@ -983,7 +988,7 @@ class FlightTracker:
         Returns (times, fixes, x0, cov, buffer indices used) or the reason (str) there is none.
         """
         s = self.settings
-        window = self.start_window([c[0] for c in buffer])
+        window = self.start_window()
         idx = [k for k, c in enumerate(buffer) if abs(c[0] - t) <= window]
         if len(idx) < s.min_points:
             return (
