@@ -29,8 +29,11 @@ landing point and time:
   what the tracker could do if the throw's unknowns were known; only the hand is left).
 Cases (:data:`CASES`): the defaults; true drag and lift 30 % off both ways; an unknown 5 m/s
 crosswind; rugby screw kicks at 60-600 rpm (gyroscopically unstable below about 230 rpm); long
-bombs carrying 50-60 m; the camera at 30 and 120 Hz; 5 mm and 5 cm noise. ``--clutter`` adds
-false detections, ``--wind-sigma`` lets the tracker estimate the wind, ``--draws`` repeats a case
+bombs carrying 50-60 m; the camera at 30 and 120 Hz; 5 mm and 5 cm noise; and the field's
+(:data:`FIELD_CASES`: a 10-30 Hz camera, stamp jitter 1-10 ms, a mono camera's depth noise 5-20x
+the lateral told per fix, rugby kicks at 0-120 rpm, end over end at 20-120 rpm, a crosswind gust
+of 2-8 m/s over 0.5-2 s; no oracle). ``--clutter`` adds false detections, ``--wind-sigma`` lets
+the tracker estimate the wind (``--gust-rate``: and gusts), ``--draws`` repeats a case
 over independent seeds (the summary gives the median of the per-draw medians and their range).
 NEES: mean over the flights of e' C^-1 e (e the landing point error, C the published 2x2
 covariance): 2 for an honest covariance (above: overconfident), and the fraction inside the
@@ -83,7 +86,13 @@ class Case:
     ``aero``: the flights' true coefficients and wind (the tracker assumes the defaults);
     ``spin`` |rpm|, ``speed`` [m/s] and ``elevation`` [deg] ranges drawn uniformly; ``carry``
     [m]: keep only throws whose full-model carry lies in it; camera ``rate`` [Hz] and ``noise``
-    [m] (the tracker is told the noise and the ball).
+    [m] (the tracker is told the noise and the ball). The field's cases: ``jitter`` (lo, hi)
+    [s] 1-sigma jitter of the stamps drawn per flight (the tracker not told); ``depth`` (lo,
+    hi) the noise along y (a mono camera on the sideline looking along y) as a multiple of
+    ``noise`` drawn per flight, each fix's covariance told; ``gust`` ((lo, hi) [m/s], (lo, hi)
+    [s]): a crosswind (along +/- y) ramping from 0 to a size over a duration, starting at a
+    time drawn in the first half of the flight; ``tumble`` (lo, hi) [rev/min]: end over end, a
+    pitch rate about a transverse axis at the release (beside ``spin`` about the long axis).
     """
 
     aero: dict = field(default_factory=dict)
@@ -94,6 +103,10 @@ class Case:
     carry: tuple | None = None
     rate: float = RATE
     noise: float = NOISE
+    jitter: tuple | None = None
+    depth: tuple | None = None
+    gust: tuple | None = None
+    tumble: tuple | None = None
 
 
 CASES = {
@@ -120,6 +133,16 @@ CASES = {
     '5 mm noise': Case(noise=0.005),
     '5 cm noise': Case(noise=0.05),
 }
+FIELD_CASES = {
+    'camera 10-30 Hz': Case(rate=None),
+    'stamp jitter 1-10 ms': Case(jitter=(0.001, 0.01)),
+    'mono depth 5-20x': Case(noise=0.01, depth=(5.0, 20.0)),
+    'rugby 0-120 rpm': Case(ball='rugby', spin=(0.0, 120.0)),
+    'end over end 20-120 rpm': Case(ball='rugby', spin=(0.0, 30.0), tumble=(20.0, 120.0)),
+    'gust 2-8 m/s over 0.5-2 s': Case(gust=((2.0, 8.0), (0.5, 2.0))),
+}
+"""Issue 32's cases (the field): drawn per flight where a range is given (the rate too)."""
+CASES.update(FIELD_CASES)
 
 
 def random_releases(rng: np.random.Generator, n: int, case: Case) -> list[Release]:
@@ -127,6 +150,9 @@ def random_releases(rng: np.random.Generator, n: int, case: Case) -> list[Releas
     out = []
     while len(out) < n:
         hand = 1.0 if rng.random() < 0.5 else -1.0
+        tumble = (
+            {'alpha_rate_deg_s': 6.0 * float(rng.uniform(*case.tumble))} if case.tumble else {}
+        )
         release = Release(
             ball=case.ball,
             speed=float(rng.uniform(*case.speed)),
@@ -138,6 +164,7 @@ def random_releases(rng: np.random.Generator, n: int, case: Case) -> list[Releas
             position=(0.0, 0.0, 1.8),
             model='full',
             aero=case.aero,
+            **tumble,
         )
         if case.carry is not None:
             end = Flight.from_release(release).simulate(rate=100.0, duration=20.0).positions[-1]
@@ -147,9 +174,14 @@ def random_releases(rng: np.random.Generator, n: int, case: Case) -> list[Releas
     return out
 
 
+GUST_RATE = [0.0]
+"""The tracker's gust_rate of this run (``--gust-rate``)."""
+
+
 def tracker_settings(case: Case, wind_sigma: float = 0.0) -> TrackerSettings:
-    """Return what the tracker is told in ``case``: the ball, the camera's noise, wind_sigma."""
-    return TrackerSettings(noise=case.noise, ball=case.ball, wind_sigma=wind_sigma)
+    """Return what the tracker is told in ``case``: the ball, the camera's noise, the wind's."""
+    return TrackerSettings(noise=case.noise, ball=case.ball, wind_sigma=wind_sigma,
+                           gust_rate=GUST_RATE[0])
 
 
 # --- baselines ----------------------------------------------------------------------------------
@@ -246,6 +278,70 @@ def camera_fixes(release: Release, seed: int, t_land: float, case: Case = CASES[
     return [o for o in obs if o.stamp < t_land]
 
 
+def gust_flight(release: Release, size: float, start: float, duration: float):
+    """
+    Fly ``release`` through a crosswind gust: the wind's y goes 0 -> ``size`` [m/s] linearly.
+
+    From ``start`` [s] over ``duration`` [s] after the release, then stays (the full model's
+    own step and parameters, the wind set at each 1 ms step). Returns times (n,) [s] and
+    positions (n, 3) [m] to the landing (the last row on the ground).
+    """
+    from football_ros.physics import dynamics as dyn
+
+    flight = Flight.from_release(release)
+    y, params = flight.y0.copy(), flight.params.copy()
+    nxt, work = np.empty_like(y), np.empty((5, y.size))
+    h, t = 0.001, 0.0
+    times, pos = [0.0], [y[:3].copy()]
+    while t < 30.0:
+        params[dyn.P_WIND + 1] = size * min(max((t + 0.5 * h - start) / duration, 0.0), 1.0)
+        dyn.rk4_step_with(y, h, params, nxt, work)
+        if dyn.crossed_ground(y, nxt, 0.0):
+            tau = dyn.landing_time_in_step(y, h, params, 0.0)
+            dyn.rk4_step_with(y, tau, params, nxt, work)
+            times.append(t + tau)
+            pos.append(nxt[:3].copy())
+            break
+        y[:] = nxt
+        t += h
+        times.append(t)
+        pos.append(y[:3].copy())
+    return np.array(times), np.array(pos)
+
+
+def field_fixes(release: Release, seed: int, case: Case):
+    """
+    Return a field case's fixes before the landing, the landing time [s] and x y [m].
+
+    Fixes: (Observation, covariance (3, 3) told to the tracker or None); the capture time is
+    the delivery - LATENCY. The rate (drawn in 10-30 Hz where ``case.rate`` is None), stamp
+    jitter, a mono camera's depth noise and a gust are drawn per flight (:class:`Case`; the
+    draws in a 4th item {'rate', 'jitter', 'depth'}); no dropouts or outliers.
+    """
+    rng = np.random.default_rng(seed + 7)
+    rate = case.rate or float(rng.uniform(10.0, 30.0))
+    jitter = float(rng.uniform(*case.jitter)) if case.jitter else 0.0
+    depth = float(rng.uniform(*case.depth)) if case.depth else 1.0
+    if case.gust:
+        size = float(rng.uniform(*case.gust[0])) * (1.0 if rng.random() < 0.5 else -1.0)
+        duration = float(rng.uniform(*case.gust[1]))
+        probe = Flight.from_release(release).simulate(rate=100.0, duration=20.0)
+        start = float(rng.uniform(0.0, 0.5 * probe.times[-1]))
+        times, pos = gust_flight(release, size, start, duration)
+    else:
+        truth = Flight.from_release(release).simulate(rate=1000.0, duration=20.0)
+        times, pos = truth.times, truth.positions
+    t_land = float(times[-1])
+    sig = case.noise * np.array([1.0, depth, 1.0])
+    cov = np.diag(sig**2) if case.depth else None
+    out = []
+    for t in np.arange(float(rng.uniform(0.0, 1.0 / rate)), t_land, 1.0 / rate):
+        z = np.array([np.interp(t, times, pos[:, i]) for i in range(3)]) + rng.normal(0.0, sig)
+        stamp = t + float(rng.normal(0.0, jitter)) if jitter else t
+        out.append((Observation(float(stamp), z, t + LATENCY), cov))
+    return out, t_land, pos[-1, :2], {'rate': rate, 'jitter': jitter, 'depth': depth}
+
+
 def with_clutter(obs: list, rate: float, seed: int) -> list:
     """
     Return ``obs`` with false detections added at ``rate`` [Hz], in delivery order.
@@ -288,10 +384,17 @@ def run_flight(
     this ball's fixes (the baselines are handed this ball's fixes alone; no oracle).
     Returns {lead: {method: (error [m], time error [s], NEES) or None}} and the flight time [s].
     """
-    truth = Flight.from_release(release).simulate(rate=100.0, duration=20.0)
-    t_land = float(truth.times[-1])
-    xy_land = truth.positions[-1, :2]
-    obs = [(o, True) for o in camera_fixes(release, seed, t_land, case)]
+    told = {}  # id(observation) -> its covariance, where the tracker is told one
+    if any(case is c for c in FIELD_CASES.values()):
+        fixes, t_land, xy_land, _ = field_fixes(release, seed, case)
+        told = {id(o): c for o, c in fixes if c is not None}
+        obs = [(o, True) for o, _ in fixes]
+        oracle = False
+    else:
+        truth = Flight.from_release(release).simulate(rate=100.0, duration=20.0)
+        t_land = float(truth.times[-1])
+        xy_land = truth.positions[-1, :2]
+        obs = [(o, True) for o in camera_fixes(release, seed, t_land, case)]
     if two_balls:
         t2 = float(Flight.from_release(SECOND_BALL).simulate(rate=100.0).times[-1])
         other = camera_fixes(SECOND_BALL, seed + 50021, t2, case)
@@ -313,7 +416,7 @@ def run_flight(
             scale_sigma=0.01,
             aero=release.aero_model(),
         )
-    )
+    ) if oracle else None
     results = {}
     delivered_t, delivered_z = [], []
     i = 0
@@ -322,9 +425,10 @@ def run_flight(
         while i < len(obs) and obs[i].delivery <= t_eval:
             o = obs[i]
             i += 1
-            got = tracker.update(o.stamp, o.position)
+            cov = told.get(id(o))
+            got = tracker.update(o.stamp, o.position, covariance=cov)
             if alone is not None:
-                alone.update(o.stamp, o.position)
+                alone.update(o.stamp, o.position, covariance=cov)
             if id(o) not in mine:
                 continue
             if two_balls and got[0] is not None:
@@ -583,6 +687,8 @@ def main() -> None:
         default=0.0,
         help='the tracker estimates the horizontal wind with this prior sigma [m/s] (0 = not)',
     )
+    ap.add_argument('--gust-rate', type=float, default=0.0,
+                    help="the tracker's gust_rate [m/s/sqrt(s)] (with --wind-sigma)")
     ap.add_argument('--draws', type=int, default=1, help='independent draws (seeds seed..)')
     ap.add_argument(
         '--clutter', type=float, default=0.0, help='false detections per second [Hz] added'
@@ -593,6 +699,7 @@ def main() -> None:
     ap.add_argument('--cameras', action='store_true',
                     help='the cameras case set (config/rig_*.yaml) instead of the cases')
     args = ap.parse_args()
+    GUST_RATE[0] = args.gust_rate
     if args.cameras:
         camera_main(args)
         return
@@ -606,6 +713,7 @@ def main() -> None:
         f'camera {RATE:g} Hz, noise {NOISE * 100:g} cm, latency {LATENCY * 1000:g} ms unless the '
         f'case says; {args.flights} flights per case x {args.draws} draws, seeds {args.seed}..'
         f'{args.seed + args.draws - 1}, tracker wind_sigma {args.wind_sigma:g} m/s, '
+        f'gust_rate {args.gust_rate:g} m/s/sqrt(s), '
         f'clutter {args.clutter:g} Hz' + (', a second ball' if args.two_balls else '')
         + '. NEES: 2 and 0.95 in the 95 % ellipse when honest.'
     )
@@ -682,12 +790,16 @@ if __name__ == '__main__':
     # One section per kind of run: the plain cases, with the wind estimated, with clutter.
     pre = argparse.ArgumentParser(add_help=False)
     pre.add_argument('--wind-sigma', type=float, default=0.0)
+    pre.add_argument('--gust-rate', type=float, default=0.0)
     pre.add_argument('--clutter', type=float, default=0.0)
     pre.add_argument('--two-balls', action='store_true')
     pre.add_argument('--cameras', action='store_true')
+    pre.add_argument('--cases', nargs='*', default=[])
     flags, _ = pre.parse_known_args()
-    section = 'prediction' + ''.join(
+    field_only = bool(flags.cases) and all(c in FIELD_CASES for c in flags.cases)
+    section = 'prediction' + (', field cases' if field_only else '') + ''.join(
         f', {name} {value:g}' for name, value in
-        (('wind_sigma', flags.wind_sigma), ('clutter Hz', flags.clutter)) if value > 0.0
+        (('wind_sigma', flags.wind_sigma), ('gust_rate', flags.gust_rate),
+         ('clutter Hz', flags.clutter)) if value > 0.0
     ) + (', two balls' if flags.two_balls else '') + (', cameras' if flags.cameras else '')
     raise SystemExit(results.recorded(section, main))

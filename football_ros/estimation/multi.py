@@ -41,11 +41,19 @@ from ..physics import dynamics as dyn
 
 AERO_REACH = 15.0
 """Aerodynamic acceleration [m/s^2] a ball may have beyond gravity (drag of a fast throw)."""
+NO_START_AFTER = 1.0
+"""Span [s] of the fixes' clock over which fixes arrived, no track live, before a 'no_start'
+event says why no throw started (once until a throw starts)."""
 
 
 @dataclass(frozen=True)
 class TrackEvent:
-    """A track started or ended: ``kind`` 'started' or 'ended', its id, why, at ``time`` [s]."""
+    """
+    A track event: ``kind``, its track id, why, at ``time`` [s].
+
+    'started', 'ended' (why: landed, lost, replaced by a new throw, ...), or 'no_start' (id
+    0): fixes kept arriving for :data:`NO_START_AFTER` with no track live and none started.
+    """
 
     kind: str
     track_id: int
@@ -74,6 +82,7 @@ class MultiTracker:
         self._initiator = FlightTracker(self.settings)
         self._next_id = 1
         self._newest = -math.inf
+        self._idle: tuple[float, bool] | None = None  # (first idle fix's stamp, told)
         self._g = float(self._initiator.params[dyn.P_GRAVITY])
         self.taken_by: FlightTracker | None = None
         """The filter that took the last fix (kept after its track ended, for its outputs)."""
@@ -131,6 +140,7 @@ class MultiTracker:
             return None, UpdateResult('invalid', 'position beyond 100 km or absurd stamp')
         track_id = self._nearest(t, meas)
         if track_id is not None:
+            self._initiator.frame_stamps.append(t)  # the camera's rate, for the next start
             tracker = self.taken_by = self.tracks[track_id]
             result = tracker.observe(t, meas, now)
             if result.used:
@@ -146,7 +156,10 @@ class MultiTracker:
             return track_id, result
         self.taken_by = self._initiator
         result = self._initiator.observe(t, meas, now)
+        if result.status == 'candidate' and not self.tracks:
+            self._no_start(t, result.reason)
         if result.status == 'started':
+            self._idle = None
             if result.reason:  # the clock jumped back: every track belongs to the old clock
                 for tid in list(self.tracks):
                     self._end(tid, result.reason, t)
@@ -157,11 +170,28 @@ class MultiTracker:
             return new_id, result
         return None, result
 
+    def _no_start(self, t: float, reason: str) -> None:
+        """Note an idle fix; once fixes span :data:`NO_START_AFTER`, say why none started."""
+        if self._idle is None or not 0.0 <= t - self._idle[0] <= 10.0 * NO_START_AFTER:
+            self._idle = (t, False)  # the first, or a stamp far from the others: start again
+            return
+        first, told = self._idle
+        if told or t - first < NO_START_AFTER:
+            return
+        stamps = [c[0] for c in self._initiator._candidates]
+        gaps = np.diff(np.unique(stamps))
+        every = f'; fixes every {1e3 * float(np.median(gaps)):.0f} ms' if gaps.size else ''
+        self.events.append(TrackEvent(
+            'no_start', 0, f'fixes for {t - first:.1f} s and no throw started: {reason}{every}', t
+        ))
+        self._idle = (first, True)
+
     def _adopt(self, tracker: FlightTracker, t: float) -> int:
         """Make ``tracker`` (holding a fresh throw) a live track; a new initiator if it was."""
         if tracker is self._initiator:
             fresh = FlightTracker(self.settings)
             fresh.learned = tracker.learned
+            fresh.frame_stamps.extend(tracker.frame_stamps)
             fresh._candidates.extend(tracker._candidates)  # the other balls' fixes
             tracker._candidates.clear()
             self._initiator = fresh
@@ -176,6 +206,7 @@ class MultiTracker:
     def _end(self, track_id: int, reason: str, t: float) -> None:
         if self.tracks.pop(track_id, None) is not None:
             self.events.append(TrackEvent('ended', track_id, reason, t))
+            self._idle = None
 
     def _end_silent(self, t: float) -> None:
         """

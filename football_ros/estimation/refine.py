@@ -139,7 +139,7 @@ def _prior_terms(states: np.ndarray, prior: Prior) -> np.ndarray:
 
 
 def _residuals(states, rel, whiten, params, step, prior):
-    """Whitened residuals (m, n_fix + n_prior) of states at the first fix; states end at the last."""
+    """Whitened residuals (m, n_fix + n_prior) of states at the first fix (end: at the last)."""
     first = states.copy()
     out = np.empty((states.shape[0], rel.size, 3))
     fly_through(states, rel, params, step, out)

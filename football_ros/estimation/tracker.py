@@ -86,6 +86,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from .measurement import Measurement, position_fix, unscented_update, with_timing
 from .motion import (
     fly_state,
     fly_to_planes,
@@ -101,7 +102,6 @@ from .motion import (
     X_V,
     X_W,
 )
-from .measurement import Measurement, position_fix, PositionFix, unscented_update, with_timing
 from .refine import Prior, refine, Refined
 from .sensor import check_numbers
 from .unscented import moments, sigma_points
@@ -151,20 +151,26 @@ class TrackerSettings:
     [m/s] for a new throw (the window grows to ``min_points`` + 1 fix intervals of a slow
     camera, the interval measured from the fixes' stamps); ``stamp_jitter`` [s, 1 sigma] of the
     fixes' stamps, folded into each fix's noise along the velocity (the larger of it and the
-    jitter measured from the stamps' spacing, :func:`measured_jitter`); ``spread`` the unscented transform's alpha (points at alpha sqrt(n)
+    jitter measured from the stamps' spacing, :func:`measured_jitter`); ``spread`` the
+    unscented transform's alpha (points at alpha sqrt(n)
     sigma); ``reinit_after`` rejected fixes in a row that may start a new throw; ``step`` [s]
     filter integration step, ``landing_step`` [s] for predictions; ``horizon`` [s] of the landing
     search; ``ground`` [m] height of the landing plane; ``ball`` preset; ``aero`` the full model's
     settings the filter assumes (None = the defaults); ``wind`` (x, y) [m/s] a known steady wind in
     ``field`` (an anemometer's); ``wind_sigma`` [m/s] > 0 adds two states, the unknown horizontal
-    wind beyond ``wind`` (prior sigma per axis), with random walk ``wind_rate`` [m/s/sqrt(s)].
+    wind beyond ``wind`` (prior sigma per axis), with random walk ``wind_rate`` [m/s/sqrt(s)];
+    ``gust_rate`` [m/s/sqrt(s)] > 0 (with ``wind_sigma`` > 0) runs each filter twice, in steady
+    air (``wind_rate``) and in gusts (the wind a random walk of this rate), mixed by likelihood
+    (a multiple model): while the gusty ones are the likelier, the predictions are theirs,
+    widened by the gusts still to come.
     ``refine_iterations`` > 0: once one hand is left, the predictions come from a batch MAP fit
     of every fix of the throw (:mod:`.refine`, at most that many Levenberg-Marquardt steps a
     prediction, warm-started from the last); 0 = the filter's own estimate.
 
     The noise and prior defaults make the covariance honest (landing NEES 1.5-3) on the
     prediction benchmark's flights, which have no model error beyond the unknowns the state
-    carries; in gusty air raise ``accel_noise`` (the tracker node's ``model_noise``).
+    carries. Outdoors set ``wind_sigma`` (a steady unknown wind) and ``gust_rate`` (gusts): an
+    unmodelled wind makes the covariance lie; both cost a little accuracy in still air.
     """
 
     noise: float = 0.02
@@ -199,6 +205,7 @@ class TrackerSettings:
     wind: tuple = (0.0, 0.0)
     wind_sigma: float = 0.0
     wind_rate: float = 0.2
+    gust_rate: float = 0.0
     refine_iterations: int = 25
 
     LIMITS = {
@@ -230,6 +237,7 @@ class TrackerSettings:
         'ground': (-100.0, 100.0),
         'wind_sigma': (0.0, 30.0),
         'wind_rate': (0.0, 10.0),
+        'gust_rate': (0.0, 20.0),
         'refine_iterations': (0, 100),
     }
 
@@ -331,9 +339,10 @@ class _Hypothesis:
     P: np.ndarray
     loglik: float = 0.0
     hand: float = 1.0  # sign of the spin it started with
+    gusty: bool = False  # its wind a random walk of gust_rate (else wind_rate)
 
     def copy(self) -> '_Hypothesis':
-        return _Hypothesis(self.x.copy(), self.P.copy(), self.loglik, self.hand)
+        return _Hypothesis(self.x.copy(), self.P.copy(), self.loglik, self.hand, self.gusty)
 
 
 @dataclass
@@ -395,6 +404,8 @@ class FlightTracker:
         self._candidates: collections.deque = collections.deque(maxlen=depth)
         self._old: collections.deque = collections.deque(maxlen=depth)
         self._newest = -math.inf
+        self.frame_stamps: collections.deque = collections.deque(maxlen=32)
+        """Stamps [s] of the latest fixes seen (any track's): the camera's measured rate."""
         self.time_resets = 0
         self.counts: collections.Counter = collections.Counter()
         self.learned: dict | None = None
@@ -547,11 +558,44 @@ class FlightTracker:
                     for f, m in zip(planes, self._mixture(tr, h, wall))
                 ]
         q = self._accel_variance(model)
+        gust = self._gust_variance(tr)
         return (
-            self._prediction(planes[0], q, (0.0, 0.0, 1.0), s.ground),
-            self._prediction(planes[1], q, (0.0, 0.0, 1.0), h),
-            self._prediction(planes[2], q, (wall[2], wall[3], 0.0)),
+            self._prediction(planes[0], q, (0.0, 0.0, 1.0), s.ground, gust),
+            self._prediction(planes[1], q, (0.0, 0.0, 1.0), h, gust),
+            self._prediction(planes[2], q, (wall[2], wall[3], 0.0), gust=gust),
         )
+
+    def _gust_variance(self, tr: _Track) -> np.ndarray | None:
+        """
+        Return the x, y variance rate [m^2/s] of the gusts still to come, or None in steady air.
+
+        In gusty air the wind is a random walk of ``gust_rate`` q from now: a change dw at time
+        tau before the landing (time T) moves it by about J dw ((T - tau) / T)^2 (the drift
+        grows with the square of the time it acts; J = d landing / d wind of the likeliest
+        filter's mean, flown), so the landing's variance grows by q J J' T / 5: whichever
+        filter is the likelier, since a gust may start at any time.
+        """
+        if not any(h.gusty for h in tr.hyps):
+            return None
+        pts = np.repeat(tr.best.x[None, :], 3, axis=0)
+        pts[1, X_W] += 1.0
+        pts[2, X_W + 1] += 1.0
+        s = self.settings
+        flown = fly_to_planes(pts, self.params, s.landing_step, -math.inf, s.ground, s.horizon,
+                              NO_PLANE)
+        if not np.all(flown[:, 3] == 1.0):
+            return None
+        J = (flown[1:, 1:3] - flown[0, 1:3]).T  # columns: per m/s of wind x, y
+        return s.gust_rate**2 * (J @ J.T) / 5.0
+
+    @staticmethod
+    def _gusty_weight(tr: _Track) -> float:
+        """Return the gusty filters' share of the likelihood (0 without them)."""
+        if not any(h.gusty for h in tr.hyps):
+            return 0.0
+        lls = np.array([h.loglik for h in tr.hyps])
+        w = np.exp(lls - lls.max())
+        return float(sum(wk for wk, h in zip(w, tr.hyps) if h.gusty) / w.sum())
 
     def _mixture(self, tr: _Track, height: float, wall: np.ndarray) -> list:
         """
@@ -599,14 +643,15 @@ class FlightTracker:
         """
         Return the batch MAP fit (:mod:`.refine`) of the throw's one hand left, or None.
 
-        None with ``refine_iterations`` 0, while both hands are alive, or when the fit fails.
+        None with ``refine_iterations`` 0, while both hands are alive, while the gusty filters
+        hold more than 5 % of the likelihood (the fit flies a steady wind), or when it fails.
         The prior is the filter's at the first fix, its spin the hand's whole spread (one
         Gaussian: a fit from the filter's estimate needs no slices). Cached per newest fix;
         warm-started from the last fit of the throw, else from the filter's estimate flown back
         to the first fix.
         """
         s, tr, hand = self.settings, self.track, self.hand
-        if s.refine_iterations == 0 or tr is None or hand is None:
+        if s.refine_iterations == 0 or tr is None or hand is None or self._gusty_weight(tr) > 0.5:
             return None
         key = (tr.t, len(tr.fixes), hand)
         if tr.fit is None or tr.fit[0] != key:
@@ -630,13 +675,14 @@ class FlightTracker:
         fixes = [tr.fixes[t] for t in times]
         return refine(times, fixes, x0, prior, s.noise, self.params, s.step, s.refine_iterations)
 
-    def _prediction(self, moments_, q: float, normal, height: float = math.nan):
+    def _prediction(self, moments_, q: float, normal, height: float = math.nan, gust=None):
         """
         Return the prediction on one plane of unit ``normal`` from its (mean, cov), or None.
 
         Horizontal planes (z = ``height``) carry (time, x, y) moments, vertical ones (time, x,
         y, z). The model error's variance q T^3 / 3 is added in the plane (``q``
-        [m^2/s^4/Hz] from :meth:`_accel_variance`, T the time to the plane).
+        [m^2/s^4/Hz] from :meth:`_accel_variance`, T the time to the plane), and ``gust`` T to
+        x, y (:meth:`_gust_variance`, None: none).
         """
         if moments_ is None:
             return None
@@ -645,6 +691,8 @@ class FlightTracker:
         extra = q * max(t_land, 0.0) ** 3 / 3.0
         n = np.asarray(normal, dtype=float)
         in_plane = extra * (np.eye(3) - np.outer(n, n))
+        if gust is not None:
+            in_plane[:2, :2] += gust * max(t_land, 0.0)
         if mean.size == 3:  # a horizontal plane
             if not math.isfinite(height):
                 return None
@@ -696,6 +744,7 @@ class FlightTracker:
             return UpdateResult('invalid', 'position beyond 100 km or absurd stamp')
         if now is not None and math.isfinite(now) and t > now + s.max_future:
             return UpdateResult('future', f'stamp {t - now:.3f} s ahead of now')
+        self.frame_stamps.append(t)
         if t < self._newest - s.max_lag:
             result = self._behind(t, meas)
             if result.used:
@@ -722,7 +771,7 @@ class FlightTracker:
         best = tr.best
         jitter = self._jitter(tr, t)
         for hyp in tr.hyps:
-            x, P, ok = self._predict(hyp.x, hyp.P, t - tr.t)
+            x, P, ok = self._predict(hyp.x, hyp.P, t - tr.t, hyp.gusty)
             new = hyp.copy()
             if ok:
                 folded = with_timing(meas, x[:3], x[X_V:X_V + 3], jitter)
@@ -732,7 +781,7 @@ class FlightTracker:
                     x[X_S:X_S + 3] /= np.linalg.norm(x[X_S:X_S + 3])
                     if np.all(np.isfinite(x)):
                         new = _Hypothesis(x, up.P, hyp.loglik - 0.5 * (up.d2 + up.logdet),
-                                          hyp.hand)
+                                          hyp.hand, hyp.gusty)
                         if hyp is best:
                             accepted, taken = True, folded
             new_hyps.append(new)
@@ -812,7 +861,7 @@ class FlightTracker:
             self._filter(tr, e.stamp, e.meas, record=True)
         return result
 
-    def _predict(self, x, P, dt):
+    def _predict(self, x, P, dt, gusty: bool = False):
         s = self.settings
         if dt <= 0.0:
             return x.copy(), P.copy(), True
@@ -830,8 +879,9 @@ class FlightTracker:
         Pm[X_KD, X_KD] += s.scale_rate**2 * dt
         Pm[X_KL, X_KL] += s.scale_rate**2 * dt
         if xm.size == N_X_WIND:
-            Pm[X_W, X_W] += s.wind_rate**2 * dt
-            Pm[X_W + 1, X_W + 1] += s.wind_rate**2 * dt
+            rate = s.gust_rate if gusty else s.wind_rate
+            Pm[X_W, X_W] += rate**2 * dt
+            Pm[X_W + 1, X_W + 1] += rate**2 * dt
         xm[X_S:X_S + 3] /= np.linalg.norm(xm[X_S:X_S + 3])
         ok = bool(np.all(np.isfinite(xm)) and np.all(np.isfinite(Pm)))
         return xm, 0.5 * (Pm + Pm.T), ok
@@ -901,15 +951,16 @@ class FlightTracker:
         self._old.clear()
         self.time_resets += 1
 
-    def start_window(self, stamps) -> float:
+    def start_window(self) -> float:
         """
         Return the window [s] in which ``min_points`` fixes must fit an arc to start a throw.
 
-        ``init_window``, or ``min_points`` + 1 fix intervals where the camera is slower (the
-        median spacing of the distinct ``stamps`` [s], at most 2 s).
+        ``init_window``, or ``min_points`` + 1 frame intervals where the camera is slower (the
+        median spacing of the distinct :attr:`frame_stamps`, every fix's, so that a few stray
+        detections alone do not look like a slow camera; at most 2 s).
         """
         s = self.settings
-        gaps = np.diff(np.unique(np.asarray(stamps, dtype=float)))
+        gaps = np.diff(np.unique(np.asarray(self.frame_stamps, dtype=float)))
         if gaps.size == 0:
             return s.init_window
         return max(s.init_window, min((s.min_points + 1) * float(np.median(gaps)), 2.0))
@@ -937,7 +988,7 @@ class FlightTracker:
         Returns (times, fixes, x0, cov, buffer indices used) or the reason (str) there is none.
         """
         s = self.settings
-        window = self.start_window([c[0] for c in buffer])
+        window = self.start_window()
         idx = [k for k, c in enumerate(buffer) if abs(c[0] - t) <= window]
         if len(idx) < s.min_points:
             return (
@@ -974,8 +1025,9 @@ class FlightTracker:
             if fit is None:
                 break
             x0, cov, resid, sigma = fit
-            worst = int(np.argmax(resid / (4.0 * sigma + 0.01)))
-            if resid[worst] <= 4.0 * sigma[worst] + 0.01:
+            bad = resid / (4.0 + 0.01 / sigma)  # within 4 sigma + 1 cm: <= 1
+            worst = int(np.argmax(bad))
+            if bad[worst] <= 1.0:
                 if np.linalg.norm(x0[3:6]) < s.min_speed:
                     return 'the fixes do not move like a throw'
                 return times[keep], [fixes[k] for k in keep], x0, cov, {idx[k] for k in keep}
@@ -988,31 +1040,31 @@ class FlightTracker:
         """
         r(t) = r1 + v1 (t - t1) - g/2 (t - t1)^2 z_hat, generalised least squares (t1 = last).
 
-        Each fix weighted by the inverse of its covariance ``covs`` (k, 3, 3) [m^2] plus
-        ``jit2`` v v' (the stamps' jitter [s^2] along the velocity of an unweighted first fit),
-        so that fixes good across and poor along a camera's ray (a range from the apparent
-        size) pin the arc where they are good. Returns (x0, cov, residuals and sigmas: the
-        Mahalanobis distances and ones) or None.
+        Fix k weighted by the inverse of ``covs``[k] (3, 3) [m^2] + ``jit2`` v v' (the stamps'
+        jitter [s^2], v the velocity of an unweighted first fit at the fix). Returns (x0, cov,
+        each fix's Mahalanobis residual, its largest sigma [m]) or None.
         """
         tau = times - times[-1]
         if tau[0] > -1e-3:
             return None
+        g = np.array([0.0, 0.0, self.params[dyn.P_GRAVITY]])
         A = np.column_stack([np.ones_like(tau), tau])
-        target = zs.copy()
-        target[:, 2] += 0.5 * self.params[dyn.P_GRAVITY] * tau**2
+        target = zs + 0.5 * np.outer(tau**2, g)
         coef, *_ = np.linalg.lstsq(A, target, rcond=None)
+        vel = coef[1][None, :] - np.outer(tau, g)
+        C = covs + jit2 * np.einsum('ki,kj->kij', vel, vel)
+        W = np.linalg.inv(C)
+        blocks = np.concatenate([np.repeat(np.eye(3)[None], tau.size, 0),
+                                 tau[:, None, None] * np.eye(3)], axis=2)  # (k, 3, 6)
+        info = np.einsum('kai,kab,kbj->ij', blocks, W, blocks)
         try:
-            W = np.linalg.inv(covs + jit2 * np.outer(coef[1], coef[1]))  # (k, 3, 3)
-            H = np.concatenate([np.broadcast_to(np.eye(3), W.shape),
-                                tau[:, None, None] * np.eye(3)], axis=2)  # (k, 3, 6)
-            info = np.einsum('kji,kjl,klm->im', H, W, H)
             cov = np.linalg.inv(info)
-            x0 = cov @ np.einsum('kji,kjl,kl->i', H, W, target)
         except np.linalg.LinAlgError:
             return None
-        err = target - np.einsum('kij,j->ki', H, x0)
-        resid = np.sqrt(np.einsum('ki,kij,kj->k', err, W, err))
-        return x0, 0.5 * (cov + cov.T), resid, np.ones_like(resid)
+        x0 = cov @ np.einsum('kai,kab,kb->i', blocks, W, target)
+        err = target - np.einsum('kai,i->ka', blocks, x0)
+        resid = np.sqrt(np.einsum('ka,kab,kb->k', err, W, err))
+        return x0, 0.5 * (cov + cov.T), resid, np.sqrt(np.linalg.eigvalsh(C)[:, -1])
 
     def _spin_prior(self) -> list[tuple[float, float, float]]:
         """
@@ -1051,7 +1103,14 @@ class FlightTracker:
         for i in range(3):
             P[3 + i, 3 + i] += (0.01 * speed) ** 2
             P[i, i] += 1e-4
-        P[X_S:X_S + 3, X_S:X_S + 3] = s.axis_sigma**2 * perp + 1e-8 * np.eye(3)
+        # The axis is guessed along the arc's velocity, so it shares that velocity's error: a
+        # noisy view (a mono camera's depth) leaves the direction itself uncertain.
+        J = perp / float(np.linalg.norm(v_first))
+        P[X_S:X_S + 3, :6] = J @ P[3:6, :6]
+        P[:6, X_S:X_S + 3] = P[X_S:X_S + 3, :6].T
+        P[X_S:X_S + 3, X_S:X_S + 3] = (
+            s.axis_sigma**2 * perp + J @ P[3:6, 3:6] @ J.T + 1e-8 * np.eye(3)
+        )
         P[X_KD, X_KD] = P[X_KL, X_KL] = s.scale_sigma**2
         if n_x == N_X_WIND:  # unknown steady wind beyond the known ``wind``, mean 0
             P[X_W, X_W] = P[X_W + 1, X_W + 1] = s.wind_sigma**2
@@ -1080,8 +1139,12 @@ class FlightTracker:
             c = hand * h1 * P[X_S:X_S + 3, X_S:X_S + 3]
             Ph[X_H:X_H + 3, X_S:X_S + 3] = c
             Ph[X_S:X_S + 3, X_H:X_H + 3] = c.T
+            Ph[X_H:X_H + 3, :6] = hand * h1 * P[X_S:X_S + 3, :6]
+            Ph[:6, X_H:X_H + 3] = Ph[X_H:X_H + 3, :6].T
             Ph[X_H:X_H + 3, X_H:X_H + 3] += hand * h1 * c
             hyps.append(_Hypothesis(x, Ph, 0.0, hand))
+            if n_x == N_X_WIND and s.gust_rate > 0.0:  # its twin in gusty air
+                hyps.append(_Hypothesis(x.copy(), Ph.copy(), 0.0, hand, gusty=True))
         self.track = _Track(hyps, float(t))
         self.track.prior = tuple(
             (i, float(x[i]), math.sqrt(P[i, i])) for i in (X_KD, X_KL, X_W, X_W + 1) if i < n_x
@@ -1096,6 +1159,40 @@ class FlightTracker:
         )
         self.throws += 1
         return UpdateResult('started')
+
+
+def warm_up(settings: TrackerSettings | None = None):
+    """
+    Load (or compile) every kernel the tracker runs; return a CompileStep.
+
+    A throw seen by a scratch tracker of ``settings``: the filter, the predictions on all
+    planes, the path, the batch fit's flights and a late fix's roll-back (a state with the
+    wind's two entries is the same array type: no other version).
+    """
+    import time
+
+    from ..physics.precompile import CompileStep
+    from . import motion
+
+    def counts():
+        stats = [d.stats for d in vars(motion).values() if hasattr(d, 'stats')]
+        return (sum(sum(st.cache_hits.values()) for st in stats),
+                sum(sum(st.cache_misses.values()) for st in stats))
+
+    start, (hits, misses) = time.perf_counter(), counts()
+    s = settings or TrackerSettings()
+    scratch = FlightTracker(s)
+    for k in range(12):
+        t = k / 60.0
+        scratch.update(t, (20.0 * t, 0.0, 1.8 + 12.0 * t - 4.905 * t * t))
+    scratch.predict_planes(1.2, vertical_plane(10.0, 0.0, 0.0))
+    scratch.predict_path(0.05)
+    _, x, _ = scratch.estimate
+    fly_state(x, [-0.01], scratch.params, s.step)  # the batch fit's kernel
+    scratch.update(0.5 / 60.0, (0.2, 0.0, 1.9))  # a late fix: the roll-back path
+    new_hits, new_misses = counts()
+    return CompileStep('tracker kernels (filter, predictions, batch fit)',
+                       time.perf_counter() - start, new_hits - hits, new_misses - misses)
 
 
 def _same(entry: _Entry, t: float, meas: Measurement) -> bool:
@@ -1116,15 +1213,21 @@ def measured_jitter(stamps, min_gaps: int = 8) -> float:
     """
     Return the jitter [s, 1 sigma] of a camera's stamps [s], from the spread of their spacing.
 
-    A regular camera's stamps are k T + e_k: the spacing's spread is sqrt(2) sigma_e. Robust
-    (median absolute deviation, distinct stamps): dropped frames and a second detection in a
-    frame do not count. 0 with fewer than ``min_gaps`` spacings.
+    A regular camera's stamps are k T + e_k: the spacing of stamps L apart spreads by sqrt(2)
+    sigma_e. Robust (median absolute deviation, distinct stamps): dropped frames and a second
+    detection in a frame do not count; the largest over L = 1, 2, 3, since a jitter near T
+    reorders neighbours (and narrows their sorted spacing). 0 with fewer than ``min_gaps``
+    spacings.
     """
-    gaps = np.diff(np.unique(np.asarray(stamps, dtype=float)))
-    if gaps.size < min_gaps:
+    t = np.unique(np.asarray(stamps, dtype=float))
+    if t.size - 1 < min_gaps:
         return 0.0
-    mad = float(np.median(np.abs(gaps - np.median(gaps))))
-    return 1.4826 * mad / math.sqrt(2.0)
+    out = 0.0
+    for lag in (1, 2, 3):
+        gaps = t[lag:] - t[:-lag]
+        if gaps.size >= min_gaps:
+            out = max(out, float(np.median(np.abs(gaps - np.median(gaps)))))
+    return 1.4826 * out / math.sqrt(2.0)
 
 
 def _one_per_stamp(times: np.ndarray, err: np.ndarray, limit: float) -> np.ndarray:
@@ -1136,22 +1239,3 @@ def _one_per_stamp(times: np.ndarray, err: np.ndarray, limit: float) -> np.ndarr
         if key not in chosen or err[k] < err[chosen[key]]:
             chosen[key] = k
     return np.array(sorted(chosen.values()), dtype=int)
-
-
-def warm_up(settings: TrackerSettings | None = None) -> None:
-    """
-    Load (or, on a cold numba cache, compile) the tracker's kernels: a throw on a scratch tracker.
-
-    The filter, the predictions at a plane and along the path, the batch fit and a late fix
-    (the roll-back path).
-    """
-    settings = settings or TrackerSettings()
-    scratch = FlightTracker(settings)
-    for k in range(12):
-        t = k / 60.0
-        scratch.update(t, (20.0 * t, 0.0, 1.8 + 12.0 * t - 4.905 * t * t))
-    scratch.predict_planes(1.2, vertical_plane(10.0, 0.0, 0.0))
-    scratch.predict_path(0.05)
-    _, x, _ = scratch.estimate  # the batch fit's kernel (this short throw keeps both hands)
-    fly_state(x, [-0.01], scratch.params, settings.step)
-    scratch.update(0.5 / 60.0, (0.2, 0.0, 1.9))  # a late fix: the roll-back path

@@ -29,7 +29,7 @@ MARKERS = 'football/markers'
 DIAGNOSTICS = '/diagnostics'
 CLOCK = '/clock'
 TF = '/tf'  # absolute, as tf2_ros uses it: one TF tree per domain (see msg_docs/tf.md)
-TF_STATIC = '/tf_static'  # the cameras' optical frames (msg_docs/tf_static.md)
+TF_STATIC = '/tf_static'  # static frames: the cameras' optical frames; fixes' frames (tracker)
 CAMERA_LEAVES = ('camera_info', 'detections')  # a rig camera's topics (camera_topic)
 RELEASE_REQUEST = 'football/release/request'
 RELEASE_RESPONSE = 'football/release/response'
@@ -39,6 +39,7 @@ FLIGHT_ACK = 'football/flight/ack'
 RESET_SERVICE = 'football/reset'
 PAUSE_SERVICE = 'football/pause'
 OBSERVATION, ESTIMATE = 'football/observation', 'football/estimate'  # camera fixes, tracker
+OBSERVATION_COV = 'football/observation_with_covariance'  # fixes with their covariance
 # The simulator's simulation_interfaces services and action: private names (~/ = under the
 # node's name), as ros_gz_sim names them under its server node.
 GET_SIMULATOR_FEATURES = '~/get_simulator_features'
@@ -86,6 +87,14 @@ MARKERS_QOS = QoSProfile(
     durability=DurabilityPolicy.VOLATILE,
 )
 DIAGNOSTICS_QOS = MARKERS_QOS
+# /tf_static as tf2_ros's StaticBroadcasterQoS / StaticListenerQoS: reliable, transient local
+# (a late joiner gets every static transform), keep last 100.
+TF_STATIC_QOS = QoSProfile(
+    history=HistoryPolicy.KEEP_LAST,
+    depth=100,
+    reliability=ReliabilityPolicy.RELIABLE,
+    durability=DurabilityPolicy.TRANSIENT_LOCAL,
+)
 PLAN_PATH_QOS = MARKERS_QOS  # planned paths: reliable, shallow
 # /clock as rclcpp::ClockQoS: best effort, latest only.
 CLOCK_QOS = QoSProfile(

@@ -61,6 +61,7 @@ TOPICS: dict[str, tuple[type, QoSProfile]] = {
     qos.FLIGHT_ORDER: (String, qos.ORDER),
     qos.FLIGHT_ACK: (DiagnosticStatus, qos.ORDER),
     qos.OBSERVATION: (PointStamped, qos.STATE),
+    qos.OBSERVATION_COV: (PoseWithCovarianceStamped, qos.STATE),
     qos.ESTIMATE: (Odometry, qos.STATE),
     qos.LANDING: (PoseWithCovarianceStamped, qos.STATE),
     qos.CATCH: (PoseWithCovarianceStamped, qos.STATE),

@@ -16,7 +16,10 @@
 Tracker node: ball positions from any detector in, state estimate and landing prediction out.
 
 Subscribes ``football/observation`` (geometry_msgs/msg/PointStamped, header.stamp = capture
-time) and runs :class:`football_ros.estimation.FlightTracker` (an unscented Kalman filter on
+time) and ``football/observation_with_covariance`` (geometry_msgs/msg/PoseWithCovarianceStamped:
+the position and its 3x3 covariance block, the orientation ignored), in ``frame_id`` or in any
+frame /tf_static connects to it (the fix and its covariance rotated into ``frame_id``), and
+runs :class:`football_ros.estimation.FlightTracker` (an unscented Kalman filter on
 the package's full flight model, its predictions from a batch fit of every fix once the hand
 is known, ``refine_iterations``; the filter, its choices and its limits are documented
 there). Publishes ``football/estimate`` (nav_msgs/msg/Odometry with covariances),
@@ -34,10 +37,11 @@ ended: why') and its own topics ``football/track_<id>/estimate``,
 ``football/track_<id>/prediction/landing``, ``.../catch``, ``.../receiver`` and
 ``football/track_<id>/prediction/path`` (:func:`qos.track_topic`), created at its start and
 removed after its end; the topics without an id carry the oldest live track (the only one when
-one ball flies). Predictions are throttled
-to ``prediction_rate`` per second of the fixes' own clock (not the node's); a clock that jumps
-back (a /clock source restarted under use_sim_time) ends every track and resets the time base,
-with a log line.
+one ball flies). When fixes keep arriving for a second and no throw starts, or a track is lost
+or replaced by a new throw, one log line and a WARN status on /diagnostics say why.
+Predictions are throttled to ``prediction_rate`` per second of the fixes' own clock (not the
+node's); a clock that jumps back (a /clock source restarted under use_sim_time) ends every
+track and resets the time base, with a log line.
 """
 
 from __future__ import annotations
@@ -45,6 +49,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 import math
 
+from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import Point, PointStamped, PoseStamped, PoseWithCovarianceStamped
 from nav_msgs.msg import Odometry, Path
 import numpy as np
@@ -61,6 +66,7 @@ from ..estimation import TrackerSettings
 from ..estimation.camera_fusion import CameraFusion
 from ..estimation.motion import X_H, X_S, X_V
 from ..estimation.multi import MultiTracker
+from ..estimation.static_frames import StaticFrames
 from ..estimation.tracker import vertical_plane, warm_up
 from ..physics.frames import attitude_with_axis, FIELD_FRAME
 from ..physics.presets import PRESETS
@@ -104,6 +110,24 @@ PARAMETERS = (
             TrackerSettings.LIMITS['refine_iterations'],
         ),
         ('spin_rpm', 0.0, "Nominal |spin| [rev/min] of a throw, 0 = the preset's", (0.0, 3000.0)),
+        (
+            'stamp_jitter',
+            TrackerSettings.stamp_jitter,
+            "Jitter of the fixes' stamps, 1 sigma [s] (the measured one if larger)",
+            TrackerSettings.LIMITS['stamp_jitter'],
+        ),
+        (
+            'min_points',
+            TrackerSettings.min_points,
+            'Fixes on a ballistic arc that start a throw',
+            TrackerSettings.LIMITS['min_points'],
+        ),
+        (
+            'init_window',
+            TrackerSettings.init_window,
+            'Window of those fixes [s] (grows to min_points + 1 intervals of a slow camera)',
+            TrackerSettings.LIMITS['init_window'],
+        ),
         ('gate', 21.11, 'Outlier gate: squared Mahalanobis distance', (1.0, 10000.0)),
         ('max_lag', 0.5, 'Oldest fix accepted behind the newest [s]', (0.0, 10.0)),
         ('max_gap', 0.5, 'Silence that ends a throw [s]', (0.01, 100.0)),
@@ -150,6 +174,13 @@ PARAMETERS = (
             (0.0, 30.0),
         ),
         (
+            'gust_rate',
+            TrackerSettings.gust_rate,
+            'Gusts (with wind_sigma > 0): each filter also runs with the wind a random walk of '
+            'this rate [m/s/sqrt(s)], 0 = off',
+            TrackerSettings.LIMITS['gust_rate'],
+        ),
+        (
             'carry_over',
             False,
             'Start each throw from the drag/lift scales (and wind) the last landed throw learnt',
@@ -182,12 +213,16 @@ class TrackerNode(Node):
                 refine_iterations=int(self.refine_iterations),
                 ball=self.ball,
                 spin_rpm=self.spin_rpm or None,
+                stamp_jitter=self.stamp_jitter,
+                min_points=int(self.min_points),
+                init_window=self.init_window,
                 gate=self.gate,
                 max_lag=self.max_lag,
                 max_gap=self.max_gap,
                 max_future=max(self.max_future, 1e-9),
                 wind=(self.wind_x, self.wind_y),
                 wind_sigma=self.wind_sigma,
+                gust_rate=self.gust_rate,
             ),
             max_tracks=int(self.max_tracks),
             carry_over=bool(self.carry_over),
@@ -199,6 +234,18 @@ class TrackerNode(Node):
         )
         self._streams = {None: self._stream(None)}  # None: the primary stream (legacy topics)
         self.create_subscription(PointStamped, qos.OBSERVATION, self._on_fix, qos.STATE)
+        self.create_subscription(
+            PoseWithCovarianceStamped, qos.OBSERVATION_COV, self._on_fix, qos.STATE
+        )
+        self.frames = StaticFrames()
+        if mb.TFMessage is not None:
+            self.create_subscription(
+                mb.TFMessage, qos.TF_STATIC, self._on_tf_static, qos.TF_STATIC_QOS
+            )
+        self._diag_pub = self.create_publisher(
+            DiagnosticArray, qos.DIAGNOSTICS, qos.DIAGNOSTICS_QOS
+        )
+        self.diagnostic_name = f'football_ros: {self.get_fully_qualified_name()}'
         names = [name for name in self.cameras if name]
         bad = [name for name in names if not name.replace('_', 'a').isalnum()]
         if bad:
@@ -212,7 +259,7 @@ class TrackerNode(Node):
             JumpThreshold(min_forward=None, min_backward=Duration(seconds=-1.0)),
             post_callback=self._on_clock_jump,
         )
-        warm_up(self.tracker.settings)  # the kernels, not on the first real fix
+        warm_up(self.tracker.settings)  # every kernel of the tracker, before 'ready'
         self.get_logger().info(
             f"ready: tracking '{self.resolve_topic_name(qos.OBSERVATION)}' in "
             f"'{self.frame_id}' ({self.ball}, noise {self.observation_noise:g} m)"
@@ -232,26 +279,39 @@ class TrackerNode(Node):
         except Exception as exc:  # noqa: BLE001 - never from a clock callback
             self.get_logger().error(f'clock jump not handled: {exc!r}'[:300])
 
-    def _on_fix(self, msg: PointStamped) -> None:
+    def _on_tf_static(self, msg) -> None:
+        """Record the static transforms (each checked; a bad one is refused with a log line)."""
+        try:
+            for tf in msg.transforms[:256]:
+                tr, rot = tf.transform.translation, tf.transform.rotation
+                try:
+                    self.frames.add(
+                        tf.header.frame_id, tf.child_frame_id, (tr.x, tr.y, tr.z),
+                        (rot.x, rot.y, rot.z, rot.w),
+                    )
+                except ValueError as exc:
+                    self.get_logger().warning(
+                        f'/tf_static transform refused: {exc}', throttle_duration_sec=2.0
+                    )
+        except Exception as exc:  # noqa: BLE001 - a bad message must never stop the node
+            self.get_logger().error(f'/tf_static ignored after an internal error: {exc!r}'[:300])
+
+    def _on_fix(self, msg) -> None:
         try:
             self._handle(msg)
         except Exception as exc:  # noqa: BLE001 - a bad fix must never stop the node
             self.get_logger().error(f'fix ignored after an internal error: {exc!r}'[:300])
 
-    def _handle(self, msg: PointStamped) -> None:
-        if msg.header.frame_id != self.frame_id:
-            self.get_logger().warning(
-                f"fix refused: header.frame_id '{msg.header.frame_id[:40]}' is not "
-                f"'{self.frame_id}'",
-                throttle_duration_sec=2.0,
-            )
+    def _handle(self, msg) -> None:
+        fix = fix_of(msg, self.frame_id, self.frames)
+        if isinstance(fix, str):
+            self.get_logger().warning(f'fix refused: {fix}', throttle_duration_sec=2.0)
             return
+        position, covariance = fix
         stamp = _ns(msg.header.stamp) * 1e-9
         now = self.get_clock().now().nanoseconds * 1e-9 if self.max_future > 0 else None
-        track_id, result = self.tracker.update(
-            stamp, (msg.point.x, msg.point.y, msg.point.z), now
-        )
-        self._took(track_id, result, (msg.point.x, msg.point.y), stamp)
+        track_id, result = self.tracker.update(stamp, position, now, covariance)
+        self._took(track_id, result, position[:2], stamp)
 
     def _on_detection(self, stamp: float, name: str, camera, center, width: float) -> None:
         """One camera detection (nodes/cameras.py): fused as pixels (estimation/camera_fusion)."""
@@ -346,7 +406,10 @@ class TrackerNode(Node):
         """Log the tracks started and ended; open and close their streams."""
         events, self.tracker.events = self.tracker.events, []
         for ev in events:
-            if ev.kind == 'started':
+            if ev.kind == 'no_start':
+                self.get_logger().warning(ev.reason)
+                self._diagnose('no_start', ev.reason, ev.time)
+            elif ev.kind == 'started':
                 self._streams[ev.track_id] = self._stream(ev.track_id)
                 self.get_logger().info(
                     f'new throw #{ev.track_id} at t = {ev.time:.3f} s '
@@ -355,7 +418,19 @@ class TrackerNode(Node):
             else:
                 if ev.reason != 'landed':
                     self._drop_stream(ev.track_id)
+                    self._diagnose('track_ended', f'throw #{ev.track_id} ended: {ev.reason}',
+                                   ev.time)
                 self.get_logger().info(f'throw #{ev.track_id} ended: {ev.reason}')
+
+    def _diagnose(self, event: str, text: str, t: float) -> None:
+        """Publish one WARN status on /diagnostics (stamped ``t`` [s] of the fixes' clock)."""
+        msg = DiagnosticArray()
+        if _stampable(t):
+            msg.header.stamp = _seconds_msg(t)
+        msg.status = [mb.diagnostic_status(
+            self.diagnostic_name, 'WARN', text, {'event': event, 'time': float(t)}
+        )]
+        self._diag_pub.publish(msg)
 
     def _publish_estimate(self, tracker, stream) -> None:
         est = tracker.estimate
@@ -426,6 +501,37 @@ class PredictionThrottle:
     def reset(self) -> None:
         """Forget the last prediction's time."""
         self._last = -math.inf
+
+
+def fix_of(msg, frame_id: str, frames: StaticFrames):
+    """
+    Return (position (3,) [m], covariance (3, 3) [m^2] or None) of a fix in ``frame_id``.
+
+    ``msg`` a PointStamped (no covariance) or a PoseWithCovarianceStamped (its position block);
+    in ``frame_id`` or a frame ``frames`` connects to it (rotated and moved into it). A str
+    (the reason, naming the field) if the fix cannot be used.
+    """
+    source = msg.header.frame_id
+    if isinstance(msg, PointStamped):
+        p, cov = msg.point, None
+    else:
+        p = msg.pose.pose.position
+        full = np.asarray(msg.pose.covariance, dtype=float)
+        if full.size != 36 or not np.all(np.isfinite(full)):
+            return 'pose.covariance must be 36 finite numbers'
+        cov = full.reshape(6, 6)[:3, :3]
+        if not np.any(cov):  # all zero: not given (the ROS convention), the node's noise
+            cov = None
+    position = np.array([p.x, p.y, p.z], dtype=float)
+    if source != frame_id:
+        transform = frames.lookup(frame_id, source)
+        if transform is None:
+            return (f"header.frame_id '{source[:40]}' is not '{frame_id}' nor a frame "
+                    '/tf_static connects to it')
+        R, t = transform
+        position = R @ position + t
+        cov = None if cov is None else R @ cov @ R.T
+    return position, cov
 
 
 def _finite(*arrays) -> bool:
