@@ -354,7 +354,7 @@ def test_flood_every_request_answered_once_memory_bounded(start_node, client, pu
 
 def test_a_killed_simulator_is_reported_within_a_second(start_node, client):
     simulator = start_node('simulator')
-    start_node('release')
+    start_node('release', '--ros-args', '-p', 'ack_patience:=1.0')  # DDS still matches it
     connect(client)
     simulator.stop(signal.SIGKILL)
     t0 = time.monotonic()
