@@ -269,7 +269,7 @@ def floods(args) -> None:
     tmp = Path(os.environ.get('TMPDIR', '/tmp')) / f'football_requests_{os.getpid()}'
     tmp.mkdir(parents=True, exist_ok=True)
     rows = []
-    for node in ('release', 'planner'):
+    for node in args.nodes:
         for hog_on in (False, True):
             for pattern, keep_all in (('burst', False), ('flood', False), ('flood', True)):
                 rows.append(flood_run(node, pattern, hog_on, keep_all, args, tmp))
@@ -289,6 +289,8 @@ def main() -> None:
     parser.add_argument('--rate', type=float, default=1000.0)
     parser.add_argument('--seconds', type=float, default=10.0)
     parser.add_argument('--no-flood', action='store_true', help='the decision times only')
+    parser.add_argument('--nodes', nargs='+', choices=('release', 'planner'),
+                        default=['release', 'planner'])
     args = parser.parse_args()
     decision_times(args)
     if not args.no_flood:

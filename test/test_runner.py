@@ -99,3 +99,30 @@ def test_help_prints_parameters_and_exits_without_starting(program):
     if program == 'simulator':
         assert 'publish_rate (default 100.0 [1 .. 2000])' in proc.stdout
         assert 'trail_length (default 500 [0 .. 100000])' in proc.stdout
+
+
+def test_a_stop_signal_in_llvmlites_callbacks_waits_for_a_safe_point():
+    """The first signal is not raised inside code C calls back; the retry raises it outside."""
+    from football_ros.nodes import runner
+
+    scope = {'__name__': 'llvmlite.binding.executionengine', 'sys': sys}
+    exec('def callback():\n    return sys._getframe()', scope)  # a frame of llvmlite's
+    unsafe, safe = scope['callback'](), sys._getframe()
+    assert runner.in_unsafe_code(unsafe) and not runner.in_unsafe_code(safe)
+    signals = runner._Signals()
+    previous = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM, signal.SIGALRM)}
+    signals.install()
+    try:
+        signals._handle(signal.SIGINT, unsafe)  # deferred: no exception, a retry armed
+        assert signals.stop and signals.deferred == 1
+        assert signal.getitimer(signal.ITIMER_REAL)[0] > 0.0
+        signal.setitimer(signal.ITIMER_REAL, 0.0)
+        signals._handle(signal.SIGINT, safe)  # a second signal: only counted
+        assert signals.received == 2
+        with pytest.raises(runner._Shutdown):
+            signals._retry(signal.SIGALRM, safe)  # out of llvmlite: raised once
+        signals._retry(signal.SIGALRM, safe)  # nothing pending any more
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0.0)
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
