@@ -21,15 +21,16 @@ ones of up to ``max_request_bytes``, each case's ratio to the typical request.
 
 Every request reaches the node and gets one answer: the release node (with a simulator) and the
 planner in subprocesses (own ROS domain, loopback), a client here sends a burst (``--burst``
-requests at once) and a flood (``--rate`` per second for ``--seconds``), with and without a CPU
+requests at once) and a flood (``--rate`` per second for ``--seconds``; ``--keep-all-seconds``
+for the KEEP_ALL client, whose publish waits for the node), with and without a CPU
 hog (two busy-loop processes), the client's writer with the documented request QoS (KEEP_LAST
-1000) and with KEEP_ALL. Counted: sent, read by the node (its own counter), lost on the way as
+1000) and with the package's own clients' KEEP_ALL (``qos.REQUEST_WRITER``). Counted: sent, read by the node (its own counter), lost on the way as
 DDS reports it to the node's reader, answered (once each), busy; the client's own reader is
 10000 deep and counts what DDS reports lost to it. Where requests go missing is the column
 where the count first falls short of ``sent``.
 
     .venv/bin/python bench/request_benchmark.py [--repeat N] [--burst N] [--rate R] \
-        [--seconds S] [--no-flood]
+        [--seconds S] [--keep-all-seconds S] [--nodes release planner] [--no-flood]
 """
 
 from __future__ import annotations
@@ -125,7 +126,7 @@ def decision_times(args) -> None:
     print(f'worst case: {max(r[3] for r in rows) * 1e3:.1f} ms (limit {LIMIT} bytes)')
 
 
-COUNTS = re.compile(r'\[(release|planner)\] (\d+) requests received: .*?(\d+) busy; (\d+) lost')
+COUNTS = re.compile(r'\[(release|planner)\] (\d+) requests received: .*?(\d+) busy(?:; (\d+) lost)?')
 
 
 class Hog:
@@ -144,12 +145,13 @@ class Hog:
 class Started:
     """A node program in a subprocess, its output in a file, stopped by its PID."""
 
-    def __init__(self, command: str, log: Path) -> None:
+    def __init__(self, command: str, log: Path, code: Path | None = None) -> None:
         self.log = log
         self._out = open(log, 'w')
+        env = dict(os.environ, PYTHONPATH=str(code)) if code else None
         self.proc = subprocess.Popen(
             [sys.executable, '-m', 'football_ros.cli', command], stdout=self._out,
-            stderr=subprocess.STDOUT,
+            stderr=subprocess.STDOUT, cwd=code, env=env,
         )
         deadline = time.monotonic() + 300.0
         while 'ready' not in log.read_text():
@@ -174,12 +176,18 @@ def _request(node: str, rid: str, k: int) -> str:
     return json.dumps({'id': rid, 'speed': 15 + k % 20, 'spin_rpm': 300 + k % 500})
 
 
-def flood_run(node: str, pattern: str, hog_on: bool, keep_all: bool, args, tmp: Path) -> list:
-    """One row: start the node(s), send, wait for the answers, stop, count."""
+def flood_run(
+    node: str, pattern: str, hog_on: bool, keep_all: bool, args, tmp: Path,
+    code: Path | None = None,
+) -> list:
+    """
+    One row: start the node(s) (of the checkout ``code``), send, wait for the answers, count.
+
+    ``args``: burst, rate, seconds. Columns as the table of :func:`floods` prints them.
+    """
     import rclpy
     from rclpy.event_handler import SubscriptionEventCallbacks
     from rclpy.executors import SingleThreadedExecutor
-    from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
     from diagnostic_msgs.msg import DiagnosticStatus
     from std_msgs.msg import String
 
@@ -188,8 +196,8 @@ def flood_run(node: str, pattern: str, hog_on: bool, keep_all: bool, args, tmp: 
 
     use_package_profile()
     tag = f'{node}-{pattern}-{int(hog_on)}-{int(keep_all)}'
-    sim = Started('simulator', tmp / f'{tag}-sim.log') if node == 'release' else None
-    target = Started(node, tmp / f'{tag}.log')
+    sim = Started('simulator', tmp / f'{tag}-sim.log', code) if node == 'release' else None
+    target = Started(node, tmp / f'{tag}.log', code)
     context = rclpy.Context()
     rclpy.init(context=context)
     client = rclpy.create_node(f'bench_client_{os.getpid()}', context=context)
@@ -213,11 +221,7 @@ def flood_run(node: str, pattern: str, hog_on: bool, keep_all: bool, args, tmp: 
         DiagnosticStatus, response, on_answer, qos.inbox(qos.REQUEST),
         event_callbacks=SubscriptionEventCallbacks(message_lost=on_lost),
     )
-    writer_qos = (
-        QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE)
-        if keep_all else qos.REQUEST
-    )
-    pub = client.create_publisher(String, request, writer_qos)
+    pub = client.create_publisher(String, request, qos.REQUEST_WRITER if keep_all else qos.REQUEST)
     stop = threading.Event()
 
     def spin() -> None:
@@ -232,7 +236,8 @@ def flood_run(node: str, pattern: str, hog_on: bool, keep_all: bool, args, tmp: 
         while pub.get_subscription_count() == 0 and time.monotonic() < deadline:
             time.sleep(0.05)
         time.sleep(1.0)  # the node's side of the discovery too
-        count = args.burst if pattern == 'burst' else int(args.rate * args.seconds)
+        seconds = args.keep_all_seconds if keep_all else args.seconds
+        count = args.burst if pattern == 'burst' else int(args.rate * seconds)
         sent, failed = [], 0
         start = time.monotonic()
         for k in range(count):
@@ -258,7 +263,7 @@ def flood_run(node: str, pattern: str, hog_on: bool, keep_all: bool, args, tmp: 
         spinner.join(timeout=5.0)
         context.try_shutdown()
     match = COUNTS.search(log)
-    received, _busy, lost = (int(match.group(i)) for i in (2, 3, 4)) if match else (-1, -1, -1)
+    received, lost = (int(match.group(2)), int(match.group(4) or -1)) if match else (-1, -1)
     once = sum(1 for rid in sent if answers.get(rid) == 1)
     return [node, pattern, 'yes' if hog_on else 'no', 'KEEP_ALL' if keep_all else
             'KEEP_LAST 1000', len(sent) + failed, failed, received, lost, once,
@@ -273,7 +278,8 @@ def floods(args) -> None:
         for hog_on in (False, True):
             for pattern, keep_all in (('burst', False), ('flood', False), ('flood', True)):
                 rows.append(flood_run(node, pattern, hog_on, keep_all, args, tmp))
-    print(f'\nburst: {args.burst} at once; flood: {args.rate:g}/s for {args.seconds:g} s; '
+    print(f'\nburst: {args.burst} at once; flood: {args.rate:g}/s for {args.seconds:g} s '
+          f'(KEEP_ALL client: {args.keep_all_seconds:g} s); '
           f'ROS_DOMAIN_ID={os.environ["ROS_DOMAIN_ID"]}; logs in {tmp}\n')
     print('| node | pattern | CPU hog | client writer | sent | publish failed | read by the '
           'node | lost (DDS, node) | answered once | unanswered | busy | lost (DDS, client) |')
@@ -288,6 +294,8 @@ def main() -> None:
     parser.add_argument('--burst', type=int, default=1000)
     parser.add_argument('--rate', type=float, default=1000.0)
     parser.add_argument('--seconds', type=float, default=10.0)
+    parser.add_argument('--keep-all-seconds', type=float, default=2.0,
+                        help='flood length of the KEEP_ALL client (its publish waits for the node)')
     parser.add_argument('--no-flood', action='store_true', help='the decision times only')
     parser.add_argument('--nodes', nargs='+', choices=('release', 'planner'),
                         default=['release', 'planner'])

@@ -196,7 +196,7 @@ def throw(argv: Sequence[str] | None = None) -> int:
     try:
         while time.monotonic() < end and (pub is None or pub.get_subscription_count() == 0):
             if pub is None and responses.get_publisher_count() > 0:
-                pub = node.create_publisher(String, qos.RELEASE_REQUEST, qos.REQUEST)
+                pub = node.create_publisher(String, qos.RELEASE_REQUEST, qos.REQUEST_WRITER)
                 continue
             rclpy.spin_once(node, timeout_sec=0.01)
         if pub is None or pub.get_subscription_count() == 0:

@@ -94,7 +94,7 @@ class PlannerNode(Node):
         self._release_ids = (f'plan-{os.urandom(3).hex()}-{n}' for n in itertools.count(1))
         self._responses = self.create_publisher(DiagnosticStatus, qos.PLAN_RESPONSE, qos.REQUEST)
         self._paths = self.create_publisher(Path, qos.PLAN_PATH, qos.PLAN_PATH_QOS)
-        self._releases = self.create_publisher(String, qos.RELEASE_REQUEST, qos.REQUEST)
+        self._releases = self.create_publisher(String, qos.RELEASE_REQUEST, qos.REQUEST_WRITER)
         compile_ahead()
         warm_up()  # the planner's own kernels
         self.create_subscription(String, qos.PLAN_REQUEST, self._on_request, qos.REQUEST_INBOX,
