@@ -37,6 +37,22 @@ def _spawn(command, *args):
     )
 
 
+def _wait_for_signal_handlers(proc, timeout=120.0):
+    """
+    Wait until the process catches SIGTERM (SigCgt in /proc): the package installed its handlers.
+
+    Python catches SIGINT from its own start; a SIGINT before the package's handlers, while the
+    interpreter itself starts, meets Python's default one (KeyboardInterrupt, exit -2).
+    """
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline and proc.poll() is None:
+        for line in open(f'/proc/{proc.pid}/status'):
+            if line.startswith('SigCgt:') and int(line.split()[1], 16) & (1 << (signal.SIGTERM - 1)):
+                return
+        time.sleep(0.005)
+    raise AssertionError('the program never installed its signal handlers')
+
+
 def _two_sigints(proc, gap=0.02):
     os.kill(proc.pid, signal.SIGINT)
     time.sleep(gap)
@@ -57,6 +73,7 @@ def _two_sigints(proc, gap=0.02):
 @pytest.mark.parametrize('delay', [0.1, 0.3, 0.6, 0.9, 1.2, 1.6])
 def test_two_sigints_during_start_up_exit_cleanly(command, delay):
     proc = _spawn(command)
+    _wait_for_signal_handlers(proc)  # the program's first lines ran (a busy machine: seconds)
     time.sleep(delay)
     code, out = _two_sigints(proc)
     assert code == 0, out
