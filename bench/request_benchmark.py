@@ -24,7 +24,8 @@ planner in subprocesses (own ROS domain, loopback), a client here sends a burst 
 requests at once) and a flood (``--rate`` per second for ``--seconds``; ``--keep-all-seconds``
 for the KEEP_ALL client, whose publish waits for the node), with and without a CPU
 hog (two busy-loop processes), the client's writer with the documented request QoS (KEEP_LAST
-1000) and with the package's own clients' KEEP_ALL (``qos.REQUEST_WRITER``). Counted: sent, read by the node (its own counter), lost on the way as
+1000) and with the package's own clients' KEEP_ALL (``qos.REQUEST_WRITER``). Counted: sent,
+read by the node (its own counter), lost on the way as
 DDS reports it to the node's reader, answered (once each), busy; the client's own reader is
 10000 deep and counts what DDS reports lost to it. Where requests go missing is the column
 where the count first falls short of ``sent``.
@@ -126,7 +127,9 @@ def decision_times(args) -> None:
     print(f'worst case: {max(r[3] for r in rows) * 1e3:.1f} ms (limit {LIMIT} bytes)')
 
 
-COUNTS = re.compile(r'\[(release|planner)\] (\d+) requests received: .*?(\d+) busy(?:; (\d+) lost)?')
+COUNTS = re.compile(
+    r'\[(release|planner)\] (\d+) requests received: .*?(\d+) busy(?:; (\d+) lost)?'
+)
 
 
 class Hog:
@@ -295,7 +298,7 @@ def main() -> None:
     parser.add_argument('--rate', type=float, default=1000.0)
     parser.add_argument('--seconds', type=float, default=10.0)
     parser.add_argument('--keep-all-seconds', type=float, default=2.0,
-                        help='flood length of the KEEP_ALL client (its publish waits for the node)')
+                        help='flood length of the KEEP_ALL client (its publish waits)')
     parser.add_argument('--no-flood', action='store_true', help='the decision times only')
     parser.add_argument('--nodes', nargs='+', choices=('release', 'planner'),
                         default=['release', 'planner'])

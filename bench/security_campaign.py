@@ -54,10 +54,9 @@ from rcl_interfaces.srv import SetParameters  # noqa: E402
 import rclpy  # noqa: E402
 from rclpy.executors import SingleThreadedExecutor  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
+from request_benchmark import flood_run  # noqa: E402
 from std_msgs.msg import String  # noqa: E402
 from std_srvs.srv import SetBool, Trigger  # noqa: E402
-
-from request_benchmark import flood_run  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
 OK, ERROR = b'\x00', b'\x02'  # DiagnosticStatus levels (a byte)
