@@ -47,7 +47,8 @@ def _wait_for_signal_handlers(proc, timeout=120.0):
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline and proc.poll() is None:
         for line in open(f'/proc/{proc.pid}/status'):
-            if line.startswith('SigCgt:') and int(line.split()[1], 16) & (1 << (signal.SIGTERM - 1)):
+            caught = int(line.split()[1], 16) if line.startswith('SigCgt:') else 0
+            if caught & (1 << (signal.SIGTERM - 1)):
                 return
         time.sleep(0.005)
     raise AssertionError('the program never installed its signal handlers')
