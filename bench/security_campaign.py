@@ -24,9 +24,12 @@ in this process (own ROS domain, loopback discovery only) then: sets the paramet
 issue (frame_id=map, publish_rate=1, max_request_bytes=64, a 1 MB frame_id); forges OK
 acknowledgements with no simulator running; forges ERROR acknowledgements naming another node
 and naming the simulator; answers requests before the release node; calls pause and reset
-100 times a second and counts the simulator's log lines per second (its own stdout+stderr).
+100 times a second and counts the simulator's log lines per second (its own stdout+stderr);
+sends a burst (1000 at once) and a flood (1000/s for ``--hammer-seconds``) of requests to the
+release node and to the planner (bench/request_benchmark.py's runs, nodes restarted for each).
 Reported: how many attempts succeeded, the simulator's RSS before and after the big string,
-log lines and bytes per second under the hammer. Everything is bounded in time and counts.
+log lines and bytes per second under the hammer, requests answered exactly once of those sent.
+Everything is bounded in time and counts.
 """
 
 from __future__ import annotations
@@ -51,6 +54,7 @@ from rcl_interfaces.srv import SetParameters  # noqa: E402
 import rclpy  # noqa: E402
 from rclpy.executors import SingleThreadedExecutor  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
+from request_benchmark import flood_run  # noqa: E402
 from std_msgs.msg import String  # noqa: E402
 from std_srvs.srv import SetBool, Trigger  # noqa: E402
 
@@ -246,6 +250,13 @@ def campaign(setup: str, args, tmp: Path, stranger: Stranger) -> dict[str, str]:
     stranger.node.destroy_client(reset)
     simulator.stop()
     release.stop()
+    # 6. bursts and floods of requests: each answered once?
+    flood = argparse.Namespace(burst=1000, rate=1000.0, seconds=args.hammer_seconds)
+    for node in ('release', 'planner'):
+        for pattern in ('burst', 'flood'):
+            row = flood_run(node, pattern, False, False, flood, tmp / setup, code)
+            what = 'burst of 1000' if pattern == 'burst' else f'flood 1000/s x {flood.seconds:g} s'
+            rows[f'{node} requests, {what}: answered once / sent'] = f'{row[8]} / {row[4]}'
     return rows
 
 
@@ -261,7 +272,8 @@ def main() -> int:
     args.throws = max(1, min(args.throws, 50))
     args.hammer_seconds = max(1.0, min(args.hammer_seconds, 60.0))
     tmp = Path(os.environ.get('TMPDIR', '/tmp')) / f'football_campaign_{os.getpid()}'
-    tmp.mkdir(parents=True, exist_ok=True)
+    for setup in ('before', 'open', 'default'):
+        (tmp / setup).mkdir(parents=True, exist_ok=True)
     stranger = Stranger()
     try:
         setups = (('before',) if args.before else ()) + ('open', 'default')

@@ -145,3 +145,38 @@ def test_a_bad_start_up_value_is_one_line_naming_the_parameter(args, expected):
     proc = run_cli('release', '--ros-args', *args, timeout=60)
     assert proc.returncode == 2, proc.stdout + proc.stderr
     assert expected in proc.stderr and 'Traceback' not in proc.stderr
+
+
+@pytest.mark.parametrize('name', list(NODES))
+def test_no_parameter_can_be_set_at_run_time_without_the_guard(name, start_node, collector,
+                                                               tmp_path):
+    """Every parameter the node lists (rclpy's own included) refuses a set of its own value."""
+    start_node(*_start_args(name, tmp_path))
+    node = NODE_NAMES[name]
+    listed = call(collector, ListParameters, f'/{node}/list_parameters',
+                  ListParameters.Request()).result.names
+    assert 'use_sim_time' in listed
+    values = call(collector, GetParameters, f'/{node}/get_parameters',
+                  GetParameters.Request(names=listed)).values
+    request = SetParameters.Request(parameters=[
+        Parameter(name=n, value=v) for n, v in zip(listed, values)
+    ])
+    results = call(collector, SetParameters, f'/{node}/set_parameters', request).results
+    accepted = [n for n, r in zip(listed, results) if r.successful]
+    assert accepted == [], accepted
+    [described] = call(collector, DescribeParameters, f'/{node}/describe_parameters',
+                       DescribeParameters.Request(names=['use_sim_time'])).descriptors
+    assert described.read_only
+
+
+def test_use_sim_time_is_guarded_like_the_packages_parameters(start_node, collector):
+    start_node('release', '--ros-args', '-p', 'use_sim_time:=true')
+    value = call(collector, GetParameters, '/football_release/get_parameters',
+                 GetParameters.Request(names=['use_sim_time'])).values[0]
+    assert value.bool_value is True  # the start-up value is kept
+    start_node('planner', '--ros-args', '-p', 'allow_reconfigure:=true')
+    param = Parameter(name='use_sim_time',
+                      value=ParameterValue(type=ParameterType.PARAMETER_BOOL, bool_value=True))
+    result = call(collector, SetParameters, '/football_planner/set_parameters',
+                  SetParameters.Request(parameters=[param])).results[0]
+    assert result.successful, result.reason

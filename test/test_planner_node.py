@@ -147,6 +147,21 @@ def test_planned_throw_through_planner_release_and_simulator(start_node, collect
     x, y = landing()
     assert math.hypot(x - target[0], y - target[1]) < 0.01
     assert len(_answers(collector, qos.PLAN_RESPONSE, 'plan-1')) == 1
+    # Without an id: answered as req-<n>, thrown under the release id the answer reports.
+    pub.publish(String(data=json.dumps({'target': [20.0, 1.0, 0.0], 'hit_n': 0,
+                                        'execute': True})))
+    collector.wait_for(
+        lambda: [m for m in collector.get(qos.PLAN_RESPONSE) if m.name.startswith('req-')],
+        30.0, 'the plan without an id')
+    plans = [m for m in collector.get(qos.PLAN_RESPONSE) if m.name.startswith('req-')]
+    assert len(plans) == 1 and plans[0].message.startswith('planned'), plans
+    release_id = _values(plans[0])['release_request_id']
+    assert release_id.startswith('plan-') and f"as '{release_id}'" in plans[0].message
+    collector.wait_for(lambda: _answers(collector, qos.RELEASE_RESPONSE, release_id), 20.0,
+                       'the release answer under the reported id')
+    thrown = _answers(collector, qos.RELEASE_RESPONSE, release_id)
+    assert len(thrown) == 1 and thrown[0].message.startswith('accepted'), thrown
+    assert math.isclose(float(_values(thrown[0])['landing_x']), 20.0, abs_tol=0.05)
 
 
 def test_hostile_and_infeasible_requests_and_a_flood(start_node, collector):

@@ -555,3 +555,41 @@ def test_parameter_values_fuzz_give_a_value_or_an_error_naming_the_field(value):
             assert got == expected
         else:
             assert got == ('' if value is None else value) and isinstance(got, str)
+
+
+def test_a_spawned_balls_topics_are_recorded_and_echoed(start_node, collector, tmp_path):
+    """A ball spawned on the running simulator: the default recording and echo take its topics."""
+    srv = pytest.importorskip('simulation_interfaces.srv', reason='simulation_interfaces')
+    from rosutil import call
+
+    start_node('simulator', '--ros-args', '-p', 'hold_rate:=20.0')
+    bag = tmp_path / 'spawned'
+    recorder = start_node('record', '--out', str(bag))
+    request = srv.SpawnEntity.Request(name='ball2', uri='football_ros://rugby')
+    request.initial_pose = PoseStamped()
+    request.initial_pose.pose.position.x, request.initial_pose.pose.position.z = 3.5, 1.25
+    request.initial_pose.pose.orientation.w = 1.0
+    response = call(collector, srv.SpawnEntity, '/football_simulator/spawn_entity', request, 30.0)
+    assert response.entity_name == 'ball2', response.result.error_message
+    echoed = run_cli('echo', qos.entity_topic('ball2', 'odom'), '--count', '1', '--timeout', '60')
+    assert echoed.returncode == 0, echoed.stderr
+    odom = yaml.safe_load(echoed.stdout.split('---')[0])
+    assert odom['pose']['pose']['position'] == {'x': 3.5, 'y': 0.0, 'z': 1.25}
+    assert odom['child_frame_id'].endswith('ball2')
+    for leaf in ('pose', 'odom'):
+        recorder.wait_for_log(f"recording '/football/ball2/{leaf}' (first message received)")
+    assert recorder.stop(signal.SIGINT) == 0
+    counts, _, msgdefs = read_bag(bag)
+    assert counts['/football/ball2/pose'] >= 1 and counts['/football/ball2/odom'] >= 1, counts
+    assert msgdefs['/football/ball2/odom'].startswith('# This represents an estimate')
+    with AnyReader([bag], default_typestore=get_typestore(Stores.ROS2_JAZZY)) as reader:
+        conns = [c for c in reader.connections if c.topic == '/football/ball2/pose']
+        poses = [reader.deserialize(raw, c.msgtype) for c, _t, raw in reader.messages(conns)]
+    assert all((p.pose.position.x, p.pose.position.z) == (3.5, 1.25) for p in poses)
+
+
+def test_an_unknown_topic_is_refused_naming_the_patterns(tmp_path):
+    proc = run_cli('record', '--out', str(tmp_path / 'b'), '--topics', 'football/b/twist',
+                   timeout=120)
+    assert proc.returncode == 2 and "unknown topic 'football/b/twist'" in proc.stderr
+    assert 'football/<entity>/pose' in proc.stderr

@@ -397,3 +397,30 @@ def test_fuzz_flight_orders_are_flown_or_refused_with_a_reason(patch):
         return
     sample = flight.sample(0.05)
     assert np.all(np.isfinite(sample.position)) and np.all(np.isfinite(sample.aero_angles))
+
+
+@given(
+    st.sampled_from(['speed', 'elevation_deg', 'spin_rpm', 'azimuth_deg', 'alpha0_deg']),
+    st.floats(allow_nan=False, allow_infinity=False),
+)
+@settings(max_examples=300, deadline=None)
+def test_a_refusal_quotes_the_refused_value_exactly(key, value):
+    from football_ros.physics.release import LIMITS
+
+    lo, hi = LIMITS[key]
+    text = json.dumps({'id': 'exact', key: value})
+    if lo <= value <= hi:
+        return
+    with pytest.raises(RequestError) as info:
+        parse_release_request(text)
+    message = str(info.value)
+    quoted = message.split(f"'{key}' = ", 1)[1].split(' is outside', 1)[0]
+    assert float(quoted) == value, message  # reads back as the very float refused
+
+
+def test_a_value_just_outside_the_range_is_not_rounded_into_it():
+    with pytest.raises(RequestError) as info:
+        parse_release_request('{speed: 60.00002}')
+    assert "'speed' = 60.00002 is outside the accepted range [1, 60]" in str(info.value)
+    with pytest.raises(RequestError, match=r"'spin_rpm' = -3000.0000000000005 is outside"):
+        parse_release_request('{spin_rpm: -3000.0000000000005}')

@@ -37,6 +37,23 @@ def _spawn(command, *args):
     )
 
 
+def _wait_for_signal_handlers(proc, timeout=120.0):
+    """
+    Wait until the process catches SIGTERM (SigCgt in /proc): the package installed its handlers.
+
+    Python catches SIGINT from its own start; a SIGINT before the package's handlers, while the
+    interpreter itself starts, meets Python's default one (KeyboardInterrupt, exit -2).
+    """
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline and proc.poll() is None:
+        for line in open(f'/proc/{proc.pid}/status'):
+            caught = int(line.split()[1], 16) if line.startswith('SigCgt:') else 0
+            if caught & (1 << (signal.SIGTERM - 1)):
+                return
+        time.sleep(0.005)
+    raise AssertionError('the program never installed its signal handlers')
+
+
 def _two_sigints(proc, gap=0.02):
     os.kill(proc.pid, signal.SIGINT)
     time.sleep(gap)
@@ -57,6 +74,7 @@ def _two_sigints(proc, gap=0.02):
 @pytest.mark.parametrize('delay', [0.1, 0.3, 0.6, 0.9, 1.2, 1.6])
 def test_two_sigints_during_start_up_exit_cleanly(command, delay):
     proc = _spawn(command)
+    _wait_for_signal_handlers(proc)  # the program's first lines ran (a busy machine: seconds)
     time.sleep(delay)
     code, out = _two_sigints(proc)
     assert code == 0, out
@@ -99,3 +117,30 @@ def test_help_prints_parameters_and_exits_without_starting(program):
     if program == 'simulator':
         assert 'publish_rate (default 100.0 [1 .. 2000])' in proc.stdout
         assert 'trail_length (default 500 [0 .. 100000])' in proc.stdout
+
+
+def test_a_stop_signal_in_llvmlites_callbacks_waits_for_a_safe_point():
+    """The first signal is not raised inside code C calls back; the retry raises it outside."""
+    from football_ros.nodes import runner
+
+    scope = {'__name__': 'llvmlite.binding.executionengine', 'sys': sys}
+    exec('def callback():\n    return sys._getframe()', scope)  # a frame of llvmlite's
+    unsafe, safe = scope['callback'](), sys._getframe()
+    assert runner.in_unsafe_code(unsafe) and not runner.in_unsafe_code(safe)
+    signals = runner._Signals()
+    previous = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM, signal.SIGALRM)}
+    signals.install()
+    try:
+        signals._handle(signal.SIGINT, unsafe)  # deferred: no exception, a retry armed
+        assert signals.stop and signals.deferred == 1
+        assert signal.getitimer(signal.ITIMER_REAL)[0] > 0.0
+        signal.setitimer(signal.ITIMER_REAL, 0.0)
+        signals._handle(signal.SIGINT, safe)  # a second signal: only counted
+        assert signals.received == 2
+        with pytest.raises(runner._Shutdown):
+            signals._retry(signal.SIGALRM, safe)  # out of llvmlite: raised once
+        signals._retry(signal.SIGALRM, safe)  # nothing pending any more
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0.0)
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)

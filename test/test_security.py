@@ -163,7 +163,7 @@ def _level(status):
 
 
 def test_a_forged_ok_without_simulator_is_not_accepted(start_node, collector):
-    release = start_node('release')
+    release = start_node('release', '--ros-args', '-p', 'ack_patience:=1.0')  # the forger reads
     _stranger(collector, '/football_simulator', b'\x00')  # OK, naming the absent simulator
     for answer in _answers(collector, [f'forged-ok-{k}' for k in range(3)]):
         assert _level(answer) == 2, answer.message

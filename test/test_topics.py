@@ -39,3 +39,22 @@ def test_every_topic_has_a_page_naming_its_type():
     for topic, (cls, _profile) in TOPICS.items():
         assert f'`{topic}`' in index, topic
         assert type_name(cls) in index, (topic, type_name(cls))
+
+
+def test_run_time_topics_are_patterns_of_the_table_with_a_page():
+    from football_ros.nodes.topics import known_names, lookup, PATTERNS
+    from geometry_msgs.msg import PoseStamped, PoseWithCovarianceStamped
+    from nav_msgs.msg import Odometry, Path as PathMsg
+
+    index = (REPO / 'msg_docs' / 'README.md').read_text()
+    for pattern in PATTERNS:
+        assert f'`{pattern.template}`' in index, pattern.template
+    assert lookup(qos.entity_topic('ball_2', 'pose')) == (PoseStamped, qos.STATE)
+    assert lookup(qos.entity_topic('b', 'odom')) == (Odometry, qos.STATE)
+    assert lookup(qos.track_topic(17, qos.LANDING)) == (PoseWithCovarianceStamped, qos.STATE)
+    assert lookup(qos.track_topic(3, qos.PREDICTED_PATH)) == (PathMsg, qos.STATE)
+    assert lookup(qos.POSE) == TOPICS[qos.POSE] and lookup(qos.TF) == TOPICS[qos.TF]
+    for name in ('football/a/b/pose', 'football/1a/pose', 'football/b1/twist', 'b1/pose',
+                 'football/track_x/estimate', 'football/track_3/release/request', ''):
+        assert lookup(name) is None, name
+    assert set(TOPICS) <= set(known_names())

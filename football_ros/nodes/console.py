@@ -71,7 +71,7 @@ def _init(node_name: str):
 
 def echo(argv: Sequence[str] | None = None) -> int:
     from . import messages as mb
-    from .topics import TOPICS
+    from .topics import known_names, lookup, TOPICS
 
     parser = argparse.ArgumentParser(
         prog='football-ros echo',
@@ -79,7 +79,8 @@ def echo(argv: Sequence[str] | None = None) -> int:
         formatter_class=argparse.ArgumentDefaultsHelpFormatter,
     )
     parser.add_argument(
-        'topic', help=f'one of: {", ".join(TOPICS)} (relative names resolve to /...)'
+        'topic',
+        help=f'one of: {", ".join(known_names())} (relative names resolve to /...)',
     )
     parser.add_argument('--count', type=int, default=0, help='exit after N messages (0 = never)')
     parser.add_argument(
@@ -90,10 +91,15 @@ def echo(argv: Sequence[str] | None = None) -> int:
     )
     args = parser.parse_args(argv)
     topic = args.topic if args.topic in TOPICS else args.topic.lstrip('/')
-    if topic not in TOPICS:
-        print(f"football-ros echo: error: unknown topic '{args.topic}'", file=sys.stderr)
+    found = lookup(topic)
+    if found is None:
+        print(
+            f'football-ros echo: error: unknown topic {args.topic[:200]!r} (known: '
+            f'{", ".join(known_names())})',
+            file=sys.stderr,
+        )
         return 2
-    msg_type, profile = TOPICS[topic]
+    msg_type, profile = found
     rclpy, node = _init('football_echo')
     seen = [0]
 
@@ -190,7 +196,7 @@ def throw(argv: Sequence[str] | None = None) -> int:
     try:
         while time.monotonic() < end and (pub is None or pub.get_subscription_count() == 0):
             if pub is None and responses.get_publisher_count() > 0:
-                pub = node.create_publisher(String, qos.RELEASE_REQUEST, qos.REQUEST)
+                pub = node.create_publisher(String, qos.RELEASE_REQUEST, qos.REQUEST_WRITER)
                 continue
             rclpy.spin_once(node, timeout_sec=0.01)
         if pub is None or pub.get_subscription_count() == 0:

@@ -24,7 +24,7 @@ for float parameters, at start-up (``-p publish_rate:=200``) and at run time (``
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Sequence
 
 from rcl_interfaces.msg import (
@@ -37,6 +37,8 @@ from rcl_interfaces.msg import (
 from rclpy.exceptions import InvalidParameterTypeException
 from rclpy.node import Node
 from rclpy.parameter import Parameter
+
+from ..physics.release import exact
 
 MAX_STRING = 256
 """Characters a string parameter may hold (frame ids, names, paths): a bound on every copy."""
@@ -179,7 +181,7 @@ class ParamSpec:
     def _rules(self) -> str:
         rules = []
         if self.limits:
-            rules.append(f'{_number(self.limits[0])} .. {_number(self.limits[1])}')
+            rules.append(f'{exact(self.limits[0])} .. {exact(self.limits[1])}')
         if self.choices:
             rules.append(' | '.join(self.choices))
         if self.read_only:
@@ -196,6 +198,18 @@ GUARDS = {
     ),
 }
 """Guard name -> its row (declared by the first guarded row of a node that lacks it)."""
+BUILTINS = (
+    ParamSpec(
+        'use_sim_time',
+        False,
+        "rclpy's own: time from /clock (true) or the wall clock (false)",
+        guard=GUARD,
+    ),
+)
+"""rclpy's own parameters that change behaviour and that rclpy leaves writable: guarded like
+the package's rows (read-only unless the guard is true; read-only on a node without the guard).
+rclpy declares its other ones (``start_type_description_service``, ``qos_overrides.*``)
+read-only."""
 
 
 def with_guards(specs: Sequence[ParamSpec]) -> tuple[ParamSpec, ...]:
@@ -203,10 +217,6 @@ def with_guards(specs: Sequence[ParamSpec]) -> tuple[ParamSpec, ...]:
     names = {spec.name for spec in specs}
     named = dict.fromkeys(s.guard for s in specs if s.guard is not None and s.guard not in names)
     return tuple(GUARDS[g] for g in named) + tuple(specs)
-
-
-def _number(x: float) -> str:
-    return str(int(x)) if float(x).is_integer() and abs(x) < 1e15 else f'{x:g}'
 
 
 def _integer_override(node: Node, spec: ParamSpec, descriptor: ParameterDescriptor):
@@ -233,19 +243,28 @@ def declare_all(node: Node, specs: Sequence[ParamSpec]) -> dict[str, object]:
     """
     Declare every row of ``specs`` on ``node`` and set each value as an attribute of it.
 
-    Also installs the checks of :meth:`ParamSpec.check` on every later set, the callback
-    that takes integers for float parameters, and one that sets the attributes of what a set
-    put in force. Returns {name: value}.
+    Also guards rclpy's own parameters (:func:`guard_builtins`) and installs the checks of
+    :meth:`ParamSpec.check` on every later set, the callback that takes integers for float
+    parameters, and one that sets the attributes of what a set put in force. Returns
+    {name: value}.
     """
     values = {}
     for spec in specs:
         values[spec.name] = spec.declare(node)
         setattr(node, spec.name, values[spec.name])
     table = {spec.name: spec for spec in specs}
+    writable = guard_builtins(node)
 
     def check(params: list[Parameter]) -> SetParametersResult:
         for p in params:
             spec = table.get(p.name)
+            # Any other declared parameter (rclpy's own) is guarded; declarations pass.
+            if spec is None and not writable and node.has_parameter(p.name):
+                return SetParametersResult(
+                    successful=False,
+                    reason=f"'{p.name[:100]}' is read-only at run time (the node was not "
+                    f'started with {GUARD}:=true)',
+                )
             reason = spec.check(p.value) if spec is not None else None
             if reason:
                 return SetParametersResult(successful=False, reason=reason)
@@ -260,6 +279,27 @@ def declare_all(node: Node, specs: Sequence[ParamSpec]) -> dict[str, object]:
     node.add_post_set_parameters_callback(apply)
     accept_integers_for_floats(node)
     return values
+
+
+def guard_builtins(node: Node) -> bool:
+    """
+    Redeclare each of :data:`BUILTINS` on ``node`` read-only unless its guard is true.
+
+    The value in force is kept (rclpy's time source goes on reading it). Returns whether the
+    guard is true (False on a node without the guard).
+    """
+    writable = node.has_parameter(GUARD) and node.get_parameter(GUARD).value is True
+    guarded = node.has_parameter(GUARD)
+    for spec in BUILTINS:
+        if not guarded:
+            spec = replace(spec, guard=None, read_only=True)
+        if node.has_parameter(spec.name):
+            value = node.get_parameter(spec.name).value
+            node.undeclare_parameter(spec.name)
+            node.declare_parameter(
+                spec.name, value, spec.descriptor(writable), ignore_override=True
+            )
+    return writable
 
 
 def accept_integers_for_floats(node: Node) -> None:
@@ -292,6 +332,9 @@ def markdown(tables: dict[str, Sequence[ParamSpec]]) -> str:
         f'A row *(guarded: {GUARD})* is read-only at run time unless the node is started with',
         f'`-p {GUARD}:=true` (launch: `{GUARD}:=true`): by default no other participant on the',
         'domain can change it with `ros2 param set`. A read-only row is set at start-up only.',
+        "rclpy's own `use_sim_time` is guarded the same way (read-only on a node without the",
+        "guard); rclpy declares its other ones read-only; every parameter not in a node's table",
+        'is refused at run time unless the guard is true.',
     ]
     for node, specs in tables.items():
         lines += ['', f'## {node}', '', '| name | default | range / choices | description |',

@@ -21,7 +21,9 @@ requests: :func:`football_ros.requests.read_request`, keys of
 ``football/plan/response`` (diagnostic_msgs/DiagnosticStatus, name = the request id; the plan's
 numbers as values) and a plan also its path on ``football/plan/path`` (nav_msgs/Path, frame
 ``frame_id``). ``execute: true`` also sends the plan as a release request on
-``football/release/request`` (same id; the release node answers it on its own response topic).
+``football/release/request`` under the id the answer's ``release_request_id`` gives (the plan's
+own id, or ``plan-<node token>-<n>`` for a plan without a client id, whose made-up id the
+release node would not take); the release node answers it on its own response topic.
 ``receiver: odom`` plans for the receiver last seen on the Odometry topic ``receiver_topic``
 (pose and twist in ``field``; a TF frame name would need tf2, which the pip-installed ROS lacks).
 
@@ -32,8 +34,10 @@ once.
 
 from __future__ import annotations
 
+import itertools
 import json
 import math
+import os
 import queue
 import sys
 import threading
@@ -47,6 +51,7 @@ from std_msgs.msg import String
 
 from . import messages as mb
 from . import qos
+from .inbox import lost_counter
 from .params import declare_all, GUARD, ParamSpec
 from .runner import run_node
 from ..physics import compile_ahead
@@ -54,7 +59,7 @@ from ..physics.frames import FIELD_FRAME
 from ..planning import arcs_summary, compare_arcs, hit_probability, plan, PlanError, Receiver
 from ..planning.planner import warm_up
 from ..planning.request import PlanRequest, read_plan_request
-from ..requests import capped, MAX_REQUEST_BYTES, read_request, RequestError
+from ..requests import capped, MAX_REQUEST_BYTES, read_request, RequestError, RESERVED_ID
 
 NODE_NAME = 'football_planner'
 HARDWARE_ID = 'football_ros/planner'
@@ -82,16 +87,18 @@ class PlannerNode(Node):
     def __init__(self) -> None:
         super().__init__(NODE_NAME)
         declare_all(self, PARAMETERS)
-        self.counts = {'received': 0, 'planned': 0, 'refused': 0, 'busy': 0}
+        self.counts = {'received': 0, 'planned': 0, 'refused': 0, 'busy': 0, 'lost': 0}
         self._lock = threading.Lock()
         self._work: queue.Queue = queue.Queue(maxsize=self.queue_depth)
         self._receiver: Odometry | None = None
+        self._release_ids = (f'plan-{os.urandom(3).hex()}-{n}' for n in itertools.count(1))
         self._responses = self.create_publisher(DiagnosticStatus, qos.PLAN_RESPONSE, qos.REQUEST)
         self._paths = self.create_publisher(Path, qos.PLAN_PATH, qos.PLAN_PATH_QOS)
-        self._releases = self.create_publisher(String, qos.RELEASE_REQUEST, qos.REQUEST)
+        self._releases = self.create_publisher(String, qos.RELEASE_REQUEST, qos.REQUEST_WRITER)
         compile_ahead()
         warm_up()  # the planner's own kernels
-        self.create_subscription(String, qos.PLAN_REQUEST, self._on_request, qos.REQUEST_INBOX)
+        self.create_subscription(String, qos.PLAN_REQUEST, self._on_request, qos.REQUEST_INBOX,
+                                 event_callbacks=lost_counter(self, self.counts, 'plan requests'))
         if self.receiver_topic:
             self.create_subscription(Odometry, self.receiver_topic, self._on_receiver, 10)
         sys.setswitchinterval(5e-4)
@@ -193,10 +200,11 @@ class PlannerNode(Node):
             if self._releases.get_subscription_count() == 0:
                 level, note = 'WARN', '; not thrown: no release node is listening'
             else:
-                request = dict(the_plan.release_mapping(), id=request_id)
+                release_id = self._release_id(request_id)
+                request = dict(the_plan.release_mapping(), id=release_id)
                 self._releases.publish(String(data=json.dumps(request)))
-                values['release_request_id'] = request_id
-                note = '; sent to the release node'
+                values['release_request_id'] = release_id
+                note = f"; sent to the release node as '{release_id}'"
         self._paths.publish(self._path(the_plan))
         self.counts['planned'] += 1
         r = the_plan.release
@@ -208,6 +216,10 @@ class PlannerNode(Node):
             f'{the_plan.miss_m * 1000:.1f} mm from the target; {the_plan.sentence}{note}',
             values,
         )
+
+    def _release_id(self, request_id: str) -> str:
+        """Return the id a plan's release request goes under: the client's, else a fresh one."""
+        return next(self._release_ids) if RESERVED_ID.fullmatch(request_id) else request_id
 
     def _path(self, the_plan) -> Path:
         stamp = self.get_clock().now().to_msg()
@@ -257,7 +269,8 @@ class PlannerNode(Node):
             for request_id in left:
                 self._refuse(request_id, 'the planner node is shutting down')
         print('[planner] {received} requests received: {planned} planned, {refused} refused, '
-              '{busy} busy'.format(**self.counts), file=sys.stderr, flush=True)
+              '{busy} busy; {lost} lost on the way (DDS)'.format(**self.counts), file=sys.stderr,
+              flush=True)
 
 
 def _flat(mapping: dict) -> dict:

@@ -118,6 +118,15 @@ REQUEST = QoSProfile(
     reliability=ReliabilityPolicy.RELIABLE,
     durability=DurabilityPolicy.VOLATILE,
 )
+# The package's own request writers (throw, the planner's throws, the demo): every request
+# kept until the node's reader has acknowledged it. A KEEP_LAST writer overwrote requests that
+# DDS still had to resend when the node's process fell behind a flood (bench/RESULTS.md,
+# request benchmark); KEEP_ALL makes the writer wait instead (publish blocks, then raises).
+REQUEST_WRITER = QoSProfile(
+    history=HistoryPolicy.KEEP_ALL,
+    reliability=ReliabilityPolicy.RELIABLE,
+    durability=DurabilityPolicy.VOLATILE,
+)
 INBOX_DEPTH = 10000
 
 

@@ -32,6 +32,10 @@ full disk, the recorder keeps an 8 MiB reserve file in the bag folder while reco
 ``ros2 run football_ros recorder --ros-args -p output:=DIR`` are the same node. Parameters
 (read at start-up): ``output`` (bag folder; unset or "" = football_<date>_<time>), ``storage``
 (mcap or sqlite3), ``topics`` (string array; unset, [] or [""] = every football_ros topic).
+Every topic includes those made at run time (a spawned entity's ``football/<entity>/pose`` and
+``.../odom``, the tracker's ``football/track_<n>/...``: ``topics.PATTERNS``), found in the
+graph every ``DISCOVERY_S`` and recorded from then on, :data:`MAX_DISCOVERED` at most; such a
+topic can also be named in ``topics``.
 """
 
 from __future__ import annotations
@@ -67,7 +71,7 @@ from . import messages as mb
 from . import qos
 from .params import declare_all, ParamSpec
 from .runner import run_node
-from .topics import TOPICS, type_name
+from .topics import known_names, lookup, PATTERNS, TOPICS, type_name
 from ..bagfile import BAG_VERSION, BagWriter
 
 NODE_NAME = 'football_recorder'
@@ -79,6 +83,10 @@ DRAIN_S = 3.0
 """After a stop signal, messages still queued are written for up to this long [s] (until the
 topics have been quiet for 0.2 s): a bag stopped right after a flight holds the flight's tail."""
 STORAGES = ('mcap', 'sqlite3')
+DISCOVERY_S = 0.2
+"""How often the graph is read for new topics of the run-time patterns [s]."""
+MAX_DISCOVERED = 1024
+"""Run-time topics (entities, tracks) recorded at most; more are named in a warning."""
 
 
 def _bag_qos(profile: QoSProfile) -> Qos:
@@ -144,19 +152,19 @@ class RecorderNode(Node):
         out = output or self.output or default_bag_name()
         store = storage or self.storage
         wanted = [t for t in (topics or self.topics) if t]
-        resolved = {self.resolve_topic_name(t): t for t in TOPICS}
         selected = {}
         for name in wanted or list(TOPICS):
             try:
                 full = self.resolve_topic_name(name)
             except Exception as exc:  # rclpy raises its own types for invalid names
                 raise ValueError(f"parameter 'topics': invalid topic name '{name[:200]}'") from exc
-            if full not in resolved:
+            found = lookup(self._relative(full)) or TOPICS.get(full)  # absolute: /tf, /clock
+            if found is None:
                 raise ValueError(
                     f"parameter 'topics': unknown topic '{name[:200]}' "
-                    f'(known: {", ".join(sorted(resolved))})'
+                    f'(known: {", ".join(known_names())})'
                 )
-            selected[full] = TOPICS[resolved[full]]
+            selected[full] = found
         if '\0' in out or len(out) > 4096:
             raise ValueError("parameter 'output' must be a folder path (no NUL, < 4096 chars)")
         self.path = Path(out).resolve()
@@ -180,15 +188,49 @@ class RecorderNode(Node):
         self._diag_pub = self.create_publisher(
             DiagnosticArray, qos.DIAGNOSTICS, qos.DIAGNOSTICS_QOS
         )
+        self._subscribed: set[str] = set()
         for topic, (cls, profile) in selected.items():
-            self.create_subscription(  # deep readers: a recorder short of CPU catches up
-                cls,
-                topic,
-                lambda data, t=topic, c=cls, p=profile: self._write(t, c, p, data),
-                qos.inbox(profile),
-                raw=True,
-            )
+            self._subscribe(topic, cls, profile)
+        self._discovered = 0
+        if not wanted:  # every topic: also those made at run time
+            self.create_timer(DISCOVERY_S, self._discover)
         self.get_logger().info(f'ready: recording {len(selected)} topics to {self.path} ({store})')
+
+    def _relative(self, full: str) -> str:
+        """Return ``full`` relative to this node's namespace (as it is if outside it)."""
+        prefix = self.get_namespace().rstrip('/') + '/'
+        return full[len(prefix):] if full.startswith(prefix) else full
+
+    def _subscribe(self, topic: str, cls, profile: QoSProfile) -> None:
+        self._subscribed.add(topic)
+        self.create_subscription(  # deep readers: a recorder short of CPU catches up
+            cls,
+            topic,
+            lambda data, t=topic, c=cls, p=profile: self._write(t, c, p, data),
+            qos.inbox(profile),
+            raw=True,
+        )
+
+    def _discover(self) -> None:
+        """Subscribe to the new topics of the run-time patterns that the graph shows."""
+        for topic, types in self.get_topic_names_and_types():
+            if topic in self._subscribed or not self._relative(topic).startswith('football/'):
+                continue
+            found = next(
+                (p for p in PATTERNS if p.regex.fullmatch(self._relative(topic))), None
+            )
+            if found is None or type_name(found.msg_type) not in types:
+                continue
+            if self._discovered >= MAX_DISCOVERED:
+                self.get_logger().warning(
+                    f"not recording '{topic[:200]}' (and others): {MAX_DISCOVERED} run-time "
+                    'topics are recorded already',
+                    throttle_duration_sec=10.0,
+                )
+                return
+            self._discovered += 1
+            self._subscribe(topic, found.msg_type, found.profile)
+            self.get_logger().info(f"recording '{topic}' (it appeared in the graph)")
 
     def _connection(self, topic: str, cls, profile: QoSProfile):
         offered = [info.qos_profile for info in self.get_publishers_info_by_topic(topic)]

@@ -20,7 +20,9 @@ Requests: ``football/release/request`` (std_msgs/String, strict YAML/JSON mappin
 exactly one ``football/release/response`` (diagnostic_msgs/DiagnosticStatus, name = the request
 id). A valid release becomes a flight order on ``football/flight/order``; the answer waits for
 the simulator's acknowledgement on ``football/flight/ack``, so OK means "the simulator has
-started this flight", and a refusal or silence (``ack_timeout``, wall time) is an ERROR.
+started this flight", and a refusal or silence is an ERROR. Silence is judged in wall time:
+after ``ack_timeout`` when no simulator reads the flight orders any more, else (a simulator
+slowed down by a loaded machine) after ``ack_patience``.
 
 Threads: the executor thread reads requests cheaply (strict parse, field checks) and queues them;
 a worker thread predicts the flight and sends the order; acknowledgements come back on the
@@ -46,6 +48,7 @@ from std_msgs.msg import String
 
 from . import messages as mb
 from . import qos
+from .inbox import lost_counter
 from .params import declare_all, GUARD, ParamSpec
 from .runner import run_node
 from ..physics import compile_ahead, Flight, InitialState, PRESETS, ReleaseError
@@ -142,7 +145,8 @@ class _Pending:
     """An order sent to the simulator, waiting for its acknowledgement."""
 
     request_id: str
-    deadline: float  # time.monotonic() [s]
+    sent: float  # time.monotonic() [s]
+    deadline: float  # time.monotonic() of the next look [s]
     text: str  # the accepted answer's sentence
     stable: bool
     values: dict
@@ -166,8 +170,17 @@ PARAMETERS = (
     ParamSpec(
         'ack_timeout',
         1.0,
-        "Wall time to wait for the simulator's acknowledgement [s]",
+        "Wall time to wait for the simulator's acknowledgement once no simulator reads the "
+        'flight orders [s]',
         (0.1, 10.0),
+        guard=GUARD,
+    ),
+    ParamSpec(
+        'ack_patience',
+        10.0,
+        "Wall time to wait for the simulator's acknowledgement while a simulator still reads "
+        'the flight orders (a loaded machine) [s]',
+        (0.1, 600.0),
         guard=GUARD,
     ),
     ParamSpec(
@@ -219,15 +232,22 @@ class ReleaseNode(Node):
         self._simulators: tuple[float, frozenset[str]] = (-math.inf, frozenset())
         self._log_budget = LogBudget(LOG_LINES_PER_S)
         self._work: queue.Queue[_Work] = queue.Queue(maxsize=self.queue_depth)
-        self.counts = {'received': 0, 'accepted': 0, 'rejected': 0, 'busy': 0, 'ignored_acks': 0}
+        self.counts = {
+            'received': 0, 'accepted': 0, 'rejected': 0, 'busy': 0, 'ignored_acks': 0, 'lost': 0
+        }
         self._responses = self.create_publisher(
             DiagnosticStatus, qos.RELEASE_RESPONSE, qos.REQUEST
         )
         self._orders = self.create_publisher(String, qos.FLIGHT_ORDER, qos.ORDER)
         compile_ahead()  # every kernel loaded (compiled on a cold cache) before 'ready'
         self.create_subscription(DiagnosticStatus, qos.FLIGHT_ACK, self._on_ack, qos.REQUEST)
-        self.create_subscription(String, qos.RELEASE_REQUEST, self._on_request, qos.REQUEST_INBOX)
-        self.create_subscription(Odometry, qos.RELEASE_STATE, self._on_state, qos.REQUEST_INBOX)
+        lost = lost_counter(self, self.counts, 'requests')
+        self.create_subscription(
+            String, qos.RELEASE_REQUEST, self._on_request, qos.REQUEST_INBOX, event_callbacks=lost
+        )
+        self.create_subscription(
+            Odometry, qos.RELEASE_STATE, self._on_state, qos.REQUEST_INBOX, event_callbacks=lost
+        )
         # The executor takes the GIL back from the worker within 0.5 ms (default 5 ms).
         sys.setswitchinterval(5e-4)
         self._stop = threading.Event()
@@ -380,23 +400,40 @@ class ReleaseNode(Node):
                 f'(spin below {values["critical_spin_rpm"]:.0f} rpm), the ball will tumble'
             )
         )
+        now = time.monotonic()
         with self._lock:
             self._pending[order_id] = _Pending(
-                work.request_id, time.monotonic() + self.ack_timeout, sentence, stable, values
+                work.request_id, now, now + self.ack_timeout, sentence, stable, values
             )
         self._orders.publish(String(data=text))
 
     def _expire(self) -> None:
+        """Answer the orders whose wait is over; wait on while a simulator reads the orders."""
         now = time.monotonic()
         with self._lock:
-            late = [(oid, p) for oid, p in self._pending.items() if p.deadline <= now]
-            for oid, _ in late:
-                del self._pending[oid]
-        for _, pending in late:
+            due = [p for p in self._pending.values() if p.deadline <= now]
+        if not due:
+            return
+        listening = self._orders.get_subscription_count() > 0
+        patience = max(self.ack_patience, self.ack_timeout)
+        late = []
+        with self._lock:
+            for oid, p in list(self._pending.items()):
+                if p.deadline > now:
+                    continue
+                if listening and now - p.sent < patience:
+                    p.deadline = min(now + self.ack_timeout, p.sent + patience)
+                else:
+                    late.append(self._pending.pop(oid))
+        for pending in late:
             self._reject(
                 pending.request_id,
-                f'no simulator acknowledged the flight order within '
-                f'{self.ack_timeout:g} s (is the simulator running?)',
+                f'no simulator acknowledged the flight order within {now - pending.sent:.3g} s '
+                + (
+                    '(a simulator reads the orders but did not answer)'
+                    if listening
+                    else '(no simulator reads the flight orders: is the simulator running?)'
+                ),
                 pending.values,
             )
 
@@ -532,7 +569,7 @@ class ReleaseNode(Node):
                 self._reject(request_id, 'the release node is shutting down')
         print(
             '[release] {received} requests received: {accepted} flown, {rejected} refused, '
-            '{busy} busy'.format(**self.counts),
+            '{busy} busy; {lost} lost on the way (DDS)'.format(**self.counts),
             file=sys.stderr,
             flush=True,
         )

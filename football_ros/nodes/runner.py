@@ -58,6 +58,24 @@ class _Shutdown(BaseException):
     """Raised by the signal handler in the main thread to end start-up or spinning."""
 
 
+UNSAFE_MODULES = ('llvmlite',)
+"""Packages whose Python code C calls back through ctypes (numba's object cache, while numba
+loads or writes its cache): an exception raised there is swallowed by ctypes and leaves the
+library in a broken state (seen: "Exception ignored on calling ctypes callback", SIGSEGV)."""
+RETRY_S = 0.02
+"""How soon a stop deferred out of such code is tried again [s]."""
+
+
+def in_unsafe_code(frame) -> bool:
+    """Tell whether ``frame`` or a caller of it runs code of :data:`UNSAFE_MODULES`."""
+    while frame is not None:
+        module = frame.f_globals.get('__name__', '')
+        if module.split('.')[0] in UNSAFE_MODULES:
+            return True
+        frame = frame.f_back
+    return False
+
+
 class _Signals:
     """
     SIGINT/SIGTERM handling.
@@ -65,7 +83,9 @@ class _Signals:
     The first signal raises :class:`_Shutdown` (unless the node is already cleaning up), or,
     once the node spins, only asks the spin loop to stop: an exception raised inside a callback
     could cut a callback's work in two (the recorder's write of one message: stored, not yet
-    counted). Later signals are only counted.
+    counted). A signal that lands in code C calls back (:func:`in_unsafe_code`) is deferred:
+    SIGALRM retries every :data:`RETRY_S` until the main thread is out of it. Later signals
+    are only counted.
     """
 
     def __init__(self) -> None:
@@ -73,32 +93,47 @@ class _Signals:
         self.cleaning_up = False
         self.spinning = False
         self.stop = False
+        self.deferred = 0
+        self._pending = 0  # the signal whose _Shutdown waits for a safe point (0: none)
         self._previous = {}
 
     def install(self) -> None:
         for sig in (signal.SIGINT, signal.SIGTERM):
             self._previous[sig] = signal.signal(sig, self._handle)
+        self._previous[signal.SIGALRM] = signal.signal(signal.SIGALRM, self._retry)
 
     def restore(self) -> None:
         for sig, handler in self._previous.items():
             signal.signal(sig, handler)
 
-    def _handle(self, signum, _frame) -> None:
+    def _handle(self, signum, frame) -> None:
         self.received += 1
         ignore_further_signals()  # a second signal must not interrupt what follows
         if not self.cleaning_up:
             self.cleaning_up = True
-            self.stop = True  # also if the exception below is swallowed (a ctypes callback)
-            if self.spinning:
-                return  # the loop ends within SPIN_WAIT_S, after the callback
-            # numba's compiler calls Python back through ctypes, which ignores exceptions: a
-            # signal landing there is lost as an exception, and the stop flag ends the spin
-            # loop before it starts.
-            raise _Shutdown(signum)
+            self.stop = True  # the spin loop ends on it, also if it never starts spinning
+            self._pending = signum
+            self._retry(signal.SIGALRM, frame)
+
+    def _retry(self, _signum, frame) -> None:
+        """Raise the pending :class:`_Shutdown` now if the main thread may unwind here."""
+        if not self._pending:
+            return
+        if self.spinning:
+            self._pending = 0  # the loop ends within SPIN_WAIT_S, after the callback
+            return
+        if in_unsafe_code(frame):
+            self.deferred += 1
+            signal.setitimer(signal.ITIMER_REAL, RETRY_S)
+            return
+        signum, self._pending = self._pending, 0
+        raise _Shutdown(signum)
 
     def clean_up_begins(self) -> None:
         """From here on signals are ignored (also during the interpreter's own shutdown)."""
         self.cleaning_up = True
+        self._pending = 0
+        signal.setitimer(signal.ITIMER_REAL, 0.0)
         ignore_further_signals()
 
 

@@ -16,12 +16,17 @@
 Every topic the package's nodes publish or subscribe: name -> (message type, QoS profile).
 
 Names and profiles are defined in :mod:`.qos`; this is the one table that pairs them with their
-message types (the recorder records, ``echo`` prints and the tests subscribe from it). Each
-topic's page in msg_docs/ says what it carries. A camera rig's topics are named per camera:
-:data:`CAMERA_TOPICS` (the leaves of :func:`qos.camera_topic`).
+message types (the recorder records, ``echo`` prints and the tests subscribe from it). Topics
+made at run time (a spawned entity's ``football/<entity>/pose`` and ``.../odom``, the tracker's
+``football/track_<n>/...``, a rig camera's ``football/camera/<name>/...``) are :data:`PATTERNS`
+of the same table; :func:`lookup` finds either. Each topic's page in msg_docs/ says what it
+carries.
 """
 
 from __future__ import annotations
+
+from dataclasses import dataclass
+import re
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from geometry_msgs.msg import (
@@ -80,6 +85,62 @@ CAMERA_TOPICS: dict[str, type] = (
     if Detection2DArray is not None else {}
 )
 """Leaf of football/camera/<name>/<leaf> -> message type (QoS ``qos.STATE``)."""
+ENTITY_TOPICS: dict[str, type] = {'pose': PoseStamped, 'odom': Odometry}
+"""Leaf -> type of each spawned entity's state topics (:func:`qos.entity_topic`, ``qos.STATE``)."""
+TRACK_TOPICS = (qos.ESTIMATE, qos.LANDING, qos.PREDICTED_PATH, qos.CATCH, qos.RECEIVER)
+"""The tracker's topics that also exist per track (:func:`qos.track_topic`)."""
+_TOKEN = '[A-Za-z][A-Za-z0-9_]*'  # one token of a ROS name
+
+
+@dataclass(frozen=True)
+class TopicPattern:
+    """A family of topics made at run time: ``template`` for people, ``regex`` for names."""
+
+    template: str
+    regex: re.Pattern
+    msg_type: type
+    profile: QoSProfile
+
+
+def _pattern(name: str, marker: str, shown: str, regex: str, cls, profile) -> TopicPattern:
+    """Pattern of ``name`` whose ``marker`` stands for ``shown`` (template) and ``regex``."""
+    before, after = name.split(marker)
+    return TopicPattern(
+        name.replace(marker, shown), re.compile(re.escape(before) + regex + re.escape(after)),
+        cls, profile,
+    )
+
+
+PATTERNS: tuple[TopicPattern, ...] = (
+    *(
+        _pattern(qos.entity_topic('ENTITY', leaf), 'ENTITY', '<entity>', _TOKEN, cls, qos.STATE)
+        for leaf, cls in ENTITY_TOPICS.items()
+    ),
+    *(
+        _pattern(qos.track_topic(0, t), 'track_0', 'track_<n>', 'track_[0-9]{1,9}', *TOPICS[t])
+        for t in TRACK_TOPICS
+    ),
+    *(
+        _pattern(qos.camera_topic('CAMERA', leaf), 'CAMERA', '<name>', _TOKEN, cls, qos.STATE)
+        for leaf, cls in CAMERA_TOPICS.items()
+    ),
+)
+"""Topics made at run time, as patterns of relative names."""
+
+
+def lookup(name: str) -> tuple[type, QoSProfile] | None:
+    """Return (type, QoS) of a package topic by name (as in TOPICS, or a pattern's), else None."""
+    if name in TOPICS:
+        return TOPICS[name]
+    for pattern in PATTERNS:
+        if pattern.regex.fullmatch(name):
+            return pattern.msg_type, pattern.profile
+    return None
+
+
+def known_names() -> list[str]:
+    """Every topic name and pattern template, for error messages and ``--help``."""
+    return list(TOPICS) + [p.template for p in PATTERNS]
 
 
 def type_name(cls: type) -> str:

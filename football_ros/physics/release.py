@@ -103,12 +103,16 @@ def check_range(name: str, value: Any, limits_key: str | None = None, slack: flo
     try:
         value = float(value)
     except OverflowError:
-        raise ReleaseError(f"'{name}' is outside the accepted range [{lo:g}, {hi:g}]") from None
+        raise ReleaseError(
+            f"'{name}' = {_brief(value)} is outside the accepted range [{exact(lo)}, {exact(hi)}]"
+        ) from None
     if not math.isfinite(value):
         raise ReleaseError(f"'{name}' must be finite, got {value}")
     pad = slack * (hi - lo)
     if not lo - pad <= value <= hi + pad:
-        raise ReleaseError(f"'{name}' = {value:g} is outside the accepted range [{lo:g}, {hi:g}]")
+        raise ReleaseError(
+            f"'{name}' = {exact(value)} is outside the accepted range [{exact(lo)}, {exact(hi)}]"
+        )
     return min(max(value, lo), hi)
 
 
@@ -149,6 +153,12 @@ def check_settings(
         raise ReleaseError(str(exc)) from None
 
 
+def exact(x: float) -> str:
+    """Return ``x`` as the shortest text that reads back as the same float ('60', '60.00002')."""
+    x = float(x)
+    return str(int(x)) if x.is_integer() and abs(x) < 1e16 else repr(x)
+
+
 def _brief(value: Any, limit: int = 60) -> str:
     text = repr(value)
     return text if len(text) <= limit else text[: limit - 3] + '...'
@@ -183,7 +193,7 @@ def check_rigid_body(velocity, attitude, angular_velocity, height: float) -> flo
     )
     norm = math.hypot(*attitude)
     if abs(norm - 1.0) > 1e-3:
-        raise ReleaseError(f'orientation must be a unit quaternion, |q| = {norm:.6g}')
+        raise ReleaseError(f'orientation must be a unit quaternion, |q| = {exact(norm)}')
     x, y, z, w = (c / norm for c in attitude)
     axis = (1 - 2 * (y * y + z * z), 2 * (x * y + w * z), 2 * (x * z - w * y))  # body x
     speed = math.sqrt(vx * vx + vy * vy + vz * vz)

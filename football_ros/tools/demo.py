@@ -220,7 +220,7 @@ def run_demo(args: argparse.Namespace) -> int:
                 state['time_of_flight'] = float(values.get('time_of_flight', 'nan'))
 
     node.create_subscription(DiagnosticArray, qos.DIAGNOSTICS, on_diagnostics, qos.DIAGNOSTICS_QOS)
-    requests = node.create_publisher(String, qos.RELEASE_REQUEST, qos.REQUEST)
+    requests = node.create_publisher(String, qos.RELEASE_REQUEST, qos.REQUEST_WRITER)
     code = 1
     try:
         _say('starting simulator, release node and recorder ...')
