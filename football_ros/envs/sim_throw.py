@@ -22,7 +22,8 @@ at the hand (SetEntityState, zero twist) and draws a target; the first ``step`` 
 action's release (release noise added: SetEntityState with the release's pose and twist),
 every step then advances the simulation by 1 / ``control_rate`` seconds (StepSimulation of
 ``round(1 / (control_rate * sim_step))`` steps) and reads the ball (GetEntityState). Actions
-after the first of an episode are checked and ignored (the ball is in flight). The episode
+after the first of an episode are checked and ignored (the ball is in flight); every step's
+info has the ``release`` flown (the noisy one). The episode
 ends when the ball crosses the target's horizontal plane going down (reward: minus the miss
 [m] there, interpolated between the two control steps, capped) or is truncated after
 :data:`football_ros.envs.throws.MAX_TIME` of flight (reward: minus the cap).
@@ -57,7 +58,7 @@ from simulation_interfaces.srv import (
     StepSimulation,
 )
 
-from .throws import check_actions, MAX_TIME, noisy_releases, ThrowTask
+from .throws import ACTION_KEYS, check_actions, MAX_TIME, noisy_releases, ThrowTask
 from ..physics.frames import attitude_with_axis
 from ..physics.release import release_states
 
@@ -245,6 +246,7 @@ class SimThrowEnv(gym.Env):
             raise
         self._target: np.ndarray | None = None
         self._thrown = False
+        self._release = np.full(len(ACTION_KEYS), np.nan)
         self._time = 0.0
         self._last: np.ndarray | None = None
 
@@ -273,14 +275,13 @@ class SimThrowEnv(gym.Env):
         if self._last is None:
             raise gym.error.ResetNeeded('call reset() first (and after the episode ends)')
         actions = check_actions(action, self.action_space.low, self.action_space.high)
-        info: dict[str, Any] = {}
         if not self._thrown:
-            release = noisy_releases(self.task, actions, self.np_random)[0]
+            self._release = noisy_releases(self.task, actions, self.np_random)[0]
             request = SetEntityState.Request(entity=self.entity,
-                                             state=release_message(self.hand, release))
+                                             state=release_message(self.hand, self._release))
             self._client.call('set_entity_state', request)
             self._thrown = True
-            info['release'] = release
+        info: dict[str, Any] = {'release': self._release.copy()}
         self._client.call('step_simulation', StepSimulation.Request(steps=self.steps_per_control))
         self._time += self.dt
         before, state = self._last, self._read()
