@@ -16,7 +16,7 @@
 Gymnasium environments: the vector env against the raw batch kernel, SimThrow's flat steps.
 
     .venv/bin/python bench/envs_benchmark.py [--envs 4096] [--draws 5] [--steps 100000]
-        [--naive 300] [--no-record]
+        [--seconds S] [--naive 300] [--no-record]
 
 1. Throws per second of ``football_ros/Throw-v0``'s vector env (``--envs`` throws per step:
    noise, release states, the kernel, the score, the next targets) against the batch kernel
@@ -36,6 +36,7 @@ Gymnasium environments: the vector env against the raw batch kernel, SimThrow's 
 from __future__ import annotations
 
 import argparse
+import math
 import os
 from pathlib import Path
 import subprocess
@@ -43,13 +44,9 @@ import sys
 import tempfile
 import time
 
-import numpy as np
-
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO))
 os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')  # before rclpy starts
-
-import gymnasium as gym  # noqa: E402
 
 import football_ros.envs  # noqa: E402
 from football_ros.envs.throws import (  # noqa: E402
@@ -57,6 +54,8 @@ from football_ros.envs.throws import (  # noqa: E402
 from football_ros.physics.aero import AeroModel  # noqa: E402
 from football_ros.physics.batch import simulate_batch  # noqa: E402
 from football_ros.physics.presets import get_preset  # noqa: E402
+import gymnasium as gym  # noqa: E402
+import numpy as np  # noqa: E402
 
 NOMINAL = np.array([21.6, 30.0, 2.9, 600.0, 0.0, 0.0, 0.0, 0.0])
 SIM_TARGET = {'target_distance': (20.0, 30.0), 'target_bearing_deg': (-10.0, 10.0),
@@ -130,36 +129,42 @@ class Simulator:
             self.proc.kill()
 
 
-def sim_throw(steps: int, log_dir: Path) -> None:
-    """Section 2: SimThrow-v0's per-step time and simulator CPU over ``steps`` steps."""
+def sim_throw(steps: int, seconds: float, log_dir: Path) -> None:
+    """Section 2: SimThrow-v0's per-step time and simulator CPU over ``steps`` steps.
+
+    Stops early when ``seconds`` have passed (the steps done are reported).
+    """
     sim = Simulator(log_dir)
     try:
         env = gym.make(football_ros.envs.SIM_THROW_ID, simulator='/football_simulator',
                        **SIM_TARGET)
         env.reset(seed=0)
         walls = np.empty(steps)
-        marks = {}
+        cpu = np.empty(steps + 1, dtype=np.int64)  # the simulator's CPU before each step
         episodes = 0
         started = time.monotonic()
         for i in range(steps):
-            if i in (0, WINDOW, steps - WINDOW):
-                marks[i] = cpu_ns(sim.proc.pid)
+            cpu[i] = cpu_ns(sim.proc.pid)
             start = time.perf_counter()
             _, _, terminated, truncated, _ = env.step(NOMINAL)
             if terminated or truncated:
                 env.reset()
                 episodes += 1
             walls[i] = time.perf_counter() - start
-        marks[steps] = cpu_ns(sim.proc.pid)
+            if time.monotonic() - started > seconds and i + 1 >= 2 * WINDOW:
+                steps = i + 1
+                break
+        cpu[steps] = cpu_ns(sim.proc.pid)
+        walls, cpu = walls[:steps], cpu[:steps + 1]
         total = time.monotonic() - started
         env.close()
     finally:
         sim.stop()
     first, last = walls[:WINDOW], walls[-WINDOW:]
-    cpu_first = (marks[WINDOW] - marks[0]) * 1e-6 / WINDOW
-    cpu_last = (marks[steps] - marks[steps - WINDOW]) * 1e-6 / WINDOW
+    cpu_first = (cpu[WINDOW] - cpu[0]) * 1e-6 / WINDOW
+    cpu_last = (cpu[steps] - cpu[steps - WINDOW]) * 1e-6 / WINDOW
     print(f'## SimThrow-v0 over {steps} steps in one process ({episodes} episodes, 50 Hz '
-          f'control, {total:.0f} s)\n')
+          f'control, {total:.0f} s{", stopped by --seconds" if total > seconds else ""})\n')
     print('| steps | steps/s | wall ms per step (median) | simulator CPU ms per step |')
     print('|---|---|---|---|')
     print(f'| first {WINDOW} | {WINDOW / first.sum():.1f} | {1e3 * np.median(first):.2f} '
@@ -168,9 +173,12 @@ def sim_throw(steps: int, log_dir: Path) -> None:
           f'| {cpu_last:.2f} |')
     print(f'| last / first | {first.sum() / last.sum():.3f} | '
           f'{np.median(last) / np.median(first):.3f} | {cpu_last / cpu_first:.3f} |')
-    tenths = np.array_split(walls, 10)
-    print('\nsteps/s per tenth of the run: '
-          + ', '.join(f'{len(t) / t.sum():.1f}' for t in tenths) + '\n')
+    tenths = np.array_split(np.arange(steps), 10)
+    print('\nper tenth of the run: steps/s '
+          + ', '.join(f'{len(t) / walls[t].sum():.1f}' for t in tenths)
+          + '; simulator CPU ms per step '
+          + ', '.join(f'{(cpu[t[-1] + 1] - cpu[t[0]]) * 1e-6 / len(t):.2f}' for t in tenths)
+          + '\n')
 
 
 def naive(throws: int, log_dir: Path) -> None:
@@ -187,8 +195,9 @@ def naive(throws: int, log_dir: Path) -> None:
     print('(per throw: SetEntityState, StepSimulation(2000) = 2 s, GetEntityState, with '
           'rclpy.spin_until_future_complete(node, future); simulator CPU from schedstat)\n')
     print('| variant | wall ms per throw, first 50 | last 50 | last / first '
-          '| simulator CPU ms, first 50 | last 50 | last / first |')
-    print('|---|---|---|---|---|---|---|')
+          '| simulator CPU ms, first 50 | last 50 | last / first | client CPU ms, first 50 '
+          '| last 50 |')
+    print('|---|---|---|---|---|---|---|---|---|')
     state = release_message((0.0, 0.0, 1.8), NOMINAL)
     for variant in ('new ball per throw, never deleted', 'new ball per throw, deleted after',
                     'one ball, a new client per call'):
@@ -216,9 +225,9 @@ def naive(throws: int, log_dir: Path) -> None:
             fresh = variant.startswith('one ball')
             name = call(SpawnEntity, 'spawn_entity',
                         SpawnEntity.Request(name='b0', uri='football_ros://american')).entity_name
-            walls, cpus = [], []
+            walls, cpus, own = [], [], []
             for k in range(throws):
-                cpu0, start = cpu_ns(sim.proc.pid), time.perf_counter()
+                cpu0, start, mine = cpu_ns(sim.proc.pid), time.perf_counter(), time.process_time()
                 if k and not fresh:
                     name = call(SpawnEntity, 'spawn_entity', SpawnEntity.Request(
                         name=f'b{k}', uri='football_ros://american')).entity_name
@@ -231,14 +240,16 @@ def naive(throws: int, log_dir: Path) -> None:
                     call(DeleteEntity, 'delete_entity', DeleteEntity.Request(entity=name))
                 walls.append(time.perf_counter() - start)
                 cpus.append(cpu_ns(sim.proc.pid) - cpu0)
+                own.append(time.process_time() - mine)
         finally:
             node.destroy_node()
             rclpy.shutdown()
             sim.stop()
-        w, c = np.array(walls) * 1e3, np.array(cpus) * 1e-6
-        wf, wl, cf, cl = (np.median(x) for x in (w[:50], w[-50:], c[:50], c[-50:]))
+        w, c, m = np.array(walls) * 1e3, np.array(cpus) * 1e-6, np.array(own) * 1e3
+        wf, wl, cf, cl, mf, ml = (np.median(x) for x in (w[:50], w[-50:], c[:50], c[-50:],
+                                                         m[:50], m[-50:]))
         print(f'| {variant} | {wf:.1f} | {wl:.1f} | {wl / wf:.2f} | {cf:.1f} | {cl:.1f} '
-              f'| {cl / cf:.2f} |')
+              f'| {cl / cf:.2f} | {mf:.1f} | {ml:.1f} |')
     print()
 
 
@@ -247,6 +258,8 @@ def main() -> int:
     parser.add_argument('--envs', type=int, default=4096)
     parser.add_argument('--draws', type=int, default=5)
     parser.add_argument('--steps', type=int, default=100_000)
+    parser.add_argument('--seconds', type=float, default=math.inf,
+                        help='stop the SimThrow run after this long (the steps done are said)')
     parser.add_argument('--naive', type=int, default=300)
     args = parser.parse_args()
     throughput(args.envs, args.draws)
@@ -254,7 +267,7 @@ def main() -> int:
         if args.naive:
             naive(args.naive, Path(tmp))
         if args.steps:
-            sim_throw(max(args.steps, 2 * WINDOW), Path(tmp))
+            sim_throw(max(args.steps, 2 * WINDOW), args.seconds, Path(tmp))
     return 0
 
 

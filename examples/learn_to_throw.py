@@ -15,16 +15,16 @@
 """
 Learn to throw 40 m with the cross-entropy method on the vector env (numpy only).
 
-    python examples/learn_to_throw.py [--seed 0] [--budget 100000] [--figure learn_to_throw.png]
+    python examples/learn_to_throw.py [--seed 0] [--budget 100000] [--figure FILE.png]
 
 The task: a target 40 m straight ahead at the hand's height (1.8 m), the full model, release
 noise a tenth of the default thrower's (:data:`football_ros.physics.release.ERROR_SIGMAS`: at
 the default noise no release puts 90 % within 1 m at 40 m, the speed error alone spreads the
 range by about 2 m). The policy is one release (the 8 action components); the cross-entropy
 method draws a population of releases from a Gaussian, throws each once (with noise), keeps the
-best tenth and refits the Gaussian to them (smoothed); it starts from the ball's nominal pass (27.4 m/s,
-30 deg, 600 rpm) with a quarter of each action's range as its spread. After every generation the mean release is thrown
-``EVAL`` times; at 90 % within 1 m it is thrown ``CONFIRM`` more times, and the learning stops
+best tenth and refits the Gaussian to them (smoothed); it starts from the ball's nominal pass
+(27.4 m/s, 30 deg, 600 rpm) with a quarter of each action's range as its spread. After every
+generation the mean release is thrown ``EVAL`` times; at 90 % within 1 m it is thrown ``CONFIRM`` more times, and the learning stops
 if those make 90 % too. The learning curve is the fraction within 1 m against the throws spent
 (every throw counted: population, evaluations, confirmations); it stops at the goal or when the
 budget is spent (exit status 1 then).

@@ -234,9 +234,7 @@ class SimThrowEnv(gym.Env):
         self.hand = (0.0, 0.0, self.task.release_height)
         self._client = SimClient(simulator, float(timeout), float(discovery_timeout))
         try:
-            self._client.call('set_simulation_state', SetSimulationState.Request(
-                state=SimulationState(state=SimulationState.STATE_PAUSED)),
-                ok=(Result.RESULT_OK, SetSimulationState.Response.ALREADY_IN_TARGET_STATE))
+            self._pause()
             spawn = SpawnEntity.Request(name=f'simthrow_{os.getpid()}', uri=uri,
                                         allow_renaming=True)
             spawn.initial_pose.pose = _pose(self.hand, (0.0, 0.0, 0.0, 1.0))
@@ -249,6 +247,24 @@ class SimThrowEnv(gym.Env):
         self._release = np.full(len(ACTION_KEYS), np.nan)
         self._time = 0.0
         self._last: np.ndarray | None = None
+
+    def _pause(self, tries: int = 3) -> None:
+        """
+        Pause the simulation (already paused is fine).
+
+        Retried after a timeout: a simulator that has just started may serve before its first
+        answers reach a client that has just discovered it.
+        """
+        request = SetSimulationState.Request(
+            state=SimulationState(state=SimulationState.STATE_PAUSED))
+        for attempt in range(tries):
+            try:
+                self._client.call('set_simulation_state', request, ok=(
+                    Result.RESULT_OK, SetSimulationState.Response.ALREADY_IN_TARGET_STATE))
+                return
+            except TimeoutError:
+                if attempt == tries - 1:
+                    raise
 
     def _read(self) -> np.ndarray:
         request = GetEntityState.Request(entity=self.entity)
