@@ -130,7 +130,8 @@ class Simulator:
 
 
 def sim_throw(steps: int, seconds: float, log_dir: Path) -> None:
-    """Section 2: SimThrow-v0's per-step time and simulator CPU over ``steps`` steps.
+    """
+    Section 2: SimThrow-v0's per-step time and simulator CPU over ``steps`` steps.
 
     Stops early when ``seconds`` have passed (the steps done are reported).
     """

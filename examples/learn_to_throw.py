@@ -24,10 +24,11 @@ range by about 2 m). The policy is one release (the 8 action components); the cr
 method draws a population of releases from a Gaussian, throws each once (with noise), keeps the
 best tenth and refits the Gaussian to them (smoothed); it starts from the ball's nominal pass
 (27.4 m/s, 30 deg, 600 rpm) with a quarter of each action's range as its spread. After every
-generation the mean release is thrown ``EVAL`` times; at 90 % within 1 m it is thrown ``CONFIRM`` more times, and the learning stops
-if those make 90 % too. The learning curve is the fraction within 1 m against the throws spent
-(every throw counted: population, evaluations, confirmations); it stops at the goal or when the
-budget is spent (exit status 1 then).
+generation the mean release is thrown ``EVAL`` times; at 90 % within 1 m it is thrown
+``CONFIRM`` more times, and the learning stops if those make 90 % too. The learning curve is
+the fraction within 1 m against the throws spent (every throw counted: population,
+evaluations, confirmations); it stops at the goal or when the budget is spent (exit status 1
+then).
 """
 
 from __future__ import annotations
@@ -36,11 +37,10 @@ import argparse
 from pathlib import Path
 import sys
 
-import gymnasium as gym
-import numpy as np
-
 import football_ros.envs  # noqa: F401  (registers the environments)
 from football_ros.physics.presets import get_preset
+import gymnasium as gym
+import numpy as np
 
 TARGET = {'target_distance': (40.0, 40.0), 'target_bearing_deg': (0.0, 0.0),
           'target_height': (1.8, 1.8), 'release_noise': 0.1}
@@ -61,7 +61,7 @@ def _vec(n: int, seed: int):
 
 
 def cross_entropy(seed: int, budget: int) -> tuple[np.ndarray, list[tuple[int, float, float]]]:
-    """Return the learned release and the curve [(throws spent, fraction within 1 m, median miss)]."""
+    """Return the learned release and its curve [(throws spent, within 1 m, median miss)]."""
     population, evaluation, confirmation = _vec(POPULATION, seed), _vec(EVAL, seed + 1), _vec(
         CONFIRM, seed + 2)
     low, high = population.single_action_space.low, population.single_action_space.high
@@ -105,7 +105,7 @@ def plot(curve: list[tuple[int, float, float]], path: Path) -> None:
     left.plot(throws, 100 * hits, 'o-', ms=3, color='tab:blue')
     left.axhline(100 * GOAL, color='tab:blue', ls=':', lw=1)
     left.set_xlabel('throws spent (population, evaluations, confirmation)')
-    left.set_ylabel('% of the mean release\'s throws within 1 m', color='tab:blue')
+    left.set_ylabel("% of the mean release's throws within 1 m", color='tab:blue')
     left.set_ylim(0, 100)
     right = left.twinx()
     right.semilogy(throws, miss, 's--', ms=3, color='tab:red')

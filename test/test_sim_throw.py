@@ -12,7 +12,7 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""SimThrow-v0 against the simulator: gymnasium's checks, the states vs Flight, seeds, bad input."""
+"""SimThrow-v0 against the simulator: gymnasium's checks, states vs Flight, seeds, bad input."""
 
 import math
 
@@ -27,7 +27,7 @@ import numpy as np
 import pytest
 
 pytest.importorskip('simulation_interfaces.srv', reason='simulation_interfaces not built')
-from football_ros.envs.sim_throw import find_services, release_message  # noqa: E402
+from football_ros.envs.sim_throw import find_services, release_message  # noqa: E402, I100
 
 NOMINAL = np.array([18.0, 30.0, 0.0, 600.0, 2.0, 0.0, 10.0, 0.0])
 TARGET = {'target_distance': (20.0, 30.0), 'target_bearing_deg': (-10.0, 10.0),

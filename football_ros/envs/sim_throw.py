@@ -110,7 +110,7 @@ def find_services(names_and_types, prefix: str | None) -> dict[str, str]:
 
 
 def release_message(position, releases: np.ndarray) -> EntityState:
-    """EntityState (world frame) of one release row (ACTION_KEYS) from ``position`` [m]."""
+    """Return the EntityState (world frame) of one release (ACTION_KEYS) from ``position``."""
     s = release_states(*releases.reshape(1, -1).T, position)
     omega = s['transverse_rate'][0] + s['spin'][0] * s['axis'][0]
     state = EntityState()
