@@ -182,18 +182,8 @@ class ThrowTask:
                              f'{", ".join(known)}')
         return cls(**options)
 
-    @property
-    def observation_keys(self) -> tuple[str, ...]:
-        """Return the observation's components: target x, y, z [m], receiver, wind [m/s]."""
-        keys = ('target_x', 'target_y', 'target_z')
-        if self.receiver_speed > 0.0:
-            keys += ('receiver_vx', 'receiver_vy')
-        if self.wind_speed > 0.0:
-            keys += ('wind_x', 'wind_y')
-        return keys
-
     def observation_bounds(self) -> tuple[np.ndarray, np.ndarray]:
-        """(low, high) of the observation (:attr:`observation_keys`)."""
+        """(low, high) of the observation: target x, y, z [m], receiver, wind [m/s]."""
         d = self.target_distance[1]
         low = [-d, -d, self.target_height[0]]
         high = [d, d, self.target_height[1]]
