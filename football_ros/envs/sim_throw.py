@@ -32,9 +32,9 @@ Observation: the target [m] (and the receiver's velocity [m/s] when enabled), th
 position [m], orientation (x, y, z, w), velocity [m/s] and angular velocity [rad/s] in the
 simulator's world frame, and the time since the release [s].
 
-The per-step cost stays flat over any number of episodes: one ball (entities never pile up in
-the simulator), one executor with the node added once, one client per service made once, and
-every future waited for (a timed-out request is removed from the client).
+What keeps a long-lived client from slowing down (docs/envs.md): one ball (entities never pile
+up in the simulator, no endpoints made after the start), one executor with the node added
+once, one client per service made once, and a timed-out request removed from its client.
 """
 
 from __future__ import annotations
