@@ -34,13 +34,16 @@ simulator's world frame, and the time since the release [s].
 
 What keeps a long-lived client from slowing down (docs/envs.md): one ball (entities never pile
 up in the simulator, no endpoints made after the start), one executor with the node added
-once, one client per service made once, and a timed-out request removed from its client.
+once and waited on with spin_once (not spin_until_future_complete, whose per-call done
+callback piles up as executor tasks), one client per service made once, and a timed-out
+request removed from its client.
 """
 
 from __future__ import annotations
 
 import math
 import os
+import time
 from typing import Any
 
 from geometry_msgs.msg import Point, Pose, Quaternion, Twist, Vector3
@@ -171,7 +174,12 @@ class SimClient:
         """Return the response of service ``key``; RuntimeError on a timeout or a refusal."""
         client = self.clients[key]
         future = client.call_async(request)
-        self.executor.spin_until_future_complete(future, timeout_sec=self.timeout)
+        # spin_once, not spin_until_future_complete: that adds a done callback to the future,
+        # which becomes an executor task per call that is never run, and the executor's task
+        # list (walked on every wake-up) grows by one per call.
+        deadline = time.monotonic() + self.timeout
+        while not future.done() and time.monotonic() < deadline:
+            self.executor.spin_once(timeout_sec=max(0.0, deadline - time.monotonic()))
         if not future.done():
             client.remove_pending_request(future)
             raise TimeoutError(f'{self.names[key]}: no answer in {self.timeout:g} s')
