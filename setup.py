@@ -86,7 +86,10 @@ setup(
         ],
         # football-ros view: the Foxglove WebSocket server (football_ros/nodes/view.py).
         'view': [VIEW],
+        # Gymnasium environments (football_ros.envs, docs/envs.md).
+        'gym': ['gymnasium>=1.1'],
         'test': [
+            'gymnasium>=1.1',
             'pytest>=7',
             VIEW,  # test_view_node.py serves to a headless client (websockets)
             'websockets>=12',

@@ -40,7 +40,9 @@ LAYERS = (  # (module prefix, rank): a module imports only lower ranks or its ow
     ('football_ros.bagfile', 4),
     ('football_ros.playback', 4),
     ('football_ros.scene', 4),
+    ('football_ros.envs', 4),
     ('football_ros.nodes', 5),
+    ('football_ros.envs.sim_throw', 5),
     ('football_ros.tools', 6),
     ('football_ros.cli', 7),
 )
