@@ -75,6 +75,6 @@ def test_compile_covers_every_kernel_the_nodes_warm_up(tmp_path):
     index = _index_files(cache)
     assert len(index) >= 45, index
     after = _run(AFTER, env)
-    assert after[0] == 'LOADED' and int(after[1]) >= 45, after
+    assert after[0] == 'LOADED' and int(after[1]) >= 20, after  # (callees load inside callers)
     assert after[2:] == ['COMPILED', '0'], after  # nothing new compiled ...
     assert _index_files(cache) == index  # ... and no new cache entry written

@@ -267,21 +267,6 @@ def test_kernel_equals_flight_at_any_time_and_landing(release):
     assert got.landed and got.position[2] == 0.0
 
 
-def test_scratch_rk4_step_is_bit_for_bit_dynamics_rk4_step():
-    from football_ros.physics import dynamics as dyn
-
-    scratch = np.empty((5, dyn.N_STATE))
-    for release in (Release(), Release(model='full', ball='rugby', spin_rpm=-250.0)):
-        flight = Flight.from_release(release)
-        states = flight.simulate(rate=50.0).states
-        for y in states:
-            for dt in (1e-3, 3.7e-4, 0.0):
-                a, b = np.empty(dyn.N_STATE), np.empty(dyn.N_STATE)
-                dyn.rk4_step(y, dt, flight.params, a)
-                dyn.rk4_step_with(y, dt, flight.params, b, scratch)
-                assert np.array_equal(a, b)
-
-
 def test_batch_guard_clears_fine_balls_and_ends_a_broken_one():
     from football_ros.physics import dynamics as dyn
 

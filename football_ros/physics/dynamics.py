@@ -162,16 +162,14 @@ def project_invariants(y: np.ndarray) -> None:
 
 
 @njit(cache=True)
-def rk4_step(y: np.ndarray, dt: float, params: np.ndarray, out: np.ndarray) -> None:
-    """One RK4 step of length ``dt`` [s] from ``y`` into ``out`` (may alias ``y``), projected."""
-    rk4_step_with(y, dt, params, out, np.empty((5, y.size)))
-
-
-@njit(cache=True)
 def rk4_step_with(
     y: np.ndarray, dt: float, params: np.ndarray, out: np.ndarray, work: np.ndarray
 ) -> None:
-    """:func:`rk4_step` with caller-owned scratch ``work`` (5, N_STATE): no allocation."""
+    """
+    One RK4 step of ``dt`` [s] from ``y`` into ``out`` (may alias ``y``), then projected.
+
+    ``work`` (5, N_STATE): caller-owned scratch (no allocation). The package's one RK4 step.
+    """
     n = y.size
     k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
     derivative(y, params, k1)
@@ -307,23 +305,6 @@ def propagate(
             return times[: k + 1], states[: k + 1], True
         times[k] = t_sample
     return times, states, False
-
-
-@njit(cache=True)
-def finish_with_landing(times, states, k, y, t, step, params, ground):
-    """
-    End a sampled flight at its landing inside the step of length ``step`` [s] from ``y``.
-
-    ``y`` is the state at time ``t`` [s] (at or above z = ``ground`` [m]), ``k`` the index of
-    the landing sample in ``times`` / ``states`` (filled in place: the landing state, z set to
-    ``ground``, at its bisected time). Returns (times, states, True) cut after that sample, as
-    :func:`propagate` returns them.
-    """
-    tau = landing_time_in_step(y, step, params, ground)
-    rk4_step(y, tau, params, states[k])
-    states[k, R + 2] = ground
-    times[k] = t + tau
-    return times[: k + 1], states[: k + 1], True
 
 
 @njit(cache=True)

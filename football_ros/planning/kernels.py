@@ -74,8 +74,8 @@ def fly(y0, dt, params, duration, ground, target, d, past_plane):
             return times[:k], states[:k], False
         dyn.rk4_step_with(y, dt, params, states[k], work)
         if dyn.crossed_ground(y, states[k], ground):
-            return dyn.finish_with_landing(times, states, k, y, (k - 1) * dt, dt, params,
-                                           ground)
+            times[k] = (k - 1) * dt + dyn.finish(y, dt, params, ground, True, states[k], work)
+            return times[:k + 1], states[:k + 1], True
         y[:] = states[k]
         times[k] = k * dt
         if left > 0:
@@ -288,7 +288,8 @@ def compare_wobbles(states, n, y0_aligned, dt_aligned, params, consts, stride, s
     if not landed and a_times[n_grid - 1] < t_last - 1e-12:  # the partial step to t_last
         rows = np.empty((n_grid + 1, a_states.shape[1]))
         rows[:n_grid] = a_states
-        dyn.rk4_step(a_states[n_grid - 1], t_last - a_times[n_grid - 1], params, rows[n_grid])
+        dyn.rk4_step_with(a_states[n_grid - 1], t_last - a_times[n_grid - 1], params,
+                          rows[n_grid], np.empty((5, rows.shape[1])))
         a_states = rows
     elif landed:
         n_grid -= 1  # the landing row is not on the step grid

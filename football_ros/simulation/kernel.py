@@ -25,7 +25,7 @@ time in SIMD lanes (:func:`_lanes_step`: the ball index innermost, so that LLVM 
 the balls); a ball leaves its lane at its last whole step or before the step that crosses the
 ground, and the next ball of the group takes the lane. Groups of fewer than ``MIN_LANED``
 balls step one by one. The lanes compute the same IEEE operations in the same order as
-:func:`~football_ros.physics.dynamics.rk4_step` (no fast-math: no reassociation, no FMA), so
+:func:`~football_ros.physics.dynamics.rk4_step_with` (no fast-math: no reassociation, no FMA), so
 the results are bit for bit those of ``Flight`` (test/test_world.py compares them with ==).
 The partial step, the landing and :func:`~football_ros.physics.dynamics.describe` are then
 done per ball with the scalar functions of :mod:`football_ros.physics.dynamics`.

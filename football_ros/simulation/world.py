@@ -239,7 +239,7 @@ class Entity:
 
     @property
     def last(self) -> BallSample | None:
-        """The latest state of its flight as a sample (None at rest or before the first)."""
+        """Return the latest state of its flight as a sample (None at rest)."""
         return None if self.run is None else self.world.sample_of(self)
 
     def state(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -322,6 +322,7 @@ class World:
         self.events = Events()
         self.entities: dict[str, Entity] = {}
         self.rows: list[Entity] = []  # row -> entity
+        self._tick_dt = 0.0  # flight seconds per real-time tick, as last flown
         self.version = 0  # changes with every change that a computed pass must not outlive
         self.rows_version = 0  # changes when an entity is added or removed (rows renumbered)
         self._capacity = 0
@@ -339,11 +340,13 @@ class World:
         n = self._capacity
         arrays = {
             'pose': (POSE_WIDTH,), 'twist': (6,), 'status': (), 'flown': (), 'next_t': (),
+            'tick_base': (), 'ticks': (),
             'shown_ns': (), 'y': (dyn.N_STATE,), 'full': (dyn.N_STATE,), 'done': (),
             'steps': (), 'params': (dyn.N_PARAM,), 'bounds': (2,), 'origins': (3,),
             'valid_delta': (), 'warned': (), 'described': (dyn.N_DESCRIBE,),
         }
-        dtypes = {'status': np.int8, 'shown_ns': np.int64, 'done': np.int64, 'warned': bool}
+        dtypes = {'status': np.int8, 'shown_ns': np.int64, 'done': np.int64, 'warned': bool,
+                  'ticks': np.int64}
         for name, shape in arrays.items():
             new = np.zeros((capacity, *shape), dtype=dtypes.get(name, float))
             if n:
@@ -457,7 +460,8 @@ class World:
         k, last = entity.slot, self.size - 1
         if k != last:
             moved = self.rows[last]
-            for name in ('pose', 'twist', 'status', 'flown', 'next_t', 'shown_ns', 'y', 'full',
+            for name in ('pose', 'twist', 'status', 'flown', 'next_t', 'tick_base', 'ticks',
+                         'shown_ns', 'y', 'full',
                          'done', 'steps', 'params', 'bounds', 'origins', 'valid_delta', 'warned',
                          'described'):
                 array = getattr(self, name)
@@ -536,7 +540,8 @@ class World:
         self.y[k] = self.full[k] = flight.y0
         self.done[k], self.steps[k], self.params[k] = 0, flight.step, flight.params
         self.bounds[k], self.origins[k] = run.bounds, flight.initial.position
-        self.flown[k] = self.next_t[k] = 0.0
+        self.flown[k] = self.next_t[k] = self.tick_base[k] = 0.0
+        self.ticks[k] = 0
         self.status[k], self.warned[k] = FLYING, False
         self.valid_delta[k] = max_valid_delta(flight.model, flight.moment, flight.aero)
         self.pose[k, :3] = flight.initial.position
@@ -633,7 +638,11 @@ class World:
                 or not np.array_equal(ahead.slots, slots)):
             ahead = self.compute(slots, self.next_t[slots])
         shown = self.commit(ahead, wall_ns)
-        self.next_t[slots] += dt
+        if dt != self._tick_dt:  # a new rate or real-time factor: count the ticks from here
+            n = self.size
+            self.tick_base[:n], self.ticks[:n], self._tick_dt = self.next_t[:n], 0, dt
+        self.ticks[slots] += 1  # the next time as base + ticks x dt: no sum of round-offs
+        self.next_t[slots] = self.tick_base[slots] + self.ticks[slots] * dt
         return shown
 
     def ahead(self) -> Computed:
@@ -650,7 +659,8 @@ class World:
         slots = self.flying()
         times = self.next_t[slots] + n_steps * step
         shown = self.commit(self.compute(slots, times), wall_ns)
-        self.next_t[slots] = times
+        self.next_t[slots] = self.tick_base[slots] = times
+        self.ticks[slots] = 0
         return shown
 
     def step(self, n_steps: int, step: float, wall_ns: int) -> list[tuple[Entity, BallSample]]:
