@@ -16,7 +16,7 @@
 The simulator against its own core: how much of its CPU is the physics.
 
     .venv/bin/python bench/core_benchmark.py [--draws 3] [--hogs 2] [--balls 1 100]
-        [--rt-balls 1000] [--seconds 4] [--soak 60]
+        [--rt-balls 999] [--seconds 4] [--soak 60]
 
 Every figure is a ratio to a baseline measured in the same run, ``--draws`` times, with
 ``--hogs`` busy-loop processes beside it (a loaded machine):
@@ -302,7 +302,8 @@ def main(argv=None) -> int:
     parser.add_argument('--hogs', type=int, default=2, help='busy-loop processes beside it')
     parser.add_argument('--balls', type=int, nargs='+', default=[1, 100],
                         help='balls of the lock-step rows')
-    parser.add_argument('--rt-balls', type=int, default=1000, help='balls of the real-time rows')
+    parser.add_argument('--rt-balls', type=int, default=999,
+                        help='balls of the real-time rows (with the default ball: max_entities)')
     parser.add_argument('--seconds', type=float, default=4.0, help='real-time window [s]')
     parser.add_argument('--soak', type=float, default=60.0, help='soak [s], 0 = none')
     parser.add_argument('--phase', help=argparse.SUPPRESS)
