@@ -40,6 +40,7 @@ from typing import Any, TYPE_CHECKING
 
 from ..command_line import key_values, UsageError
 from ..identification.coefficients import ALIASES, COEFFICIENTS, DEFAULT_FREE, parse_free
+from .plan import json_safe
 from ..physics import PRESETS
 from ..physics.aero import AeroModel
 from ..physics.presets import get_preset
@@ -158,19 +159,6 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _clean(value: Any) -> Any:
-    """Return JSON-safe data: NaN and infinities as null, arrays as lists."""
-    if hasattr(value, 'tolist'):
-        value = value.tolist()
-    if isinstance(value, float):
-        return value if math.isfinite(value) else None
-    if isinstance(value, dict):
-        return {k: _clean(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_clean(v) for v in value]
-    return value
-
-
 def to_mapping(result: 'FitResult', args: argparse.Namespace) -> dict[str, Any]:
     """Return the report as plain data (the module docstring's JSON object)."""
     coefficients = {
@@ -201,7 +189,7 @@ def to_mapping(result: 'FitResult', args: argparse.Namespace) -> dict[str, Any]:
     argv, warnings = simulate_args(result, args)
     if not result.converged:
         warnings.append('the fit stopped at its iteration limit before converging')
-    return _clean({
+    return json_safe({
         'coefficients': coefficients,
         'residual_rms_m': result.residual_rms_m,
         'flights': flights,

@@ -139,14 +139,16 @@ def throw_argv(release_mapping: dict[str, Any], request_id: str | None,
     return argv + ['--timeout', repr(float(timeout))]
 
 
-def _clean(value: Any) -> Any:
-    """Return JSON-safe data: NaN and infinities as null."""
+def json_safe(value: Any) -> Any:
+    """Return JSON-safe data: NaN and infinities as null, arrays as lists."""
+    if hasattr(value, 'tolist'):
+        value = value.tolist()
     if isinstance(value, float):
         return value if math.isfinite(value) else None
     if isinstance(value, dict):
-        return {k: _clean(v) for k, v in value.items()}
+        return {k: json_safe(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
-        return [_clean(v) for v in value]
+        return [json_safe(v) for v in value]
     return value
 
 
@@ -193,7 +195,7 @@ def run(args: argparse.Namespace) -> int:
             max_speed=args.max_speed, elevation_range=tuple(args.elevation_range),
             attitude=args.attitude, tolerance=args.tolerance)
         out['arcs'] = arcs_summary(comparison)
-    out = _clean(out)
+    out = json_safe(out)
     if args.json:
         print(json.dumps(out))
     else:
