@@ -38,9 +38,9 @@ from pathlib import Path
 import sys
 from typing import Any, TYPE_CHECKING
 
+from .plan import json_safe
 from ..command_line import key_values, UsageError
 from ..identification.coefficients import ALIASES, COEFFICIENTS, DEFAULT_FREE, parse_free
-from .plan import json_safe
 from ..physics import PRESETS
 from ..physics.aero import AeroModel
 from ..physics.presets import get_preset
