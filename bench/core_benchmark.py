@@ -192,25 +192,10 @@ def soak_phase(pid: int, balls: int, seconds: float) -> dict:
     while time.monotonic() < end:
         bench.spin(min(10.0, max(0.0, end - time.monotonic())))
         bench.set_state(SimulationState.STATE_PAUSED)
-        rethrow(bench, balls)
+        bench.throw(balls, eb.LOCK_STEP_LOB)
         bench.set_state(SimulationState.STATE_PLAYING)
     late2, skipped2 = bench.late_ticks()
     return {'rss0': rss0, 'rss1': rss_mb(pid), 'late': late2 - late, 'skipped': skipped2 - skipped}
-
-
-def rethrow(bench, balls: int) -> None:
-    """Throw the spawned balls b0.. again from their release (SetEntityState)."""
-    st = eb.LOCK_STEP_LOB.initial_state()
-    for k in range(balls):
-        state = eb.EntityState()
-        p, o = state.pose.position, state.pose.orientation
-        p.x, p.y, p.z = 0.0, 0.5 * k, 0.0
-        o.x, o.y, o.z, o.w = st.attitude.tolist()
-        v, w = state.twist.linear, state.twist.angular
-        v.x, v.y, v.z = st.velocity.tolist()
-        w.x, w.y, w.z = st.angular_velocity().tolist()
-        bench.call(eb.SetEntityState, 'set_entity_state',
-                   eb.SetEntityState.Request(entity=f'b{k}', state=state))
 
 
 def rss_mb(pid: int) -> float:

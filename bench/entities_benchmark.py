@@ -216,12 +216,16 @@ class Bench:
         self.call(ResetSimulation, 'reset_simulation', request)
 
     def spawn_and_throw(self, n: int, release: Release = LOB) -> None:
-        st = release.initial_state()
         spawns = [
             SpawnEntityMsg(name=f'b{k}', entity_resource=Resource(uri='football_ros://american'))
             for k in range(n)
         ]
         self.call(SpawnEntities, 'spawn_entities', SpawnEntities.Request(spawn_requests=spawns))
+        self.throw(n, release)
+
+    def throw(self, n: int, release: Release = LOB) -> None:
+        """Throw balls b0 .. b<n-1> from their release, 0.5 m apart along y (SetEntityState)."""
+        st = release.initial_state()
         for k in range(n):
             state = EntityState()
             p, o = state.pose.position, state.pose.orientation
