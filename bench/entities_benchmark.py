@@ -162,14 +162,15 @@ class Bench:
             if not status.name.endswith('event'):
                 self.status = {kv.key: kv.value for kv in status.values}
 
-    def call(self, srv_type, name: str, request, ok: bool = True):
+    def call(self, srv_type, name: str, request, ok: bool = True, timeout: float = 120.0):
+        """Call the simulator's service ``name``; the answer, or None after ``timeout`` [s]."""
         client = self.clients.get(name)
         if client is None:
             client = self.clients[name] = self.node.create_client(srv_type, f'{NODE}/{name}')
             if not client.wait_for_service(timeout_sec=30.0):
                 raise SystemExit(f'no {name}')
         future = client.call_async(request)
-        rclpy.spin_until_future_complete(self.node, future, timeout_sec=120.0)
+        rclpy.spin_until_future_complete(self.node, future, timeout_sec=timeout)
         response = future.result()
         if ok and hasattr(response, 'result') and response.result.result != Result.RESULT_OK:
             raise SystemExit(f'{name}: {response.result.error_message}')
@@ -179,6 +180,13 @@ class Bench:
         end = time.monotonic() + seconds
         while time.monotonic() < end:
             rclpy.spin_once(self.node, timeout_sec=0.05)
+
+    def spin_until(self, condition, timeout: float) -> bool:
+        """Spin until ``condition()`` holds or ``timeout`` [s] has passed; whether it holds."""
+        end = time.monotonic() + timeout
+        while not condition() and time.monotonic() < end:
+            rclpy.spin_once(self.node, timeout_sec=0.05)
+        return bool(condition())
 
     def count_all(self, balls: int, topic) -> tuple[list, list[int]]:
         """
