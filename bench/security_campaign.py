@@ -13,23 +13,36 @@
 # limitations under the License.
 
 """
-Issue 22's stranger campaign against the nodes, in two set-ups of the same run.
+Issues 22 and 31: a stranger's campaign against the nodes, in two set-ups of the same run.
 
     .venv/bin/python bench/security_campaign.py [--hammer-seconds 5] [--throws 5] \
-        [--before /work/main]
+        [--before /work/main] [--no-record]
 
-``open``: simulator and release node started with ``allow_reconfigure:=true`` (every guarded
-parameter writable, as before issue 22); ``default``: as installed (guards on). A stranger node
-in this process (own ROS domain, loopback discovery only) then: sets the parameters of the
-issue (frame_id=map, publish_rate=1, max_request_bytes=64, a 1 MB frame_id); forges OK
-acknowledgements with no simulator running; forges ERROR acknowledgements naming another node
-and naming the simulator; answers requests before the release node; calls pause and reset
-100 times a second and counts the simulator's log lines per second (its own stdout+stderr);
-sends a burst (1000 at once) and a flood (1000/s for ``--hammer-seconds``) of requests to the
-release node and to the planner (bench/request_benchmark.py's runs, nodes restarted for each).
-Reported: how many attempts succeeded, the simulator's RSS before and after the big string,
-log lines and bytes per second under the hammer, requests answered exactly once of those sent.
-Everything is bounded in time and counts.
+``open``: simulator, release node and planner started with ``allow_reconfigure:=true`` (every
+guarded parameter writable, as before issue 22); ``default``: as installed (guards on). This
+checkout's nodes in subprocesses; a stranger in this process (own ROS domain, loopback discovery
+only), with entities_benchmark's Bench for the simulation_interfaces calls. Measured:
+
+- issue 22: forged OK acknowledgements with no simulator running; forged ERROR acknowledgements
+  naming another node and the simulator; the parameters of the issue (frame_id=map,
+  publish_rate=1, max_request_bytes=64, a 1 MB child_frame_id: accepted or refused, the
+  simulator's RSS before and after); an answer forged before the release node's; pause and
+  reset 100 times a second (the simulator's log lines and bytes per second);
+- issue 31: GetEntities and GetEntitiesStates with backtracking name filters over 20 entities
+  with 63-character names (the slowest of 3 answers and its result per filter; the /tf messages
+  received meanwhile against publish_rate x the time, with the default ball in flight); bursts
+  of concurrent calls from 4 clients with deep answer queues, paused (1000 each of
+  GetSimulationState, StepSimulation(1), GetEntityState, SetSimulationState(pause), the pause
+  service; 200 SimulateSteps goals; 300 cancel_goal of one long goal): answered / sent; the
+  planner's ``execute: true`` without an id (does the release node answer under the
+  ``release_request_id`` the planner reports?); ``use_sim_time`` set to true on each node
+  (accepted or refused; put back if accepted); a forged /clock at 42 s while use_sim_time is
+  false (do the football/pose stamps follow it?);
+- request topics: a burst (1000 at once) and a flood (1000/s for ``--hammer-seconds``) of
+  requests to the release node and to the planner (bench/request_benchmark.py's runs, nodes
+  restarted for each): answered exactly once / sent.
+
+Every wait is bounded and ends on its condition; every node started is stopped by its PID.
 """
 
 from __future__ import annotations
@@ -47,19 +60,54 @@ import time
 os.environ.setdefault('ROS_DOMAIN_ID', str(200 + os.getpid() % 30))
 os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
 os.environ.setdefault('RCUTILS_LOGGING_BUFFERED_STREAM', '0')
+REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO))  # this checkout's package, not the installed one
 
+from builtin_interfaces.msg import Time  # noqa: E402
 from diagnostic_msgs.msg import DiagnosticStatus  # noqa: E402
+from entities_benchmark import Bench, LOCK_STEP_LOB, NODE  # noqa: E402
 from football_ros.nodes import qos  # noqa: E402
-from rcl_interfaces.srv import SetParameters  # noqa: E402
+from football_ros.requests import FlightOrder  # noqa: E402
+from geometry_msgs.msg import PoseStamped  # noqa: E402
+from rcl_interfaces.srv import GetParameters, SetParameters  # noqa: E402
 import rclpy  # noqa: E402
+from rclpy.action import ActionClient  # noqa: E402
 from rclpy.executors import SingleThreadedExecutor  # noqa: E402
-from rclpy.parameter import Parameter  # noqa: E402
+from rclpy.parameter import Parameter, parameter_value_to_python  # noqa: E402
 from request_benchmark import flood_run  # noqa: E402
+from rosgraph_msgs.msg import Clock  # noqa: E402
+from simulation_interfaces.action import SimulateSteps  # noqa: E402
+from simulation_interfaces.msg import (  # noqa: E402
+    Resource,
+    Result,
+    SimulationState,
+    SpawnEntity as SpawnEntityMsg,
+)
+from simulation_interfaces.srv import (  # noqa: E402
+    GetEntities,
+    GetEntitiesStates,
+    GetEntityState,
+    GetSimulationState,
+    SetSimulationState,
+    SpawnEntities,
+    StepSimulation,
+)
 from std_msgs.msg import String  # noqa: E402
 from std_srvs.srv import SetBool, Trigger  # noqa: E402
 
-REPO = Path(__file__).resolve().parents[1]
 OK, ERROR = b'\x00', b'\x02'  # DiagnosticStatus levels (a byte)
+HOSTILE_FILTERS = {  # issue 31: each froze a simulator that matched with Python's re
+    "'.*' * 30 + 'X'": '.*' * 30 + 'X',
+    "'.*' * 10 + 'X'": '.*' * 10 + 'X',
+    '(a+)+$': '(a+)+$',
+    '(a|aa)+$': '(a|aa)+$',
+}
+LONG_NAMES = ['a' * 60 + f'_{k:02d}' for k in range(20)]  # 63 characters each
+CALLS_PER_FILTER = 3
+CLIENTS, BURST, GOALS, CANCELS = 4, 1000, 200, 300
+FORGED_CLOCK_S = 42  # a /clock of 1970
+RESULT_NAMES = {v: k[len('RESULT_'):] for k, v in vars(Result).items()
+                if k.startswith('RESULT_') and isinstance(v, int)}
 
 
 def rss_mb(pid: int) -> float:
@@ -72,6 +120,8 @@ def rss_mb(pid: int) -> float:
 class Node:
     """A football_ros node in a subprocess, its output in a file; stopped by its PID."""
 
+    started: list[Node] = []  # every one started: main stops them all, whatever happened
+
     def __init__(self, command: str, *args: str, log: Path, code: Path = REPO) -> None:
         self.log_path = log
         self._log = open(log, 'w')
@@ -80,6 +130,7 @@ class Node:
             stdout=self._log, stderr=subprocess.STDOUT, cwd=code,
             env=dict(os.environ, PYTHONPATH=str(code)),
         )
+        Node.started.append(self)
         deadline = time.monotonic() + 180.0
         while 'ready' not in log.read_text():
             if self.proc.poll() is not None or time.monotonic() > deadline:
@@ -119,6 +170,11 @@ class Stranger:
                                                   qos.REQUEST)
         self.acks = self.node.create_publisher(DiagnosticStatus, qos.FLIGHT_ACK, qos.ORDER)
         self.forge: tuple[bytes, str] | None = None  # (level, hardware_id) of forged acks
+        self.plans: list[DiagnosticStatus] = []
+        self.node.create_subscription(
+            DiagnosticStatus, qos.PLAN_RESPONSE, self.plans.append, qos.REQUEST
+        )
+        self.plan_requests = self.node.create_publisher(String, qos.PLAN_REQUEST, qos.REQUEST)
         self.node.create_subscription(String, qos.FLIGHT_ORDER, self._on_order, qos.ORDER)
         self._thread = threading.Thread(target=self._spin, daemon=True)
         self._thread.start()
@@ -152,6 +208,11 @@ class Stranger:
         finally:
             self.node.destroy_client(client)
 
+    def get_param(self, node: str, name: str):
+        result = self.call(GetParameters, f'/{node}/get_parameters',
+                           GetParameters.Request(names=[name]))
+        return parameter_value_to_python(result.values[0]) if result else None
+
     def set_param(self, node: str, name: str, value) -> bool:
         request = SetParameters.Request(parameters=[Parameter(name, value=value)
                                                     .to_parameter_msg()])
@@ -182,7 +243,181 @@ def level(status) -> bytes:
     return bytes(status.level)[:1] if isinstance(status.level, bytes) else bytes([status.level])
 
 
-def campaign(setup: str, args, tmp: Path, stranger: Stranger) -> dict[str, str]:
+def fly_default_ball(bench: Bench) -> None:
+    """Throw the default ball (a 12 s lob, by flight order): /tf and its pose at publish_rate."""
+    bench.spin_until(lambda: bench.orders.get_subscription_count() > 0, 20.0)
+    order = FlightOrder.from_release('campaign', LOCK_STEP_LOB)
+    bench.orders.publish(String(data=order.to_json()))
+    bench.spin(0.5)
+
+
+def answer_text(answer) -> str:
+    if answer is None:
+        return 'no answer'
+    result = answer.result
+    if result.result == Result.RESULT_OK:
+        return f'OK ({len(answer.entities if hasattr(answer, "entities") else [])} matched)'
+    return f'{RESULT_NAMES.get(result.result, result.result)}: {result.error_message[:60]}'
+
+
+def hostile_filters(bench: Bench, stranger: Stranger, rows: dict[str, str]) -> None:
+    """Call the name filters of HOSTILE_FILTERS over 63-character names; count /tf meanwhile."""
+    spawns = [SpawnEntityMsg(name=name, entity_resource=Resource(uri='football_ros://american'))
+              for name in LONG_NAMES]
+    bench.call(SpawnEntities, 'spawn_entities', SpawnEntities.Request(spawn_requests=spawns))
+    rate = stranger.get_param('football_simulator', 'publish_rate')
+    fly_default_ball(bench)
+    subs, received = bench.count_all(0, lambda _k, _leaf: qos.TF)
+    bench.spin_until(lambda: received[0] > 0, 10.0)
+    received[0], start = 0, time.monotonic()
+    services = ((GetEntities, 'get_entities'), (GetEntitiesStates, 'get_entities_states'))
+    for srv_type, name in services:  # the clients' discovery, outside the timings
+        bench.call(srv_type, name, srv_type.Request())
+    for label, pattern in HOSTILE_FILTERS.items():
+        cells = []
+        for srv_type, name in services:
+            request = srv_type.Request()
+            request.filters.filter = pattern
+            slowest, answer = 0.0, None
+            for _ in range(CALLS_PER_FILTER):
+                t0 = time.perf_counter()
+                answer = bench.call(srv_type, name, request, ok=False, timeout=60.0)
+                slowest = max(slowest, time.perf_counter() - t0)
+                if answer is None:
+                    break
+            cells.append(f'{1e3 * slowest:.1f} ms, {answer_text(answer)}')
+        rows[f'filter {label} (GetEntities; GetEntitiesStates): slowest answer, result'] = (
+            '; '.join(cells))
+    bench.spin(max(0.0, start + 1.0 - time.monotonic()))  # a window of 1 s at least
+    elapsed = time.monotonic() - start
+    rows['/tf during the filter calls: received / expected at publish_rate'] = (
+        f'{received[0]} / {rate * elapsed:.0f}' if rate else f'{received[0]} / ?')
+    for sub in subs:
+        bench.node.destroy_subscription(sub)
+
+
+def burst(bench: Bench, srv_type, name: str, request, count: int = BURST) -> int:
+    """``count`` calls at once from CLIENTS clients (deep answer queues): how many answered."""
+    clients = [bench.node.create_client(srv_type, name, qos_profile=qos.service_qos())
+               for _ in range(CLIENTS)]
+    try:
+        if not all(c.wait_for_service(timeout_sec=20.0) for c in clients):
+            return 0
+        futures = [clients[k % CLIENTS].call_async(request) for k in range(count)]
+        bench.spin_until(lambda: all(f.done() for f in futures), 120.0)
+        return sum(f.done() for f in futures)
+    finally:
+        for client in clients:
+            bench.node.destroy_client(client)
+
+
+def bursts(bench: Bench, rows: dict[str, str]) -> None:
+    """Bursts of calls to the simulator's services and its action, paused: answered / sent."""
+    bench.set_state(SimulationState.STATE_PAUSED)
+    paused = SetSimulationState.Request(state=SimulationState(state=SimulationState.STATE_PAUSED))
+    for label, srv_type, name, request in (
+        ('GetSimulationState', GetSimulationState, 'get_simulation_state',
+         GetSimulationState.Request()),
+        ('StepSimulation(steps=1)', StepSimulation, 'step_simulation',
+         StepSimulation.Request(steps=1)),
+        ('GetEntityState', GetEntityState, 'get_entity_state',
+         GetEntityState.Request(entity=LONG_NAMES[0])),
+        ('SetSimulationState (pause)', SetSimulationState, 'set_simulation_state', paused),
+        ('pause service (SetBool)', SetBool, qos.PAUSE_SERVICE, SetBool.Request(data=True)),
+    ):
+        full = name if '/' in name else f'{NODE}/{name}'
+        rows[f'burst of {BURST} from {CLIENTS} clients, {label}: answered / sent'] = (
+            f'{burst(bench, srv_type, full, request)} / {BURST}')
+    deep = qos.service_qos()
+    clients = [ActionClient(bench.node, SimulateSteps, f'{NODE}/simulate_steps',
+                            goal_service_qos_profile=deep, result_service_qos_profile=deep,
+                            cancel_service_qos_profile=deep) for _ in range(CLIENTS)]
+    try:
+        ready = all(c.wait_for_server(timeout_sec=20.0) for c in clients)
+        goals = [clients[k % CLIENTS].send_goal_async(SimulateSteps.Goal(steps=100))
+                 for k in range(GOALS if ready else 0)]
+        bench.spin_until(lambda: all(f.done() for f in goals), 120.0)
+        rows[f'burst of {GOALS} SimulateSteps goals from {CLIENTS} clients: answered / sent'] = (
+            f'{sum(f.done() for f in goals)} / {GOALS}')
+        results = [f.result().get_result_async() for f in goals
+                   if f.done() and f.result().accepted]
+        bench.spin_until(lambda: all(f.done() for f in results), 60.0)  # one goal at a time
+        long_goal = clients[0].send_goal_async(SimulateSteps.Goal(steps=600_000))
+        bench.spin_until(long_goal.done, 20.0)
+        handle = long_goal.result() if long_goal.done() else None
+        cancels = ([handle.cancel_goal_async() for _ in range(CANCELS)]
+                   if handle is not None and handle.accepted else [])
+        bench.spin_until(lambda: all(f.done() for f in cancels), 120.0)
+        rows[f'burst of {CANCELS} cancel_goal for one goal: answered / sent'] = (
+            f'{sum(f.done() for f in cancels)} / {CANCELS}' if cancels
+            else 'the goal was not accepted')
+        if cancels:
+            ended = handle.get_result_async()
+            bench.spin_until(ended.done, 120.0)
+    finally:
+        for client in clients:
+            client.destroy()
+    bench.set_state(SimulationState.STATE_PLAYING)
+
+
+def sim_time(bench: Bench, stranger: Stranger, rows: dict[str, str]) -> None:
+    """use_sim_time set by a stranger on each node; a forged /clock while it is false."""
+    for node in ('football_simulator', 'football_release', 'football_planner'):
+        accepted = stranger.set_param(node, 'use_sim_time', True)
+        rows[f'set use_sim_time=true on {node}'] = 'accepted' if accepted else 'refused'
+        if accepted:  # back to the wall clock for what follows
+            stranger.set_param(node, 'use_sim_time', False)
+    stamps: list[int] = []
+    clock = bench.node.create_publisher(Clock, qos.CLOCK, qos.CLOCK_QOS)
+    sub = bench.node.create_subscription(
+        PoseStamped, qos.POSE, lambda msg: stamps.append(msg.header.stamp.sec), qos.STATE)
+    fly_default_ball(bench)
+    stamps.clear()
+    forged = Clock(clock=Time(sec=FORGED_CLOCK_S))
+    end = time.monotonic() + 5.0
+    while len(stamps) < 100 and time.monotonic() < end:
+        clock.publish(forged)
+        rclpy.spin_once(bench.node, timeout_sec=0.01)
+    followed = sum(1 for sec in stamps if abs(sec - FORGED_CLOCK_S) < 3600)
+    rows['forged /clock (use_sim_time false): football/pose stamps follow it'] = (
+        f'{"yes" if followed else "no"} ({followed} of {len(stamps)} poses)')
+    bench.node.destroy_subscription(sub)
+    bench.node.destroy_publisher(clock)
+
+
+def planner_execute(stranger: Stranger, rows: dict[str, str]) -> None:
+    """Check that a planner's execute: true without an id throws under the id it reports."""
+    key = 'planner execute:true without an id: release answered under the reported id'
+    deadline = time.monotonic() + 20.0
+    while (stranger.plan_requests.get_subscription_count() == 0
+           or stranger.node.count_subscribers('/' + qos.RELEASE_REQUEST) < 1
+           or stranger.node.count_publishers('/' + qos.RELEASE_REQUEST) < 2) \
+            and time.monotonic() < deadline:  # the release node reads, the planner (and we) write
+        time.sleep(0.05)
+    time.sleep(1.0)  # the planner's own view of the release node
+    stranger.plans.clear()
+    stranger.plan_requests.publish(String(data=json.dumps(
+        {'target': [20.0, 1.0, 0.0], 'hit_n': 0, 'execute': True})))
+    deadline = time.monotonic() + 60.0
+    while not stranger.plans and time.monotonic() < deadline:
+        time.sleep(0.05)
+    if not stranger.plans:
+        rows[key] = 'no (no plan answer)'
+        return
+    values = {kv.key: kv.value for kv in stranger.plans[0].values}
+    release_id = values.get('release_request_id')
+    if release_id is None:
+        rows[key] = f'no (not thrown: {stranger.plans[0].message[-60:]})'
+        return
+    deadline = time.monotonic() + 20.0
+    while time.monotonic() < deadline and not any(
+            r.name == release_id for r in list(stranger.responses)):
+        time.sleep(0.05)
+    answered = [r.name for r in list(stranger.responses) if r.name == release_id]
+    rows[key] = 'yes' if answered else f"no (no release answer under '{release_id}')"
+
+
+def campaign(setup: str, args, tmp: Path, stranger: Stranger, bench: Bench) -> dict[str, str]:
     extra = ['--ros-args', '-p', 'allow_reconfigure:=true'] if setup == 'open' else []
     code = Path(args.before) if setup == 'before' else REPO
     rows: dict[str, str] = {}
@@ -207,6 +442,12 @@ def campaign(setup: str, args, tmp: Path, stranger: Stranger) -> dict[str, str]:
         )
         rows[f'throws refused by a forged ERROR naming {label}'] = f'{refused} / {args.throws}'
     stranger.forge = None
+    # Issue 31: hostile name filters, bursts of calls, the planner's execute, use_sim_time.
+    planner = Node('planner', *extra, log=tmp / f'{setup}-planner.log', code=code)
+    hostile_filters(bench, stranger, rows)
+    bursts(bench, rows)
+    planner_execute(stranger, rows)
+    sim_time(bench, stranger, rows)
     # 3. parameters of the issue's attacks.
     for node, name, value in (('football_simulator', 'frame_id', 'map'),
                               ('football_simulator', 'publish_rate', 1.0),
@@ -248,6 +489,7 @@ def campaign(setup: str, args, tmp: Path, stranger: Stranger) -> dict[str, str]:
     rows['simulator log bytes per second'] = f'{(bytes1 - bytes0) / elapsed:.0f}'
     stranger.node.destroy_client(pause)
     stranger.node.destroy_client(reset)
+    planner.stop()
     simulator.stop()
     release.stop()
     # 6. bursts and floods of requests: each answered once?
@@ -275,18 +517,23 @@ def main() -> int:
     for setup in ('before', 'open', 'default'):
         (tmp / setup).mkdir(parents=True, exist_ok=True)
     stranger = Stranger()
+    bench = Bench()  # simulation_interfaces calls (rclpy's default context)
     try:
         setups = (('before',) if args.before else ()) + ('open', 'default')
-        results = {setup: campaign(setup, args, tmp, stranger) for setup in setups}
+        results = {setup: campaign(setup, args, tmp, stranger, bench) for setup in setups}
     finally:
+        for node in Node.started:
+            node.stop()
         stranger.close()
+        bench.node.destroy_node()
+        rclpy.try_shutdown()
     print(f'ROS_DOMAIN_ID={os.environ["ROS_DOMAIN_ID"]}, logs in {tmp}\n')
     titles = {'before': f'before ({args.before})', 'open': 'open (allow_reconfigure:=true)',
               'default': 'default (guards on)'}
     print('| attack | ' + ' | '.join(titles[s] for s in results) + ' |')
     print('|---|' + '---|' * len(results))
     for key in results['open']:
-        print(f'| {key} | ' + ' | '.join(results[s][key] for s in results) + ' |')
+        print(f'| {key} | ' + ' | '.join(results[s].get(key, '-') for s in results) + ' |')
     return 0
 
 
