@@ -339,9 +339,9 @@ def bursts(bench: Bench, rows: dict[str, str]) -> None:
         bench.spin_until(lambda: all(f.done() for f in goals), 120.0)
         rows[f'burst of {GOALS} SimulateSteps goals from {CLIENTS} clients: answered / sent'] = (
             f'{sum(f.done() for f in goals)} / {GOALS}')
-        results = [f.result().get_result_async() for f in goals
-                   if f.done() and f.result().accepted]
-        bench.spin_until(lambda: all(f.done() for f in results), 60.0)  # one goal at a time
+        outcomes = [f.result().get_result_async() for f in goals
+                    if f.done() and f.result().accepted]
+        bench.spin_until(lambda: all(f.done() for f in outcomes), 60.0)  # one goal at a time
         long_goal = clients[0].send_goal_async(SimulateSteps.Goal(steps=600_000))
         bench.spin_until(long_goal.done, 20.0)
         handle = long_goal.result() if long_goal.done() else None
