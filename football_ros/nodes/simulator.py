@@ -777,16 +777,26 @@ class SimulatorNode(Node):
             self._publish_frame(frame, stamp, wall_ns)
 
     def _publish_state(self, run: FlightRun, sample: BallSample, stamp, at_rest: bool) -> None:
-        """Publish the default ball's state topics (its /tf goes with the frame's)."""
+        """
+        Publish the default ball's state topics (its /tf goes with the frame's).
+
+        Only topics somebody subscribes to, as for a spawned ball (six subscriber counts a
+        frame: local rmw queries, no network).
+        """
+        pubs = self._pubs
+        wanted = {topic for topic, pub in pubs.items() if pub.get_subscription_count()}
+        if not wanted:
+            return
         msgs = self._state_msgs
         msgs.fill(sample, stamp, self.frame_id, self.child_frame_id, at_rest)
-        self._pubs[qos.POSE].publish(msgs.pose)
-        self._pubs[qos.ODOM].publish(msgs.odom)
-        self._pubs[qos.SPIN_AXIS].publish(msgs.spin_axis)
-        self._pubs[qos.AERO_ANGLES].publish(msgs.aero_angles)
+        for topic, msg in ((qos.POSE, msgs.pose), (qos.ODOM, msgs.odom),
+                           (qos.SPIN_AXIS, msgs.spin_axis), (qos.AERO_ANGLES, msgs.aero_angles)):
+            if topic in wanted:
+                pubs[topic].publish(msg)
         linear = msgs.aero_angles_linear.vector
         if math.isfinite(linear.x + linear.y + linear.z):
-            self._pubs[qos.AERO_ANGLES_LINEAR].publish(msgs.aero_angles_linear)
+            if qos.AERO_ANGLES_LINEAR in wanted:
+                pubs[qos.AERO_ANGLES_LINEAR].publish(msgs.aero_angles_linear)
         elif not run.linear_diverged:  # the closed form overflowed (an unstable ball, late)
             run.linear_diverged = True
             self.sim.report(
@@ -797,8 +807,8 @@ class SimulatorNode(Node):
                 run.label,
             )
         quasi = msgs.aero_angles_quasi_steady.vector
-        if math.isfinite(quasi.x + quasi.y + quasi.z):
-            self._pubs[qos.AERO_ANGLES_QUASI_STEADY].publish(msgs.aero_angles_quasi_steady)
+        if qos.AERO_ANGLES_QUASI_STEADY in wanted and math.isfinite(quasi.x + quasi.y + quasi.z):
+            pubs[qos.AERO_ANGLES_QUASI_STEADY].publish(msgs.aero_angles_quasi_steady)
 
     def _maybe_publish_markers(
         self, run: FlightRun, sample: BallSample, stamp, wall_ns: int, force: bool
