@@ -618,7 +618,8 @@ class SimulationServices:
         The chunks run on the stepping thread, so that the executor serves cancel requests (and
         every other request) meanwhile; a cancel or a change to PLAYING stops the run at the
         next chunk boundary (a step boundary), the states after the steps done are published
-        and the result says how many ran. A goal that fits one chunk is one compiled pass.
+        and the result says how many ran. A goal that fits one chunk is one compiled pass, run
+        in the executor's thread (a hand-off would cost more than the chunk).
         """
         try:
             return await self._run_goal(goal_handle)
@@ -636,7 +637,12 @@ class SimulationServices:
             goal_handle.abort()
             return out
         try:
-            done, stop = await self._in_worker(self._run_steps, goal_handle, steps)
+            if steps * max(1, self._sim.flying_count()) * self._step_cost <= CHUNK_SECONDS:
+                # One chunk: stepped here, as StepSimulation is (no thread hand-off); cancels
+                # wait at most that chunk, as they would on the stepping thread.
+                done, stop = self._run_steps(goal_handle, steps)
+            else:
+                done, stop = await self._in_worker(self._run_steps, goal_handle, steps)
         except Exception as exc:
             node.get_logger().error(f'simulate_steps: {traceback.format_exc()}')
             out.result = result(
@@ -662,7 +668,7 @@ class SimulationServices:
 
     def _run_steps(self, goal_handle, steps: int) -> tuple[int, str | None]:
         """
-        Step a goal's chunks (stepping thread); return the steps done and why it stopped early.
+        Step a goal's chunks (stepping thread; one chunk: the executor's); return steps done, why.
 
         A chunk is as many steps as fit CHUNK_SECONDS at the last chunk's cost per ball-step;
         feedback after each (rclpy's goal handle publishes from any thread) unless it was the
