@@ -77,6 +77,7 @@ from geometry_msgs.msg import PoseStamped  # noqa: E402
 from nav_msgs.msg import Odometry  # noqa: E402
 import rclpy  # noqa: E402
 from rclpy.action import ActionClient  # noqa: E402
+from rclpy.executors import SingleThreadedExecutor  # noqa: E402
 from simulation_interfaces.action import SimulateSteps  # noqa: E402
 from simulation_interfaces.msg import (  # noqa: E402
     EntityState,
@@ -150,6 +151,10 @@ class Bench:
     def __init__(self) -> None:
         rclpy.init()
         self.node = rclpy.create_node('entities_benchmark')
+        # One executor, waited on with spin_once: rclpy's spin_until_future_complete leaves a
+        # task per call in a long-lived executor, and every later call walks them (docs/envs.md).
+        self.executor = SingleThreadedExecutor()
+        self.executor.add_node(self.node)
         self.clients = {}
         self.status = {}
         self.node.create_subscription(
@@ -162,31 +167,47 @@ class Bench:
             if not status.name.endswith('event'):
                 self.status = {kv.key: kv.value for kv in status.values}
 
-    def call(self, srv_type, name: str, request, ok: bool = True, timeout: float = 120.0):
-        """Call the simulator's service ``name``; the answer, or None after ``timeout`` [s]."""
+    def client(self, srv_type, name: str):
         client = self.clients.get(name)
         if client is None:
-            client = self.clients[name] = self.node.create_client(srv_type, f'{NODE}/{name}')
+            client = self.clients[name] = self.node.create_client(
+                srv_type, f'{NODE}/{name}', qos_profile=qos.service_qos())
             if not client.wait_for_service(timeout_sec=30.0):
                 raise SystemExit(f'no {name}')
-        future = client.call_async(request)
-        rclpy.spin_until_future_complete(self.node, future, timeout_sec=timeout)
-        response = future.result()
+        return client
+
+    def call(self, srv_type, name: str, request, ok: bool = True, timeout: float = 120.0):
+        """Call the simulator's service ``name``; the answer, or None after ``timeout`` [s]."""
+        future = self.client(srv_type, name).call_async(request)
+        if not self.spin_until(future.done, timeout):
+            return None
+        return self._checked(name, future.result(), ok)
+
+    def call_many(self, srv_type, name: str, requests: list, ok: bool = True) -> list:
+        """Send ``requests`` at once (the server keeps 1000 waiting); return the responses."""
+        client = self.client(srv_type, name)
+        futures = [client.call_async(request) for request in requests]
+        if not self.spin_until(lambda: all(f.done() for f in futures), 120.0):
+            raise SystemExit(f'{name}: not every call answered in 120 s')
+        return [self._checked(name, f.result(), ok) for f in futures]
+
+    @staticmethod
+    def _checked(name: str, response, ok: bool):
         if ok and hasattr(response, 'result') and response.result.result != Result.RESULT_OK:
             raise SystemExit(f'{name}: {response.result.error_message}')
         return response
-
-    def spin(self, seconds: float) -> None:
-        end = time.monotonic() + seconds
-        while time.monotonic() < end:
-            rclpy.spin_once(self.node, timeout_sec=0.05)
 
     def spin_until(self, condition, timeout: float) -> bool:
         """Spin until ``condition()`` holds or ``timeout`` [s] has passed; whether it holds."""
         end = time.monotonic() + timeout
         while not condition() and time.monotonic() < end:
-            rclpy.spin_once(self.node, timeout_sec=0.05)
+            self.executor.spin_once(timeout_sec=0.05)
         return bool(condition())
+
+    def spin(self, seconds: float) -> None:
+        end = time.monotonic() + seconds
+        while time.monotonic() < end:
+            self.executor.spin_once(timeout_sec=0.05)
 
     def count_all(self, balls: int, topic) -> tuple[list, list[int]]:
         """
@@ -211,8 +232,8 @@ class Bench:
     def late_ticks(self) -> tuple[int, int]:
         """Return the simulator's late (caught up) and skipped (never published) ticks."""
         self.status = {}
-        while 'overruns' not in self.status:
-            rclpy.spin_once(self.node, timeout_sec=0.1)
+        if not self.spin_until(lambda: 'overruns' in self.status, 60.0):
+            raise SystemExit("no simulator's /diagnostics in 60 s")
         return int(self.status['overruns']), int(self.status['skipped_ticks'])
 
     def set_state(self, state: int) -> None:
@@ -234,6 +255,7 @@ class Bench:
     def throw(self, n: int, release: Release = LOB) -> None:
         """Throw balls b0 .. b<n-1> from their release, 0.5 m apart along y (SetEntityState)."""
         st = release.initial_state()
+        requests = []
         for k in range(n):
             state = EntityState()
             p, o = state.pose.position, state.pose.orientation
@@ -242,8 +264,8 @@ class Bench:
             v, w = state.twist.linear, state.twist.angular
             v.x, v.y, v.z = st.velocity.tolist()
             w.x, w.y, w.z = st.angular_velocity().tolist()
-            request = SetEntityState.Request(entity=f'b{k}', state=state)
-            self.call(SetEntityState, 'set_entity_state', request)
+            requests.append(SetEntityState.Request(entity=f'b{k}', state=state))
+        self.call_many(SetEntityState, 'set_entity_state', requests)
 
     def step(self, steps: int) -> float:
         start = time.perf_counter()
@@ -255,9 +277,11 @@ class Bench:
         client.wait_for_server(timeout_sec=30.0)
         start = time.perf_counter()
         goal = client.send_goal_async(SimulateSteps.Goal(steps=steps))
-        rclpy.spin_until_future_complete(self.node, goal, timeout_sec=60.0)
-        done = goal.result().get_result_async()
-        rclpy.spin_until_future_complete(self.node, done, timeout_sec=60.0)
+        done = None
+        if self.spin_until(goal.done, 60.0):
+            done = goal.result().get_result_async()
+        if done is None or not self.spin_until(done.done, 60.0):
+            raise SystemExit('simulate_steps: no answer in 60 s')
         elapsed = time.perf_counter() - start
         client.destroy()
         return elapsed
