@@ -23,14 +23,18 @@ Every figure is a ratio to a baseline measured in the same run, ``--draws`` time
 
 - Lock-step: the simulator's CPU (its process, /proc, less its idle pacing) per StepSimulation
   (1000 steps) and per SimulateSteps goal (1000 steps) with N balls in the air, over the bare
-  core's CPU for the same steps in this process (``Simulation.step_n(1000)``). The floor: a
-  do-nothing rclpy server with the same services and action (it answers at once), measured the
-  same way; "less floor" is (simulator - floor) / core. The default ball's lock-step (flown by
-  a flight order) beside a spawned ball's.
+  core's CPU for the same steps in this process (``Simulation.step_n(1000)``). Two floors: a
+  do-nothing rclpy server offering StepSimulation and SimulateSteps (it answers at once),
+  measured the same way ("less floor": (simulator - floor) / core); and the simulator's own
+  call of one step (its executor with all its services, publishers and action; "less its
+  1 step": what the 999 further steps cost it, over the core's 1000). The default ball's
+  lock-step (flown by a flight order) beside a spawned ball's.
 - Real time at 100 Hz: the simulator's CPU (cores) with ``--rt-balls`` balls in the air and a
   /tf subscriber (and the /tf messages received per tick published), with nobody subscribed (and
   the physics' share: the core's kernel pass for those balls in this process over the
-  simulator's CPU per tick), and with 100 balls and every per-ball topic subscribed.
+  simulator's CPU per tick), and with 100 balls and every per-ball topic subscribed, beside
+  its publishing floor (entities_benchmark.floor: the same messages encoded and published by a
+  bare pacing loop to a client subscribed to all, no simulation, no executor).
 - Soak (``--soak`` s): 100 balls re-thrown every 10 s at 100 Hz with a /tf subscriber: the
   simulator's RSS growth and late ticks beside the bare pacing loop's (no ROS, no work) over
   the same time.
@@ -39,6 +43,7 @@ Every figure is a ratio to a baseline measured in the same run, ``--draws`` time
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import os
 from pathlib import Path
@@ -132,8 +137,15 @@ def lock_step_phase(pid: int, balls: list[int]) -> dict:
         bench.set_state(SimulationState.STATE_PAUSED)
         bench.reset()
         bench.spawn_and_throw(n, eb.LOCK_STEP_LOB)
-        out[f'step {n}'] = per_call(bench, pid, lambda: bench.step(STEPS), idle)
-        out[f'action {n}'] = per_call(bench, pid, lambda: bench.simulate_steps(STEPS), idle)
+        # Each measurement (REPEATS + 1 calls, at most 8 s of flight) from a fresh throw: the
+        # lobs fly 12 s, so no ball lands inside one. The same calls of one step: the
+        # simulator's own floor (its executor, services, publishers and action).
+        for key, call, steps in (('step {}', bench.step, STEPS),
+                                 ('action {}', bench.simulate_steps, STEPS),
+                                 ('step {} one', bench.step, 1),
+                                 ('action {} one', bench.simulate_steps, 1)):
+            bench.throw(n, eb.LOCK_STEP_LOB)
+            out[key.format(n)] = per_call(bench, pid, functools.partial(call, steps), idle)
         bench.reset()
     # The default ball (a flight order, as the release node sends) stepped the same way.
     bench.set_state(SimulationState.STATE_PAUSED)
@@ -331,6 +343,9 @@ def main(argv=None) -> int:
                                         (f'{args.rt_balls} none', args.rt_balls),
                                         ('100 all', 100))
                     }
+                    # The publishing floor of the '100 all' row: the same messages encoded
+                    # and published to a client subscribed to all, no simulation, no executor.
+                    row['publish floor'] = eb.floor(100.0, 100, args.seconds, 0)
                     if args.soak > 0 and draw == 0:
                         row['pace'] = run_phase('pace', seconds=args.soak)
                         row['soak'] = run_phase('soak', pid=sim.pid, balls=100,
@@ -357,16 +372,20 @@ def report(draws: list[dict], args) -> None:
     print(f'Lock-step, {STEPS} steps of 1 ms per call (CPU ms per call; ratios to the bare core '
           'measured in the same draw)')
     print('| call | balls | bare core ms | floor ms (do-nothing server) | simulator ms '
-          '| simulator / core | (simulator - floor) / core |')
-    print('|---|---|---|---|---|---|---|')
+          '| simulator / core | (simulator - floor) / core | simulator, 1 step ms '
+          '| (simulator - its 1 step) / core |')
+    print('|---|---|---|---|---|---|---|---|---|')
     for kind, key in (('StepSimulation', 'step'), ('SimulateSteps', 'action')):
         for n in args.balls:
             core_ms = [d['core'][n] * 1e3 for d in draws]
             floor_ms = [d['floor'][key] * 1e3 for d in draws]
             sim_ms = [d['sim'][f'{key} {n}'] * 1e3 for d in draws]
+            one_ms = [d['sim'][f'{key} {n} one'] * 1e3 for d in draws]
             print(f'| {kind} | {n} | {_cells(core_ms, "{:.3f}")} | {_cells(floor_ms)} '
                   f'| {_cells(sim_ms)} | {_cells([s / c for s, c in zip(sim_ms, core_ms)])} '
-                  f'| {_cells([(s - f) / c for s, f, c in zip(sim_ms, floor_ms, core_ms)])} |')
+                  f'| {_cells([(s - f) / c for s, f, c in zip(sim_ms, floor_ms, core_ms)])} '
+                  f'| {_cells(one_ms)} '
+                  f'| {_cells([(s - o) / c for s, o, c in zip(sim_ms, one_ms, core_ms)])} |')
     default = [d['sim']['step default'] / d['sim']['step 1'] for d in draws
                if 1 in args.balls]
     if default:
@@ -391,6 +410,11 @@ def report(draws: list[dict], args) -> None:
                                 * d['rt'][case]['expected_per_s']) for d in draws])
         print(f'| {n} | {sub} | {_cells(cores)} | {_cells(late, "{}")} '
               f'| {_cells(skipped, "{}")} | {delivered} | {share} |')
+    floors = [d['publish floor'] for d in draws]
+    print(f'| 100 | all, the publishing floor (encode + publish alone, no simulation) '
+          f'| {_cells([f["cpu"] / args.seconds for f in floors])} '
+          f'| {_cells([f["late"] for f in floors], "{}")} | '
+          f'| {_cells([f["received"] / (args.seconds * 100.0 * 201) for f in floors])} | |')
     soak = draws[0].get('soak')
     if soak:
         print()
