@@ -38,8 +38,6 @@ from .world import DEFAULT_ENTITY, Entity, EntityError, FlightRun, FLYING, World
 STOPPED, PLAYING, PAUSED = 0, 1, 2
 """Simulation states (the numbers of simulation_interfaces/SimulationState)."""
 STATE_NAMES = ('stopped', 'playing', 'paused')
-_NONE_HELD = np.zeros(100_000, dtype=bool)  # a frame without held rows: a read-only view
-_NONE_HELD.flags.writeable = False
 
 
 @dataclass(frozen=True)
@@ -283,7 +281,7 @@ class Simulation:
             twist = world.twist[shown]
             twist[is_held] = 0.0
         else:
-            shown, is_held = moved, _NONE_HELD[:moved.size]
+            shown, is_held = moved, np.zeros(moved.size, dtype=bool)
         frame = Frame(shown, world.pose[shown], twist, is_held, self.clock_ns)
         if shown.size and shown[0] == 0 and world.default.run is not None:
             frame.default = world.sample_of(world.default, theory=True)
