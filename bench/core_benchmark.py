@@ -69,6 +69,7 @@ from std_msgs.msg import String  # noqa: E402
 
 STEPS = 1000
 REPEATS = 7
+ROUNDS = 5  # batches of REPEATS calls, each from a fresh throw
 
 
 def bare_core(balls: int, default: bool = False) -> float:
@@ -114,45 +115,65 @@ def idle_rate(pid: int, seconds: float = 2.0) -> float:
     return (eb.cpu_ns(pid) - cpu) * 1e-9 / seconds
 
 
-def per_call(bench, pid: int, call, idle: float) -> float:
-    """Mean CPU seconds of process ``pid`` per ``call()`` (REPEATS calls), its idle CPU removed."""
-    call()  # discovery and first-use costs outside the figure
-    cpu, wall = eb.cpu_ns(pid), time.monotonic()
-    for _ in range(REPEATS):
-        call()
-    cpu = (eb.cpu_ns(pid) - cpu) * 1e-9 - idle * (time.monotonic() - wall)
-    return cpu / REPEATS
+def per_call(pid: int, idle: float, measures: dict, rounds: int = ROUNDS) -> dict:
+    """
+    Mean CPU seconds of process ``pid`` per call of each measure, its idle CPU removed.
+
+    ``measures``: {key: (prepare, call)}. In each of ``rounds`` rounds, the measures in turn
+    (so that they share the load's drift): ``prepare()`` (a fresh throw), one ``call()``
+    outside the figure, then REPEATS calls measured.
+    """
+    totals = dict.fromkeys(measures, 0.0)
+    for _ in range(rounds):
+        for key, (prepare, call) in measures.items():
+            prepare()
+            call()
+            cpu, wall = eb.cpu_ns(pid), time.monotonic()
+            for _ in range(REPEATS):
+                call()
+            totals[key] += (eb.cpu_ns(pid) - cpu) * 1e-9 - idle * (time.monotonic() - wall)
+    return {key: total / (rounds * REPEATS) for key, total in totals.items()}
 
 
 def lock_step_phase(pid: int, balls: list[int]) -> dict:
     """Measure the simulator's (the floor server's: balls [0]) CPU per call, fresh client."""
     bench = eb.Bench()
-    out = {}
     idle = idle_rate(pid)
+
+    def nothing() -> None:
+        pass
+
     if balls == [0]:  # the floor: a server that answers at once
-        out['step'] = per_call(bench, pid, lambda: bench.step(STEPS), idle)
-        out['action'] = per_call(bench, pid, lambda: bench.simulate_steps(STEPS), idle)
-        return out
+        return per_call(pid, idle, {
+            'step': (nothing, functools.partial(bench.step, STEPS)),
+            'action': (nothing, functools.partial(bench.simulate_steps, STEPS)),
+        })
+    out = {}
     for n in balls:
         bench.set_state(SimulationState.STATE_PAUSED)
         bench.reset()
         bench.spawn_and_throw(n, eb.LOCK_STEP_LOB)
-        # Each measurement (REPEATS + 1 calls, at most 8 s of flight) from a fresh throw: the
-        # lobs fly 12 s, so no ball lands inside one. The same calls of one step: the
-        # simulator's own floor (its executor, services, publishers and action).
-        for key, call, steps in (('step {}', bench.step, STEPS),
-                                 ('action {}', bench.simulate_steps, STEPS),
-                                 ('step {} one', bench.step, 1),
-                                 ('action {} one', bench.simulate_steps, 1)):
-            bench.throw(n, eb.LOCK_STEP_LOB)
-            out[key.format(n)] = per_call(bench, pid, functools.partial(call, steps), idle)
+        # Each batch (REPEATS + 1 calls, at most 8 s of flight) from a fresh throw: the lobs
+        # fly 12 s, so no ball lands inside one. The same calls of one step: the simulator's
+        # own floor (its executor, services, publishers and action).
+        throw = functools.partial(bench.throw, n, eb.LOCK_STEP_LOB)
+        out.update(per_call(pid, idle, {
+            f'step {n}': (throw, functools.partial(bench.step, STEPS)),
+            f'action {n}': (throw, functools.partial(bench.simulate_steps, STEPS)),
+            f'step {n} one': (throw, functools.partial(bench.step, 1)),
+            f'action {n} one': (throw, functools.partial(bench.simulate_steps, 1)),
+        }))
         bench.reset()
     # The default ball (a flight order, as the release node sends) stepped the same way.
     bench.set_state(SimulationState.STATE_PAUSED)
-    order = FlightOrder.from_release('bench', eb.LOCK_STEP_LOB)
-    bench.orders.publish(String(data=order.to_json()))
-    bench.spin(1.0)
-    out['step default'] = per_call(bench, pid, lambda: bench.step(STEPS), idle)
+
+    def order() -> None:
+        bench.orders.publish(String(data=FlightOrder.from_release(
+            'bench', eb.LOCK_STEP_LOB).to_json()))
+        bench.spin(0.5)
+
+    step = functools.partial(bench.step, STEPS)
+    out.update(per_call(pid, idle, {'step default': (order, step)}))
     bench.reset()
     bench.set_state(SimulationState.STATE_PLAYING)
     return out
@@ -402,11 +423,11 @@ def report(draws: list[dict], args) -> None:
                   f'| {_cells([(s - f) / c for s, f, c in zip(sim_ms, floor_ms, core_ms)])} '
                   f'| {_cells(one_ms)} '
                   f'| {_cells([(s - o) / c for s, o, c in zip(sim_ms, one_ms, core_ms)])} |')
-    default = [d['sim']['step default'] / d['sim']['step 1'] for d in draws
-               if 1 in args.balls]
-    if default:
-        print(f'| StepSimulation, the default ball (a flight order) / a spawned ball | 1 | | | '
-              f'| {_cells(default)} | |')
+    if 1 in args.balls:
+        core_ratio = [d['core default'] / d['core'][1] for d in draws]
+        sim_ratio = [d['sim']['step default'] / d['sim']['step 1'] for d in draws]
+        print(f'| StepSimulation, the default ball (a flight order) / a spawned ball (ratios) '
+              f'| 1 | {_cells(core_ratio)} | | {_cells(sim_ratio)} | | | | |')
     print()
     print(f'Real time at 100 Hz ({args.seconds:g} s windows; cores = simulator CPU s per s)')
     print('| balls | subscribed | cores | late ticks | skipped | messages received / published '
