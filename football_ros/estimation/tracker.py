@@ -471,11 +471,6 @@ class FlightTracker:
         return self.track.t, best.x.copy(), best.P.copy()
 
     @property
-    def newest(self) -> float:
-        """Stamp [s] of the newest fix the filter used (-inf before any, after a reset)."""
-        return self._newest
-
-    @property
     def landed(self) -> bool:
         return self.track is not None and self.track.landed
 

@@ -110,12 +110,6 @@ def twist_of(linear: Sequence[float], angular: Sequence[float]) -> Twist:
     return Twist(linear=vector3(linear), angular=vector3(angular))
 
 
-def pose_stamped(sample: BallSample, stamp: Time, frame_id: str) -> PoseStamped:
-    """Position + orientation (body x = spin axis, spin angle included) in ``frame_id``."""
-    pose = pose_of(sample.position, sample.orientation)
-    return PoseStamped(header=header(stamp, frame_id), pose=pose)
-
-
 def odometry(sample: BallSample, stamp: Time, frame_id: str, child_frame_id: str) -> Odometry:
     """
     Pose in ``frame_id``.

@@ -13,7 +13,7 @@
 # limitations under the License.
 
 """
-Planner node: a target in, the release that gets there (least wobble) out (issue 18).
+Planner node: a target in, the release that gets there (least wobble) out.
 
 Requests: ``football/plan/request`` (std_msgs/String, the strict request language of release
 requests: :func:`football_ros.requests.read_request`, keys of

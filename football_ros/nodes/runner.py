@@ -95,16 +95,11 @@ class _Signals:
         self.stop = False
         self.deferred = 0
         self._pending = 0  # the signal whose _Shutdown waits for a safe point (0: none)
-        self._previous = {}
 
     def install(self) -> None:
         for sig in (signal.SIGINT, signal.SIGTERM):
-            self._previous[sig] = signal.signal(sig, self._handle)
-        self._previous[signal.SIGALRM] = signal.signal(signal.SIGALRM, self._retry)
-
-    def restore(self) -> None:
-        for sig, handler in self._previous.items():
-            signal.signal(sig, handler)
+            signal.signal(sig, self._handle)
+        signal.signal(signal.SIGALRM, self._retry)
 
     def _handle(self, signum, frame) -> None:
         self.received += 1
