@@ -186,6 +186,11 @@ def test_ctrl_c_closes_the_local_cluster_without_a_traceback(tmp_path, delay):
             proc.communicate()
     assert proc.returncode == 130 and 'Traceback' not in err, err
     assert 'interrupted' in err
-    time.sleep(2.0)
-    alive = [k.pid for k in kids if k.is_running() and k.status() != psutil.STATUS_ZOMBIE]
-    assert not alive
+
+    def alive() -> list[int]:
+        return [k.pid for k in kids if k.is_running() and k.status() != psutil.STATUS_ZOMBIE]
+
+    deadline = time.monotonic() + 30.0  # the workers end after the parent: wait for it
+    while alive() and time.monotonic() < deadline:
+        time.sleep(0.2)
+    assert not alive()

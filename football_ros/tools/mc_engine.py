@@ -491,7 +491,10 @@ class Engine:
 
     def results(self, plan: Plan, task_chunks: int = 1) -> Iterator[ChunkResult]:
         """
-        Chunk results in index order (a generator; closed early, it lets the queued tasks end).
+        Chunk results in index order (a generator).
+
+        Closed early, it lets the queued tasks end (a stopping rule); an exception thrown in
+        cancels them (a Ctrl-C or an error of the consumer).
 
         Dask: at most 2 W + 2 tasks (W workers) running, queued or finished and waiting for an
         earlier one, so that a stopping rule wastes little and the client holds few results,
@@ -617,6 +620,10 @@ def fit_r2(stats: Stats, output: str) -> float:
     return float(slope @ cov[idx, j] / cov[j, j])
 
 
+class _Abandoned(Exception):
+    """Thrown into :meth:`Engine.results` when its consumer fails: cancel, do not wait."""
+
+
 def drain(
     engine: Engine,
     plan: Plan,
@@ -645,6 +652,12 @@ def drain(
                 rows.append(r.rows)
             if on_chunk is not None and on_chunk(r, stats):
                 break
+    except BaseException:
+        # A Ctrl-C or an error here: the running tasks are cancelled, not waited for (closing
+        # the generator would wait for them, as a stopping rule wants).
+        with contextlib.suppress(_Abandoned):
+            gen.throw(_Abandoned())
+        raise
     finally:
         gen.close()
     if plan.parquet is not None and used < plan.n_chunks:
