@@ -86,6 +86,8 @@ MOMENT_KEYS = (*INPUT_KEYS, 'landing_x', 'landing_y', 'time_of_flight')
 """Quantities whose exact mean and covariance (over landed balls) every run accumulates."""
 CHUNK = 10_000
 """Balls per chunk: the unit of seeding and of integration (0.1-0.2 s of kernel per core)."""
+CLOSE_TIMEOUT_S = 30.0
+"""Longest wait [s] for the Dask client and a local cluster to close."""
 SUBSAMPLE_TOTAL = 1_000_000
 """Rows kept for quantiles and the figure when the rows themselves are not gathered."""
 DISTRIBUTIONS = ('normal', 'uniform', 'lognormal')
@@ -474,14 +476,22 @@ class Engine:
         self.close()
 
     def close(self) -> None:
-        """Close the client and the local cluster (if any)."""
+        """
+        Close the client and the local cluster (if any), within CLOSE_TIMEOUT_S.
+
+        Dask waits for ever by default for a worker that does not close (one still starting on
+        a loaded machine, say); past the bound the worker processes, daemonic children of this
+        one, are ended when it exits.
+        """
         client, cluster, self.client, self.cluster = self.client, self.cluster, None, None
         try:
             if client is not None:
-                client.close()
+                with contextlib.suppress(TimeoutError):
+                    client.close(timeout=CLOSE_TIMEOUT_S)
         finally:
             if cluster is not None:
-                cluster.close()
+                with contextlib.suppress(TimeoutError):
+                    cluster.close(timeout=CLOSE_TIMEOUT_S)
 
     def n_workers(self) -> int:
         """Workers now connected (1 in-process)."""
