@@ -169,6 +169,7 @@ def test_ctrl_c_closes_the_local_cluster_without_a_traceback(tmp_path, delay):
         stderr=subprocess.PIPE,
         text=True,
         cwd=tmp_path,
+        env=dict(os.environ, PYTHONFAULTHANDLER='1'),  # SIGABRT prints every thread's stack
     )
     try:
         deadline = time.monotonic() + 120
@@ -179,7 +180,12 @@ def test_ctrl_c_closes_the_local_cluster_without_a_traceback(tmp_path, delay):
         time.sleep(delay)
         assert len(kids) >= 2, kids
         proc.send_signal(signal.SIGINT)
-        _, err = proc.communicate(timeout=60)
+        try:
+            _, err = proc.communicate(timeout=60)
+        except subprocess.TimeoutExpired:  # where it hangs: the stacks, then fail
+            proc.send_signal(signal.SIGABRT)
+            _, err = proc.communicate(timeout=30)
+            pytest.fail(f'no exit within 60 s of SIGINT; its stacks:\n{err[-6000:]}')
     finally:
         if proc.poll() is None:
             proc.kill()
