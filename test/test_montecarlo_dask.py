@@ -170,6 +170,10 @@ def test_ctrl_c_closes_the_local_cluster_without_a_traceback(tmp_path, delay):
         text=True,
         cwd=tmp_path,
         env=dict(os.environ, PYTHONFAULTHANDLER='1'),  # SIGABRT prints every thread's stack
+        # SIGINT's default action, as from a terminal: a suite started in the background of a
+        # script (nohup, or & without job control) has SIGINT ignored, children inherit that,
+        # and Python then leaves it ignored (the run flies on, as such a script asked).
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
     try:
         deadline = time.monotonic() + 120
