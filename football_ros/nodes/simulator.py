@@ -77,7 +77,7 @@ except ImportError:  # pragma: no cover - no simulation_interfaces: the node run
     SimulationServices = None
 from ..estimation.rig import load_rig
 from ..physics import Release
-from ..physics.flight import BallSample, Flight
+from ..physics.flight import Flight
 from ..physics.frames import BODY_FRAME, FIELD_FRAME
 from ..physics.release import RPM
 from ..requests import capped, FlightOrder, OrderError
@@ -89,6 +89,7 @@ from ..simulation.world import (  # noqa: F401  (MAX_*: the limits, documented h
     landed_text,
     MAX_EVENTS,
     MAX_FLIGHT_S,
+    ShownSample,
     World,
 )
 
@@ -776,7 +777,7 @@ class SimulatorNode(Node):
                 self._clock_pub.publish(self._clock_msg)
             self._publish_frame(frame, stamp, wall_ns)
 
-    def _publish_state(self, run: FlightRun, sample: BallSample, stamp, at_rest: bool) -> None:
+    def _publish_state(self, run: FlightRun, shown: ShownSample, stamp, at_rest: bool) -> None:
         """
         Publish the default ball's state topics (its /tf goes with the frame's).
 
@@ -787,6 +788,7 @@ class SimulatorNode(Node):
         wanted = {topic for topic, pub in pubs.items() if pub.get_subscription_count()}
         if not wanted:
             return
+        sample = shown.sample
         msgs = self._state_msgs
         msgs.fill(sample, stamp, self.frame_id, self.child_frame_id, at_rest)
         for topic, msg in ((qos.POSE, msgs.pose), (qos.ODOM, msgs.odom),
@@ -811,7 +813,7 @@ class SimulatorNode(Node):
             pubs[qos.AERO_ANGLES_QUASI_STEADY].publish(msgs.aero_angles_quasi_steady)
 
     def _maybe_publish_markers(
-        self, run: FlightRun, sample: BallSample, stamp, wall_ns: int, force: bool
+        self, run: FlightRun, shown: ShownSample, stamp, wall_ns: int, force: bool
     ) -> None:
         if self.marker_rate <= 0:
             return
@@ -819,6 +821,7 @@ class SimulatorNode(Node):
         if not force and last is not None and wall_ns - last < 1e9 / self.marker_rate:
             return
         run.last_marker_ns = wall_ns
+        sample = shown.sample
         trail = run.trail
         if trail.maxlen != max(self.trail_length, 1):
             run.trail = trail = collections.deque(trail, maxlen=max(self.trail_length, 1))

@@ -304,11 +304,23 @@ class Flight:
         At ``t`` [s] after release, ``state`` the flight's state then (times never decreasing
         between calls: the quasi-steady integrals advance with them).
         """
+        return self.linear_angles(t), self.quasi_steady_angles(t, state)
+
+    def linear_angles(self, t: float) -> np.ndarray:
+        """Alpha, beta [rad] of the linear theory frozen at release, ``t`` [s] after it."""
         alpha, beta = self.modes.aero_angles(t)
-        quasi = self._quasi_steady.update(
+        return np.array([float(alpha), float(beta)])
+
+    def quasi_steady_angles(self, t: float, state: np.ndarray) -> np.ndarray:
+        """
+        Alpha, beta [rad] of the quasi-steady theory at ``t`` [s], ``state`` the flight's then.
+
+        Its integrals advance with ``t`` (never decreasing between calls), so a flight shown
+        frame by frame calls this every frame, whoever reads the angles.
+        """
+        return self._quasi_steady.update(
             t, state[dyn.V:dyn.V + 3] - self.wind, float(state[dyn.H1])
         )
-        return np.array([float(alpha), float(beta)]), quasi
 
     def sample(self, t: float, ground: float = 0.0) -> 'BallSample':
         """Return the ball at ``t`` [s] after release (or at its landing, once landed)."""

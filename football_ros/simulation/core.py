@@ -33,7 +33,7 @@ import threading
 import numpy as np
 
 from . import names
-from .world import DEFAULT_ENTITY, Entity, EntityError, FlightRun, FLYING, World
+from .world import DEFAULT_ENTITY, Entity, EntityError, FlightRun, FLYING, ShownSample, World
 
 STOPPED, PLAYING, PAUSED = 0, 1, 2
 """Simulation states (the numbers of simulation_interfaces/SimulationState)."""
@@ -67,9 +67,10 @@ class Frame:
 
     ``pose`` (N, 7: x, y, z [m], qx, qy, qz, qw), ``twist`` (N, 6: v [m/s], w [rad/s]; zero
     for a ball at rest or landed and held), ``held`` (N,) True for a resting state shown again,
-    ``clock_ns`` the simulated clock, ``default`` the default ball's sample when it is shown
-    (with its linear-theory angles) and ``default_held``; ``default_t`` the flight time [s]
-    the tick asked of the default ball while it flew (its landing may come before).
+    ``clock_ns`` the simulated clock, ``default`` the default ball's
+    :class:`~football_ros.simulation.world.ShownSample` when it is shown (its sample built if
+    read) and ``default_held``; ``default_t`` the flight time [s] the tick asked of the
+    default ball while it flew (its landing may come before).
     """
 
     shown: np.ndarray
@@ -77,7 +78,7 @@ class Frame:
     twist: np.ndarray
     held: np.ndarray
     clock_ns: int
-    default: object = None
+    default: ShownSample | None = None
     default_held: bool = False
     default_t: float | None = None
 
@@ -284,6 +285,6 @@ class Simulation:
             shown, is_held = moved, np.zeros(moved.size, dtype=bool)
         frame = Frame(shown, world.pose[shown], twist, is_held, self.clock_ns)
         if shown.size and shown[0] == 0 and world.default.run is not None:
-            frame.default = world.sample_of(world.default, theory=True)
+            frame.default = ShownSample(world, world.default)
             frame.default_held = bool(is_held[0])
         return frame

@@ -729,6 +729,34 @@ class World:
         return doomed
 
 
+class ShownSample:
+    """
+    A flying ball's sample as one frame shows it, built when first read.
+
+    The quasi-steady theory advances at once (its integrals follow every frame shown); the
+    sample (with the linear theory's closed form, the larger part of its cost) is built only
+    if ``sample`` is read, e.g. when one of the ball's state topics has a subscriber or a
+    marker is due. ``t`` [s] the flight time shown, ``landed`` by then.
+    """
+
+    def __init__(self, world: 'World', entity: 'Entity') -> None:
+        k = entity.slot
+        self.t = float(world.flown[k])
+        self.landed = bool(world.status[k] == LANDED)
+        self._y, self._d = world.full[k].copy(), world.described[k].copy()
+        self._flight = entity.run.flight
+        self._quasi = self._flight.quasi_steady_angles(self.t, self._y)
+        self._sample: BallSample | None = None
+
+    @property
+    def sample(self) -> BallSample:
+        """The ball then, with both theories' angles."""
+        if self._sample is None:
+            theory = (self._flight.linear_angles(self.t), self._quasi)
+            self._sample = _sample(self.t, self._y, self._d, self.landed, theory)
+        return self._sample
+
+
 def _sample(t: float, y: np.ndarray, d: np.ndarray, landed: bool, theory=None) -> BallSample:
     linear, quasi = theory if theory is not None else (np.full(2, np.nan), np.full(2, np.nan))
     return BallSample(
