@@ -16,7 +16,7 @@
 The simulator against its own core: how much of its CPU is the physics.
 
     .venv/bin/python bench/core_benchmark.py [--draws 3] [--hogs 2] [--balls 1 100]
-        [--rt-balls 999] [--seconds 4] [--soak 600]
+        [--rt-balls 999] [--seconds 4] [--soak 600] [--thread-priority 0]
 
 Every figure is a ratio to a baseline measured in the same run, ``--draws`` times, with
 ``--hogs`` busy-loop processes beside it (a loaded machine):
@@ -38,6 +38,10 @@ Every figure is a ratio to a baseline measured in the same run, ``--draws`` time
 - Soak (``--soak`` s): 100 balls re-thrown every 10 s at 100 Hz with a /tf subscriber: the
   simulator's RSS growth and late ticks beside the bare pacing loop's (no ROS, no work), run
   at the same time in another process.
+
+``--thread-priority`` > 0 puts the simulator's pacing thread (its ``thread_priority``) and the
+bare pacing loop on SCHED_FIFO at that priority (root or an rtprio limit); its run is recorded
+in its own section.
 """
 
 from __future__ import annotations
@@ -324,13 +328,14 @@ def stop(proc: subprocess.Popen) -> None:
         proc.wait()
 
 
-def simulator(tmp: Path, tag: str) -> subprocess.Popen:
+def simulator(tmp: Path, tag: str, priority: int) -> subprocess.Popen:
     return start([sys.executable, '-m', 'football_ros.cli', 'simulator', '--ros-args', '-p',
-                  'publish_rate:=100.0', '-p', 'max_entities:=1000', '-p', 'marker_rate:=0.0'],
+                  'publish_rate:=100.0', '-p', 'max_entities:=1000', '-p', 'marker_rate:=0.0',
+                  '-p', f'thread_priority:={priority}'],
                  tmp / f'simulator-{tag}.log')
 
 
-def main(argv=None) -> int:
+def parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     parser.add_argument('--draws', type=int, default=3)
     parser.add_argument('--hogs', type=int, default=2, help='busy-loop processes beside it')
@@ -340,20 +345,32 @@ def main(argv=None) -> int:
                         help='balls of the real-time rows (with the default ball: max_entities)')
     parser.add_argument('--seconds', type=float, default=4.0, help='real-time window [s]')
     parser.add_argument('--soak', type=float, default=600.0, help='soak [s], 0 = none')
+    parser.add_argument('--thread-priority', type=int, default=0, choices=range(0, 100),
+                        metavar='0-99', help='SCHED_FIFO priority of the pacing threads, 0 = none')
     parser.add_argument('--phase', help=argparse.SUPPRESS)
     parser.add_argument('--options', help=argparse.SUPPRESS, default='{}')
-    args = parser.parse_args(argv)
+    return parser
+
+
+def section(priority: int) -> str:
+    """Return the RESULTS.md section of a run (one per scheduling of the pacing threads)."""
+    title = 'Simulation core (lock-step, real time, soak)'
+    return title if not priority else f'{title}, pacing threads on SCHED_FIFO {priority}'
+
+
+def main(argv=None) -> int:
+    args = parser().parse_args(argv)
     if args.phase == 'floor_server':
         floor_server()
         return 0
     if args.phase:
         options = json.loads(args.options)
         fn = {'lockstep': lock_step_phase, 'realtime': realtime_phase, 'soak': soak_phase,
-              'pace': lambda seconds: eb.pace(100.0, seconds, 0)}[args.phase]
+              'pace': lambda seconds, priority: eb.pace(100.0, seconds, priority)}[args.phase]
         print(json.dumps(fn(**options)))
         return 0
     if any(b < 1 for b in args.balls) or args.rt_balls < 1 or args.draws < 1 or args.hogs < 0:
-        parser.error('--balls, --rt-balls and --draws must be >= 1, --hogs >= 0')
+        parser().error('--balls, --rt-balls and --draws must be >= 1, --hogs >= 0')
     hogs = [subprocess.Popen([sys.executable, '-c', 'while True: pass'])
             for _ in range(args.hogs)]
     draws = []
@@ -370,7 +387,7 @@ def main(argv=None) -> int:
                     row['floor'] = run_phase('lockstep', pid=floor.pid, balls=[0])
                 finally:
                     stop(floor)
-                sim = simulator(tmp, str(draw))
+                sim = simulator(tmp, str(draw), args.thread_priority)
                 try:
                     row['sim'] = run_phase('lockstep', pid=sim.pid, balls=args.balls)
                     row['rt'] = {
@@ -382,9 +399,11 @@ def main(argv=None) -> int:
                     }
                     # The publishing floor of the all-subscribed row: the same messages encoded
                     # and published to a client subscribed to all, no simulation, no executor.
-                    row['publish floor'] = eb.floor(100.0, ALL_BALLS, args.seconds, 0)
+                    row['publish floor'] = eb.floor(100.0, ALL_BALLS, args.seconds,
+                                                    args.thread_priority)
                     if args.soak > 0 and draw == 0:  # the bare pacing loop beside the soak
-                        pace = phase_process('pace', seconds=args.soak + 5.0)
+                        pace = phase_process('pace', seconds=args.soak + 5.0,
+                                             priority=args.thread_priority)
                         row['soak'] = run_phase('soak', pid=sim.pid, balls=100,
                                                 seconds=args.soak)
                         row['pace'] = phase_result('pace', pace)
@@ -405,7 +424,10 @@ def _cells(values, fmt='{:.2f}') -> str:
 
 def report(draws: list[dict], args) -> None:
     print(f'{args.draws} draws (cells: draw 1 / 2 / ...), {args.hogs} busy-loop processes beside '
-          "the benchmark; CPU = the process's user + system time.")
+          "the benchmark; CPU = the process's user + system time; pacing threads (the "
+          "simulator's, the bare loops') on "
+          + (f'SCHED_FIFO {args.thread_priority}.' if args.thread_priority
+             else 'the normal scheduler.'))
     print()
     print(f'Lock-step, {STEPS} steps of 1 ms per call (CPU ms per call; ratios to the bare core '
           'measured in the same draw)')
@@ -464,7 +486,10 @@ def report(draws: list[dict], args) -> None:
         print('|---|---|---|---|---|---|')
         print(f"| {soak['rss0']:.1f} | {soak['rss1']:.1f} | {soak['rss1'] - soak['rss0']:.2f} "
               f"| {soak['late']} | {soak['skipped']} | {draws[0]['pace']['late']} |")
+        if draws[0]['pace']['refused']:
+            print(f"The bare loop's SCHED_FIFO was refused: {draws[0]['pace']['refused']}")
 
 
 if __name__ == '__main__':
-    raise SystemExit(recorded('Simulation core (lock-step, real time, soak)', main))
+    known, _ = parser().parse_known_args()
+    raise SystemExit(recorded(section(known.thread_priority), main))

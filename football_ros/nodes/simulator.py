@@ -57,7 +57,7 @@ from geometry_msgs.msg import PoseStamped, Vector3Stamped
 from nav_msgs.msg import Odometry
 import numpy as np
 from rcl_interfaces.msg import SetParametersResult
-from rclpy.event_handler import PublisherEventCallbacks
+from rclpy.event_handler import PublisherEventCallbacks, SubscriptionEventCallbacks
 from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
 from std_msgs.msg import String
@@ -706,20 +706,36 @@ class SimulatorNode(Node):
             outs[2] = pubs[1].get_subscription_count() > 0
             self._wanted[self._check_row] = outs[1] or outs[2]
 
+    # --- publishers and subscriptions without QoS-event handlers ------------------------------
+    def create_publisher(self, *args, **kwargs):
+        """
+        Create a publisher without rclpy's default QoS-event handlers (unless given others).
+
+        Each handler is a waitable of the node, and the executor walks every waitable at every
+        wake-up, so that the simulator's own dozen publishers alone made each service call and
+        each SimulateSteps goal cost about twice a bare server's (bench/core_benchmark.py: the
+        do-nothing floor). An incompatible QoS is still reported on the subscriber's side.
+        """
+        kwargs.setdefault('event_callbacks', PublisherEventCallbacks(use_default_callbacks=False))
+        return super().create_publisher(*args, **kwargs)
+
+    def create_subscription(self, *args, **kwargs):
+        """Create a subscription without rclpy's default QoS-event handlers (as publishers)."""
+        kwargs.setdefault(
+            'event_callbacks', SubscriptionEventCallbacks(use_default_callbacks=False)
+        )
+        return super().create_subscription(*args, **kwargs)
+
     # --- simulation_interfaces (simulation_services.py calls these, executor thread) ---------
     def add_entity_publishers(self, entity: Entity) -> None:
         """
         Create a spawned entity's state publishers (its topics counted at once).
 
-        Without rclpy's default QoS-event handlers: each would be a waitable of the node, and
-        the executor's cost per wake-up grows with the square of their number (hundreds of
-        entities made every service answer take over 100 ms).
+        Without QoS-event handlers (:meth:`create_publisher`): with them, hundreds of entities
+        made every service answer take over 100 ms.
         """
-        quiet = PublisherEventCallbacks(use_default_callbacks=False)
         pubs = tuple(
-            self.create_publisher(
-                msg_type, qos.entity_topic(entity.name, leaf), qos.STATE, event_callbacks=quiet
-            )
+            self.create_publisher(msg_type, qos.entity_topic(entity.name, leaf), qos.STATE)
             for msg_type, leaf in ((PoseStamped, 'pose'), (Odometry, 'odom'))
         )
         msgs = mb.EntityMessages(self.frame_id, f'{self.child_frame_id}/{entity.name}')
