@@ -45,6 +45,7 @@ MODULE_TESTS: dict[str, tuple[str, ...]] = {
     'football_ros.identification.track': ('test_fit.py',),
     'football_ros.identification.uncertainty': ('test_fit.py',),
     'football_ros.nodes.cameras': ('test_camera_nodes.py',),
+    'football_ros.nodes.logs': ('test_logs.py',),
     'football_ros.nodes.inbox': ('test_release_node.py',),
     'football_ros.nodes.view': ('test_view_node.py',),
     'football_ros.playback': ('test_scene.py',),

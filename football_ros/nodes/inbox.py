@@ -25,6 +25,8 @@ from __future__ import annotations
 from rclpy.event_handler import SubscriptionEventCallbacks
 from rclpy.node import Node
 
+from .logs import throttled
+
 
 def lost_counter(node: Node, counts: dict, what: str) -> SubscriptionEventCallbacks:
     """
@@ -35,10 +37,11 @@ def lost_counter(node: Node, counts: dict, what: str) -> SubscriptionEventCallba
 
     def lost(info) -> None:
         counts['lost'] += int(info.total_count_change)
-        node.get_logger().warning(
+        throttled(
+            node.get_logger(), 'warning',
             f"{counts['lost']} {what} lost before this node could read them (DDS); a client "
             'that must not lose any publishes with a KEEP_ALL history (msg_docs: release_request)',
-            throttle_duration_sec=1.0,
+            1.0,
         )
 
     return SubscriptionEventCallbacks(message_lost=lost)

@@ -69,6 +69,7 @@ from rosbags.typesys import get_typestore, Stores
 
 from . import messages as mb
 from . import qos
+from .logs import throttled
 from .params import declare_all, ParamSpec
 from .runner import run_node
 from .topics import known_names, lookup, PATTERNS, TOPICS, type_name
@@ -222,10 +223,11 @@ class RecorderNode(Node):
             if found is None or type_name(found.msg_type) not in types:
                 continue
             if self._discovered >= MAX_DISCOVERED:
-                self.get_logger().warning(
+                throttled(
+                    self.get_logger(), 'warning',
                     f"not recording '{topic[:200]}' (and others): {MAX_DISCOVERED} run-time "
                     'topics are recorded already',
-                    throttle_duration_sec=10.0,
+                    10.0,
                 )
                 return
             self._discovered += 1

@@ -49,6 +49,7 @@ from std_msgs.msg import String
 from . import messages as mb
 from . import qos
 from .inbox import lost_counter
+from .logs import throttled
 from .params import declare_all, GUARD, ParamSpec
 from .runner import run_node
 from ..physics import compile_ahead, Flight, InitialState, PRESETS, ReleaseError
@@ -475,22 +476,24 @@ class ReleaseNode(Node):
             if known and simulator not in self.matched_simulators(refresh=False):
                 if simulator not in self.matched_simulators(refresh=True):
                     self.counts['ignored_acks'] += 1
-                    self.get_logger().warning(
+                    throttled(
+                        self.get_logger(), 'warning',
                         f"acknowledgement of flight order '{msg.name[:40]}' ignored: it names "
                         f"'{capped(simulator, 120)}', which is not a simulator this node matched "
                         '(a node reading the flight orders and writing the acknowledgements); '
                         'another participant sent it',
-                        throttle_duration_sec=1.0,
+                        1.0,
                     )
                     return
             try:
                 ack_level = mb.level_of(msg)
             except KeyError:  # a level byte no simulator sends
                 self.counts['ignored_acks'] += 1
-                self.get_logger().warning(
+                throttled(
+                    self.get_logger(), 'warning',
                     f"acknowledgement of '{msg.name[:40]}' ignored: unknown level "
                     f'{bytes(msg.level)[:1]!r} (another participant sent it)',
-                    throttle_duration_sec=1.0,
+                    1.0,
                 )
                 return
             with self._lock:

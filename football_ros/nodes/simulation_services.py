@@ -67,6 +67,7 @@ from simulation_interfaces.srv import (
 
 from . import messages as mb
 from . import qos
+from .logs import throttled
 from ..physics.presets import PRESETS
 from ..physics.release import InitialState
 from ..requests import capped, FlightOrder
@@ -369,8 +370,10 @@ class SimulationServices:
                     _SPAWN_CODES.get(exc.reason, Result.RESULT_OPERATION_FAILED), str(exc)
                 ) from None
             node.add_entity_publishers(entity)
-        node.get_logger().info(
-            f"spawned '{entity.name}' ({entity.uri})", throttle_duration_sec=0.1
+        throttled(
+            node.get_logger(), 'info',
+            f"spawned '{entity.name}' ({entity.uri})",
+            0.1,
         )
         return entity.name
 
@@ -604,8 +607,10 @@ class SimulationServices:
     def _accept_goal(self, _goal) -> GoalResponse:
         """Accept a SimulateSteps goal unless one is running (its steps are checked later)."""
         if self._goal_running:
-            self._node.get_logger().warning(
-                'simulate_steps: goal rejected, another goal is running', throttle_duration_sec=1.0
+            throttled(
+                self._node.get_logger(), 'warning',
+                'simulate_steps: goal rejected, another goal is running',
+                1.0,
             )
             return GoalResponse.REJECT
         self._goal_running = True

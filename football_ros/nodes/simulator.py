@@ -67,6 +67,7 @@ from visualization_msgs.msg import MarkerArray
 from . import messages as mb
 from . import qos
 from .cameras import CameraRigPublisher
+from .logs import throttled
 from .observation_hook import ObservationHook, PARAMETERS as OBSERVATION_PARAMETERS
 from .params import declare_all, ParamSpec
 from .runner import run_node
@@ -394,22 +395,27 @@ class SimulatorNode(Node):
             flight = order.flight(self.integration_step, self._model_override())
         except OrderError as exc:
             name = exc.name
-            self.get_logger().error(
-                f"refused flight order '{name}': {exc}", throttle_duration_sec=LOG_THROTTLE_S
+            throttled(
+                self.get_logger(), 'error',
+                f"refused flight order '{name}': {exc}",
+                LOG_THROTTLE_S,
             )
             self._acknowledge(name, 'ERROR', str(exc), {})
             return
         except (ValueError, ArithmeticError, RecursionError) as exc:
             reason = capped(str(exc) or type(exc).__name__)
-            self.get_logger().error(
-                f"refused flight order '{name}': {reason}", throttle_duration_sec=LOG_THROTTLE_S
+            throttled(
+                self.get_logger(), 'error',
+                f"refused flight order '{name}': {reason}",
+                LOG_THROTTLE_S,
             )
             self._acknowledge(name, 'ERROR', reason, {})
             return
         except Exception as exc:  # never let one order take the simulator down
-            self.get_logger().error(
+            throttled(
+                self.get_logger(), 'error',
                 f"flight order '{name}': internal error\n{traceback.format_exc()[-4000:]}",
-                throttle_duration_sec=LOG_THROTTLE_S,
+                LOG_THROTTLE_S,
             )
             self._acknowledge(name, 'ERROR', f'internal error ({type(exc).__name__})', {})
             return
@@ -449,14 +455,15 @@ class SimulatorNode(Node):
             return
         log = self.get_logger()  # each line at most 1 / LOG_THROTTLE_S a second (hammering)
         if previous is not None and previous.flying:
-            log.info(
+            throttled(
+                log, 'info',
                 'the flight in the air is replaced by a new release',
-                throttle_duration_sec=LOG_THROTTLE_S,
+                LOG_THROTTLE_S,
             )
         if modes.stable:
-            log.info(text, throttle_duration_sec=LOG_THROTTLE_S)
+            throttled(log, 'info', text, LOG_THROTTLE_S)
         else:
-            log.warning(text, throttle_duration_sec=LOG_THROTTLE_S)
+            throttled(log, 'warning', text, LOG_THROTTLE_S)
 
     def _on_reset(self, _request, response):
         order = self.sim.last_order
@@ -486,8 +493,10 @@ class SimulatorNode(Node):
         self.sim.set_state(PAUSED if request.data else PLAYING)
         response.success = True
         response.message = 'paused' if request.data else 'running'
-        self.get_logger().info(
-            f'simulation {response.message}', throttle_duration_sec=LOG_THROTTLE_S
+        throttled(
+            self.get_logger(), 'info',
+            f'simulation {response.message}',
+            LOG_THROTTLE_S,
         )
         return response
 
@@ -575,11 +584,11 @@ class SimulatorNode(Node):
             if event == 'released':
                 continue
             if level == 'ERROR':
-                log.error(text, throttle_duration_sec=LOG_THROTTLE_S)
+                throttled(log, 'error', text, LOG_THROTTLE_S)
             elif level == 'WARN':
-                log.warning(text, throttle_duration_sec=LOG_THROTTLE_S)
+                throttled(log, 'warning', text, LOG_THROTTLE_S)
             else:
-                log.info(text, throttle_duration_sec=LOG_THROTTLE_S)
+                throttled(log, 'info', text, LOG_THROTTLE_S)
 
     def _guarded_tick(self, wall_stamp_ns: int, period_ns: int) -> None:
         """One tick; an exception ends the flight in the air (ERROR) and pacing goes on."""
@@ -714,7 +723,7 @@ class SimulatorNode(Node):
         Each handler is a waitable of the node, and the executor walks every waitable at every
         wake-up, so that the simulator's own dozen publishers alone made each service call and
         each SimulateSteps goal cost about twice a bare server's (bench/core_benchmark.py: the
-        do-nothing floor). An incompatible QoS is still reported on the subscriber's side.
+        do-nothing floor). An incompatible QoS is still reported by the other side's handler.
         """
         kwargs.setdefault('event_callbacks', PublisherEventCallbacks(use_default_callbacks=False))
         return super().create_publisher(*args, **kwargs)
@@ -761,8 +770,10 @@ class SimulatorNode(Node):
         if clock:
             self._tf_last = (None, -1)
         scopes = (('time', clock), ('state', state), ('spawned', spawned))
-        self.get_logger().info(
-            'reset: ' + ', '.join(k for k, v in scopes if v), throttle_duration_sec=LOG_THROTTLE_S
+        throttled(
+            self.get_logger(), 'info',
+            'reset: ' + ', '.join(k for k, v in scopes if v),
+            LOG_THROTTLE_S,
         )
 
     def set_simulation_state(self, target: int) -> None:
@@ -770,8 +781,10 @@ class SimulatorNode(Node):
         self.remove_entity_publishers(self.sim.set_state(target))
         if target == STOPPED:
             self._tf_last = (None, -1)
-        self.get_logger().info(
-            f'simulation {STATE_NAMES[target]}', throttle_duration_sec=LOG_THROTTLE_S
+        throttled(
+            self.get_logger(), 'info',
+            f'simulation {STATE_NAMES[target]}',
+            LOG_THROTTLE_S,
         )
 
     def step_world(self, n_steps: int) -> None:

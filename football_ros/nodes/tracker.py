@@ -60,6 +60,7 @@ from rclpy.node import Node
 from . import messages as mb
 from . import qos
 from .cameras import CameraInputs
+from .logs import throttled
 from .params import declare_all, ParamSpec
 from .runner import run_node
 from ..estimation import TrackerSettings
@@ -290,8 +291,10 @@ class TrackerNode(Node):
                         (rot.x, rot.y, rot.z, rot.w),
                     )
                 except ValueError as exc:
-                    self.get_logger().warning(
-                        f'/tf_static transform refused: {exc}', throttle_duration_sec=2.0
+                    throttled(
+                        self.get_logger(), 'warning',
+                        f'/tf_static transform refused: {exc}',
+                        2.0,
                     )
         except Exception as exc:  # noqa: BLE001 - a bad message must never stop the node
             self.get_logger().error(f'/tf_static ignored after an internal error: {exc!r}'[:300])
@@ -305,7 +308,7 @@ class TrackerNode(Node):
     def _handle(self, msg) -> None:
         fix = fix_of(msg, self.frame_id, self.frames)
         if isinstance(fix, str):
-            self.get_logger().warning(f'fix refused: {fix}', throttle_duration_sec=2.0)
+            throttled(self.get_logger(), 'warning', f'fix refused: {fix}', 2.0)
             return
         position, covariance = fix
         stamp = _ns(msg.header.stamp) * 1e-9
@@ -333,8 +336,10 @@ class TrackerNode(Node):
         self._log_events()
         if not result.used:
             if result.status != 'candidate':
-                self.get_logger().warning(
-                    f'fix refused ({result.status}): {result.reason}', throttle_duration_sec=2.0
+                throttled(
+                    self.get_logger(), 'warning',
+                    f'fix refused ({result.status}): {result.reason}',
+                    2.0,
                 )
             return
         tracker = self.tracker.taken_by

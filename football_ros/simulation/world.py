@@ -750,7 +750,7 @@ class ShownSample:
 
     @property
     def sample(self) -> BallSample:
-        """The ball then, with both theories' angles."""
+        """Return the ball then, with both theories' angles."""
         if self._sample is None:
             theory = (self._flight.linear_angles(self.t), self._quasi)
             self._sample = _sample(self.t, self._y, self._d, self.landed, theory)
