@@ -75,8 +75,14 @@ def width_sigma(camera: Camera, center, width: float, noise: float) -> float:
     return math.sqrt(noise**2 + (WIDTH_MODEL * w) ** 2 + (spread * w) ** 2 / 3.0)
 
 
-def pixel_fix(camera: Camera, center, width: float, noise: float, diameter: float) -> ProjectedFix:
-    """Return the detection as a :class:`ProjectedFix` of (u, v, w) [px] (module docstring)."""
+def pixel_fix(
+    camera: Camera, center, width: float, noise: float, diameter: float, source=None
+) -> ProjectedFix:
+    """
+    Return the detection as a :class:`ProjectedFix` of (u, v, w) [px] (module docstring).
+
+    ``source``: the camera's name (:class:`.measurement.Measurement`).
+    """
     w = float(width)
     cov = np.diag([noise**2, noise**2, width_sigma(camera, center, w, noise) ** 2])
 
@@ -85,14 +91,17 @@ def pixel_fix(camera: Camera, center, width: float, noise: float, diameter: floa
         return np.column_stack([uv, camera.image_width(points, diameter)])
 
     z = np.array([float(center[0]), float(center[1]), w])
-    return ProjectedFix(z, cov, project)
+    return ProjectedFix(z, cov, source, project)
 
 
-def range_fix(camera: Camera, center, width: float, noise: float, diameter: float) -> PositionFix:
+def range_fix(
+    camera: Camera, center, width: float, noise: float, diameter: float, source=None
+) -> PositionFix:
     """
     Return the detection as a :class:`PositionFix` in ``field``: the ray at depth f D / w [m].
 
-    Its covariance: the depth's (from the width's noise) along the ray, the centre's across.
+    Its covariance: the depth's (from the width's noise) along the ray, the centre's across;
+    ``source`` the camera's name (:class:`.measurement.Measurement`).
     """
     ray = camera.unproject(np.asarray(center, dtype=float))
     scale = float(camera.image_width(camera.position + camera.rotation @ ray, 1.0))  # at Z = 1
@@ -106,7 +115,7 @@ def range_fix(camera: Camera, center, width: float, noise: float, diameter: floa
         np.eye(3) - np.outer(ray, ray) / float(ray @ ray)
     )
     rot = camera.rotation
-    return PositionFix(rot @ p_cam + camera.position, rot @ cov_cam @ rot.T)
+    return PositionFix(rot @ p_cam + camera.position, rot @ cov_cam @ rot.T, source)
 
 
 class CameraFusion:
@@ -124,18 +133,23 @@ class CameraFusion:
         self.tracker, self.noise, self.diameter = tracker, float(noise), float(diameter)
         self.counts: dict[str, int] = {'refused': 0, 'pixels': 0, 'range': 0}
 
-    def observe(self, stamp: float, camera: Camera, center, width: float, now=None):
+    def observe(self, stamp: float, camera: Camera, center, width: float, now=None,
+                source=None):
         """
         Process one detection taken at ``stamp`` [s]; return the tracker's answer.
+
+        ``source``: the camera's name, whose stamps' jitter is measured apart from the other
+        cameras' (None: the ``camera`` object's identity).
 
         As pixels; when no live throw can take them (a 'candidate': pixels cannot start a
         throw), as a range fix instead, which can. A refused detection gives (None, reason)
         and counts 'refused'.
         """
         why = check_detection(camera, center, width)
+        source = id(camera) if source is None else source
         if why is None:
             try:
-                meas = pixel_fix(camera, center, width, self.noise, self.diameter)
+                meas = pixel_fix(camera, center, width, self.noise, self.diameter, source)
             except ValueError as exc:
                 why = str(exc)
         if why is not None:
@@ -147,7 +161,7 @@ class CameraFusion:
             self.counts['pixels'] += 1
             return answer
         try:
-            fix = range_fix(camera, center, width, self.noise, self.diameter)
+            fix = range_fix(camera, center, width, self.noise, self.diameter, source)
         except ValueError as exc:  # a ball so small that its range means nothing
             self.counts['refused'] += 1
             return None, f'no range from a {float(width):g} px width: {exc}'

@@ -806,7 +806,7 @@ class FlightTracker:
         s = self.settings
         new_hyps, accepted, taken = [], False, meas
         best = tr.best
-        jitter = self._jitter(tr, t)
+        jitter = self._jitter(tr, t, meas.source)
         for hyp in tr.hyps:
             x, P, ok = self._predict(hyp.x, hyp.P, t - tr.t, hyp.gusty)
             new = hyp.copy()
@@ -1010,9 +1010,20 @@ class FlightTracker:
         """
         return max(self.settings.stamp_jitter, measured_jitter(stamps, min_gaps))
 
-    def _jitter(self, tr: _Track, t: float) -> float:
-        """Return :meth:`jitter` of the fixes the throw took lately and ``t``."""
-        return self.jitter(list(tr.fixes)[-40:] + [t])
+    def _jitter(self, tr: _Track, t: float, source=None) -> float:
+        """Return :meth:`jitter` of the fixes of ``source`` the throw took lately and ``t``."""
+        mine = [k for k, m in tr.fixes.items() if m.source == source]
+        return self.jitter(mine[-40:] + [t])
+
+    def _jitter_of(self, times, fixes, min_gaps: int) -> float:
+        """Return :meth:`jitter` of fixes at ``times`` [s]: each source's, the largest."""
+        by_source = collections.defaultdict(list)
+        for tk, fix in zip(times, fixes):
+            by_source[fix.source].append(tk)
+        return max(
+            [self.jitter(stamps, min_gaps) for stamps in by_source.values()]
+            or [self.settings.stamp_jitter]
+        )
 
     def _find_arc(self, buffer, t: float, meas: Measurement):
         """
@@ -1054,7 +1065,7 @@ class FlightTracker:
                 best = inl
         if best is None or best.size < s.min_points:
             return 'the recent fixes do not fit a ballistic arc yet'
-        jit2 = self.jitter(times[best], min_gaps=4) ** 2  # measured on this ball's fixes alone
+        jit2 = self._jitter_of(times[best], [fixes[k] for k in best], 4) ** 2  # this ball's
         order = best[np.argsort(times[best], kind='stable')]
         keep = list(order)
         for _ in range(3):  # drop the worst fix at most a few times
@@ -1186,7 +1197,7 @@ class FlightTracker:
         self.track.prior = tuple(
             (i, float(x[i]), math.sqrt(P[i, i])) for i in (X_KD, X_KL, X_W, X_W + 1) if i < n_x
         )
-        jitter = self.jitter(times, min_gaps=4)
+        jitter = self._jitter_of(times, fixes, 4)
         g = np.array([0.0, 0.0, self.params[dyn.P_GRAVITY]])
         for tk, fix in zip(times, fixes):  # the arc's velocity at each fix for its jitter
             v_k = v - g * (tk - t)
