@@ -208,9 +208,9 @@ def camera_bound(release, detections, case, prior: str = 'benchmark') -> np.ndar
     ``detections``: (exposure time [s], :class:`football_ros.estimation.camera.Camera`,
     width [px], pixel noise [px]) of each inlier detection; each measures (u, v) with the
     camera's pixel noise and the apparent width w with the noise the tracker assumes
-    (camera_fusion.WIDTH_MODEL), through the camera model (no triangulation).
+    (camera_fusion.width_sigma), through the camera model (no triangulation).
     """
-    from football_ros.estimation.camera_fusion import WIDTH_MODEL
+    from football_ros.estimation.camera_fusion import width_sigma
 
     ball = get_preset(case.ball)
     model = ThrowModel(0.0, 1.0, 0, ball=case.ball, aero=AeroModel(wind=release.aero_model().wind))
@@ -221,14 +221,14 @@ def camera_bound(release, detections, case, prior: str = 'benchmark') -> np.ndar
     rows = []
     for k, (_t, camera, width, noise) in enumerate(detections):
         r = f0[3 * k: 3 * k + 3]
-        _, h_uv = camera.project(r)
+        uv, h_uv = camera.project(r)
         h_w = np.array([
             (camera.image_width(r + e, ball.diameter) - camera.image_width(r - e, ball.diameter))
             / 2e-4 for e in 1e-4 * np.eye(3)
         ])
         j_pos = jac[3 * k: 3 * k + 3]
         rows += [h_uv[0] @ j_pos / noise, h_uv[1] @ j_pos / noise,
-                 h_w @ j_pos / math.hypot(noise, WIDTH_MODEL * width)]
+                 h_w @ j_pos / width_sigma(camera, uv, width, noise)]
     sigmas = prior_sigmas(case, prior)
     names = [n for n in model.names if sigmas.get(n, math.inf) > 0.0]
     keep = [model.names.index(n) for n in names]

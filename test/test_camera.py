@@ -318,3 +318,78 @@ def test_the_tracker_fuses_a_rig_s_pixels_to_the_landing(rig_name):
     assert np.linalg.norm(err) < 0.3
     assert err @ np.linalg.solve(pred.covariance, err) < 13.8  # inside the 99.9 % ellipse
     assert fusion.tracker.counts['accepted'] > 0.9 * fusion.counts['pixels']
+
+
+def test_the_width_model_follows_a_spheroid_s_outline_off_the_optical_axis():
+    """The apparent width off the axis is D sqrt(s_min s_max), within its spread of the outline."""
+    rig = load_rig(CONFIG / 'rig_mono.yaml')
+    camera = rig[0].camera
+    ball, truth, balls_at = _flight()
+    ratios, spreads = [], []
+    for t in np.arange(0.2, truth.times[-1], 0.1):
+        centre, axis = balls_at(t)
+        image = ball_image(camera, centre[0], axis[0], ball.length, ball.diameter)
+        if image is None:
+            continue
+        ratios.append(image.width / camera.image_width(centre, ball.diameter)[0])
+        spreads.append(camera.width_spread(centre)[0])
+    ratios, spreads = np.array(ratios), np.array(spreads)
+    assert len(ratios) > 15
+    assert np.all(np.abs(ratios - 1.0) <= spreads + 0.01)  # f D / Z alone was 1-9 % short
+    assert spreads.max() > 0.03  # the image's edges stretch the outline radially
+    on_axis = camera.position + camera.rotation @ np.array([0.0, 0.0, 30.0])
+    assert camera.width_spread(on_axis) < 1e-6
+    assert camera.image_width(on_axis, 0.17) == pytest.approx(camera.K[0, 0] * 0.17 / 30.0)
+
+
+def test_the_stamps_jitter_is_measured_per_camera():
+    """Two unsynchronised cameras' interleaved stamps are not read as jitter."""
+    from football_ros.estimation import FlightTracker
+    from football_ros.estimation.measurement import PositionFix
+    from football_ros.estimation.tracker import measured_jitter
+
+    _, truth, balls_at = _flight()
+    rng = np.random.default_rng(3)
+    fixes = []
+    for source, phase in (('near', 0.0), ('far', 0.0071)):
+        for t in np.arange(phase + 0.05, 1.5, 1.0 / 60.0):
+            fixes.append((t + rng.normal(0.0, 1e-4), balls_at(t)[0][0], source))
+    fixes.sort(key=lambda f: f[0])
+    tracker = FlightTracker()
+    for stamp, position, source in fixes:
+        z = position + rng.normal(0.0, 0.02, 3)
+        tracker.observe(stamp, PositionFix(z, 4e-4 * np.eye(3), source))
+    tr = tracker.track
+    assert tr is not None and len(tr.fixes) > 0.9 * len(fixes)
+    assert measured_jitter(list(tr.fixes)[-40:]) > 4e-4  # both cameras' stamps as one
+    for source in ('near', 'far'):
+        assert tracker._jitter(tr, tr.t, source) < 2.5e-4  # each camera's own: 0.1 ms
+
+
+def test_a_mono_camera_s_hands_are_fitted_each_while_both_are_alive():
+    """hand_fits 'pixels': a fit per hand, weighted by evidence; 'never': the filters'."""
+    from football_ros.estimation import FlightTracker, TrackerSettings
+    from football_ros.estimation.camera_fusion import CameraFusion
+
+    rig = load_rig(CONFIG / 'rig_mono.yaml')
+    ball, truth, balls_at = _flight()
+    frames = simulate(rig, balls_at, 0.0, truth.times[-1], ball.length, ball.diameter)
+    cams = {c.name: c.camera for c in rig}
+    got = {}
+    for mode in ('pixels', 'never'):
+        fusion = CameraFusion(FlightTracker(TrackerSettings(hand_fits=mode)), 1.0, ball.diameter)
+        for f in frames:
+            if f.delivery > truth.times[-1] - 1.0:
+                break
+            for d in f.detections:
+                fusion.observe(f.stamp, cams[f.camera], d.center, d.width)
+        tracker = fusion.tracker
+        assert tracker.hand is None  # the depth axis hides the drift that tells the hands
+        got[mode] = (tracker._fits(), tracker.predict_landing())
+    fits, pred = got['pixels']
+    assert fits is not None and sum(w for w, _ in fits) == pytest.approx(1.0)
+    assert all(math.isfinite(f.logdet) and f.cost > 0.0 for _, f in fits)
+    assert got['never'][0] is None and got['never'][1] is not None
+    assert np.all(np.isfinite(pred.position)) and np.all(np.linalg.eigvalsh(pred.covariance) > 0)
+    with pytest.raises(ValueError, match='hand_fits'):
+        TrackerSettings(hand_fits='sometimes')

@@ -213,14 +213,38 @@ class Camera:
         """
         Return the apparent diameter [px] (...,) of a sphere of ``diameter`` [m] at ``points``.
 
-        In ``field``; to first order in diameter / depth: f D / Z with f the lens's local
-        scale (the root of the determinant of d(u, v) / d(x, y)). NaN behind the camera.
+        In ``field``; to first order in diameter / distance the sphere's outline is the image of
+        its disc across the line of sight, an ellipse of axes D s_min and D s_max (s the
+        singular values [px/m] of the projection's Jacobian on that disc: off the optical axis
+        the radial one is stretched by 1 / cos of the angle, the lens scales both): D sqrt(s_min
+        s_max), their geometric mean (:meth:`width_spread` their spread). NaN behind the camera.
         """
+        s_min, s_max = self._disc_scales(points)
+        return diameter * np.sqrt(s_min * s_max)
+
+    def width_spread(self, points: np.ndarray) -> np.ndarray:
+        """
+        Return (s_max - s_min) / (s_max + s_min) [1] (...,) of :meth:`image_width` at ``points``.
+
+        The short axis of a spheroid's outline lies between D s_min and D s_max, by its attitude:
+        about this fraction of the width either side of :meth:`image_width`.
+        """
+        s_min, s_max = self._disc_scales(points)
+        return (s_max - s_min) / (s_max + s_min)
+
+    def _disc_scales(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Singular values [px/m] (...,) of the projection on the disc across the line of sight."""
         p = self.to_camera(points)
-        z = np.where(p[..., 2] > MIN_DEPTH, p[..., 2], np.nan)
-        _, jd = self.distort(p[..., :2] / z[..., None])
-        scale = np.sqrt(np.abs(np.linalg.det(self.K[:2, :2] @ jd)))
-        return scale * diameter / z
+        p = np.where((p[..., 2] > MIN_DEPTH)[..., None], p, np.nan)
+        _, jac = self.project_camera(p)
+        u = p / np.linalg.norm(p, axis=-1, keepdims=True)
+        m = jac @ jac.swapaxes(-1, -2) - (jac @ u[..., None]) @ (jac @ u[..., None]).swapaxes(
+            -1, -2
+        )  # J (I - u u') J'
+        tr = m[..., 0, 0] + m[..., 1, 1]
+        det = np.abs(m[..., 0, 0] * m[..., 1, 1] - m[..., 0, 1] * m[..., 1, 0])
+        gap = np.sqrt(np.maximum(0.25 * tr**2 - det, 0.0))
+        return np.sqrt(np.maximum(0.5 * tr - gap, 0.0)), np.sqrt(0.5 * tr + gap)
 
     def unproject(self, pixels: np.ndarray) -> np.ndarray:
         """Return the normalised rays (..., 3) (x, y, 1) in the optical frame of raw pixels."""

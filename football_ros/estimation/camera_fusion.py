@@ -19,8 +19,9 @@ A detection of camera ``camera`` (:class:`.camera.Camera`) is its ball's centre 
 and apparent width w [px] (the outline's short axis). Once a throw runs, it is a
 :class:`.measurement.ProjectedFix` of z = (u, v, w): (u, v) the projection of the ball's
 centre (``pixel_noise`` [px] 1 sigma each), w = f D / Z its apparent diameter (f the lens's
-local scale, Z the depth; ``pixel_noise`` and :data:`WIDTH_MODEL` of w in quadrature, for the
-outline of a spheroid seen at an angle), so one camera alone measures range too. The filter's
+local scale, Z the depth: :meth:`.camera.Camera.image_width`; ``pixel_noise``,
+:data:`WIDTH_MODEL` of w and the attitude's share of the outline's stretch off the optical axis
+in quadrature: :func:`width_sigma`), so one camera alone measures range too. The filter's
 unscented update and the batch fit take it as they take a position; gating is in pixel space
 (the innovation's Mahalanobis distance). Before a throw runs, the detection is a position fix:
 the ray through (u, v) at depth Z = f D / w, its covariance from the same noises (metres along
@@ -60,31 +61,53 @@ def check_detection(camera: Camera, center, width: float) -> str | None:
     return None
 
 
-def pixel_fix(camera: Camera, center, width: float, noise: float, diameter: float) -> ProjectedFix:
-    """Return the detection as a :class:`ProjectedFix` of (u, v, w) [px] (module docstring)."""
+def width_sigma(camera: Camera, center, width: float, noise: float) -> float:
+    """
+    Return the 1-sigma noise [px] of a detection's apparent width w [px].
+
+    The detector's ``noise`` [px], :data:`WIDTH_MODEL` w and the spheroid's attitude: its
+    outline's short axis lies within +/- :meth:`.camera.Camera.width_spread` w of the model
+    (uniform, at the ray through the centre (2,) [px]), in quadrature.
+    """
+    ray = camera.rotation @ camera.unproject(np.asarray(center, dtype=float).reshape(2))
+    spread = float(camera.width_spread(camera.position + ray))
     w = float(width)
-    cov = np.diag([noise**2, noise**2, noise**2 + (WIDTH_MODEL * w) ** 2])
+    return math.sqrt(noise**2 + (WIDTH_MODEL * w) ** 2 + (spread * w) ** 2 / 3.0)
+
+
+def pixel_fix(
+    camera: Camera, center, width: float, noise: float, diameter: float, source=None
+) -> ProjectedFix:
+    """
+    Return the detection as a :class:`ProjectedFix` of (u, v, w) [px] (module docstring).
+
+    ``source``: the camera's name (:class:`.measurement.Measurement`).
+    """
+    w = float(width)
+    cov = np.diag([noise**2, noise**2, width_sigma(camera, center, w, noise) ** 2])
 
     def project(points: np.ndarray) -> np.ndarray:
         uv = camera.project(points)[0]
         return np.column_stack([uv, camera.image_width(points, diameter)])
 
     z = np.array([float(center[0]), float(center[1]), w])
-    return ProjectedFix(z, cov, project)
+    return ProjectedFix(z, cov, source, project)
 
 
-def range_fix(camera: Camera, center, width: float, noise: float, diameter: float) -> PositionFix:
+def range_fix(
+    camera: Camera, center, width: float, noise: float, diameter: float, source=None
+) -> PositionFix:
     """
     Return the detection as a :class:`PositionFix` in ``field``: the ray at depth f D / w [m].
 
-    Its covariance: the depth's (from the width's noise) along the ray, the centre's across.
+    Its covariance: the depth's (from the width's noise) along the ray, the centre's across;
+    ``source`` the camera's name (:class:`.measurement.Measurement`).
     """
     ray = camera.unproject(np.asarray(center, dtype=float))
-    _, jd = camera.distort(ray[:2])
-    scale = math.sqrt(abs(np.linalg.det(camera.K[:2, :2] @ jd)))
+    scale = float(camera.image_width(camera.position + camera.rotation @ ray, 1.0))  # at Z = 1
     w = float(width)
     depth = scale * diameter / w
-    sigma_w = math.hypot(noise, WIDTH_MODEL * w)
+    sigma_w = width_sigma(camera, center, w, noise)
     p_cam = ray * depth
     # d p_cam / d(depth) = ray; across the ray: noise / scale per unit depth
     across = noise / scale * depth
@@ -92,7 +115,7 @@ def range_fix(camera: Camera, center, width: float, noise: float, diameter: floa
         np.eye(3) - np.outer(ray, ray) / float(ray @ ray)
     )
     rot = camera.rotation
-    return PositionFix(rot @ p_cam + camera.position, rot @ cov_cam @ rot.T)
+    return PositionFix(rot @ p_cam + camera.position, rot @ cov_cam @ rot.T, source)
 
 
 class CameraFusion:
@@ -110,18 +133,23 @@ class CameraFusion:
         self.tracker, self.noise, self.diameter = tracker, float(noise), float(diameter)
         self.counts: dict[str, int] = {'refused': 0, 'pixels': 0, 'range': 0}
 
-    def observe(self, stamp: float, camera: Camera, center, width: float, now=None):
+    def observe(self, stamp: float, camera: Camera, center, width: float, now=None,
+                source=None):
         """
         Process one detection taken at ``stamp`` [s]; return the tracker's answer.
+
+        ``source``: the camera's name, whose stamps' jitter is measured apart from the other
+        cameras' (None: the ``camera`` object's identity).
 
         As pixels; when no live throw can take them (a 'candidate': pixels cannot start a
         throw), as a range fix instead, which can. A refused detection gives (None, reason)
         and counts 'refused'.
         """
         why = check_detection(camera, center, width)
+        source = id(camera) if source is None else source
         if why is None:
             try:
-                meas = pixel_fix(camera, center, width, self.noise, self.diameter)
+                meas = pixel_fix(camera, center, width, self.noise, self.diameter, source)
             except ValueError as exc:
                 why = str(exc)
         if why is not None:
@@ -133,7 +161,7 @@ class CameraFusion:
             self.counts['pixels'] += 1
             return answer
         try:
-            fix = range_fix(camera, center, width, self.noise, self.diameter)
+            fix = range_fix(camera, center, width, self.noise, self.diameter, source)
         except ValueError as exc:  # a ball so small that its range means nothing
             self.counts['refused'] += 1
             return None, f'no range from a {float(width):g} px width: {exc}'

@@ -77,11 +77,15 @@ class Measurement:
     """
     One fix's value ``z`` (m,) and noise covariance ``R`` (m, m) (use a subclass).
 
-    Subclasses give :meth:`predict`; ``R`` is checked at construction (ValueError).
+    Subclasses give :meth:`predict`; ``R`` is checked at construction (ValueError). ``source``
+    (hashable, e.g. a camera's name; None: one unnamed sensor) tells whose clock stamped it:
+    the tracker measures the stamps' jitter per source (several unsynchronised cameras
+    interleave their stamps irregularly).
     """
 
     z: np.ndarray
     R: np.ndarray
+    source: object = None
 
     def __post_init__(self) -> None:
         z = np.asarray(self.z, dtype=float).reshape(-1).copy()

@@ -79,7 +79,10 @@ class Refined:
 
     ``x0`` the MAP state at the first fix, ``x`` (n_x,) and ``P`` (n_x, n_x) the posterior's
     at the last fix, ``cost`` the objective at the fit (chi-square of the fixes plus the
-    prior's terms), ``iterations`` taken.
+    prior's terms), ``iterations`` taken, ``logdet`` the log-determinant of the posterior's
+    covariance of the step delta at the first fix (units of :data:`FD_STEP`): with ``cost``,
+    the Laplace evidence of the fit's prior, -cost / 2 + logdet / 2 + a constant that two fits
+    of the same fixes and step share.
     """
 
     x0: np.ndarray
@@ -87,6 +90,7 @@ class Refined:
     P: np.ndarray
     cost: float
     iterations: int
+    logdet: float = math.nan
 
 
 def _basis(u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -225,10 +229,13 @@ def refine(
         return None
     try:
         cov = np.linalg.inv(info / np.outer(d, d)) / np.outer(d, d)
+        logdet = -float(np.linalg.slogdet(info / np.outer(d, d))[1]) - 2.0 * float(
+            np.sum(np.log(d))
+        )
     except np.linalg.LinAlgError:
         return None
     mode = fly_state(x, rel, params, step)[0]  # the fit at the last fix; its covariance
     P = ends.T @ cov @ ends  # carried linearly
     if not (np.all(np.isfinite(mode)) and np.all(np.isfinite(P))):
         return None
-    return Refined(x, mode, 0.5 * (P + P.T), cost, it)
+    return Refined(x, mode, 0.5 * (P + P.T), cost, it, logdet)

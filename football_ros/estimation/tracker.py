@@ -86,7 +86,9 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from .measurement import Measurement, position_fix, unscented_update, with_timing
+from .measurement import (
+    Measurement, position_fix, PositionFix, unscented_update, with_timing
+)
 from .motion import (
     fly_state,
     fly_to_planes,
@@ -119,6 +121,10 @@ PLANE_COLUMNS = (slice(0, 4), slice(4, 8), slice(8, 13))
 CARRY_VARIANCE = {X_KD: 0.05**2, X_KL: 0.05**2, X_W: 1.0, X_W + 1: 1.0}
 """Variance added to a learned scale (and to a learned wind [m^2/s^2]) from one throw to the
 next: gusts and a ball that gets wet or scuffed."""
+
+
+HAND_FITS = ('never', 'pixels', 'always')
+"""Choices of ``hand_fits`` (:class:`TrackerSettings`)."""
 
 
 # --- settings and results -----------------------------------------------------------------------
@@ -165,7 +171,11 @@ class TrackerSettings:
     widened by the gusts still to come.
     ``refine_iterations`` > 0: once one hand is left, the predictions come from a batch MAP fit
     of every fix of the throw (:mod:`.refine`, at most that many Levenberg-Marquardt steps a
-    prediction, warm-started from the last); 0 = the filter's own estimate.
+    prediction, warm-started from the last); 0 = the filter's own estimate. ``hand_fits``: while
+    both hands are alive, 'always' fits each hand and mixes the two by their evidence, 'pixels'
+    (default) only once the throw has fixes that are not positions (a camera's pixels, whose
+    depth axis may hide the drift that tells the hands apart all flight), 'never' (the filters'
+    mixture until one hand is left).
 
     The noise and prior defaults make the covariance honest (landing NEES 1.5-3) on the
     prediction benchmark's flights, which have no model error beyond the unknowns the state
@@ -207,6 +217,7 @@ class TrackerSettings:
     wind_rate: float = 0.2
     gust_rate: float = 0.0
     refine_iterations: int = 25
+    hand_fits: str = 'pixels'
 
     LIMITS = {
         'noise': (1e-4, 10.0),
@@ -258,6 +269,10 @@ class TrackerSettings:
                 f"tracker 'spin_rpm' must be None or |.| in [10, 3000], got {self.spin_rpm!r}"
             )
         get_preset(self.ball)  # raises ValueError for an unknown ball
+        if self.hand_fits not in HAND_FITS:
+            raise ValueError(
+                f"tracker 'hand_fits' must be one of {HAND_FITS}, got {self.hand_fits!r}"
+            )
         try:
             wind = tuple(float(w) for w in self.wind)
         except (TypeError, ValueError):
@@ -364,7 +379,7 @@ class _Track:
     fixes: dict = field(default_factory=dict)  # stamp -> Measurement the filter took (jitter
     # folded in), the arc's too
     prior: tuple = ()  # (index, mean, sigma) of the scales (and wind) at the start
-    fit: tuple | None = None  # (key, Refined or None) of the last batch fit
+    fits: dict = field(default_factory=dict)  # hand -> (key, Refined or None), its last fit
 
     def keep(self, t: float, meas: Measurement) -> None:
         """Record a fix the filter took; past MAX_FIXES every other older one is dropped."""
@@ -537,13 +552,14 @@ class FlightTracker:
         tr = self.track
         if tr is None:
             return None, None, None
-        fit = self._fit()
-        if fit is None:  # the filters, mixed by likelihood
+        fits = self._fits()
+        if fits is None:  # the filters, mixed by likelihood
             planes, model = self._mixture(tr, h, wall), tr.best.x
-        else:  # the batch fit of every fix, once one hand is left
-            planes = self._plane_moments(fit.x, fit.P, h, wall)
+        else:  # the batch fit of every fix (one a hand while both are alive), mixed
+            planes = _mix([(w, self._plane_moments(f.x, f.P, h, wall)) for w, f in fits])
+            top = max(fits, key=lambda wf: wf[0])[1]
             # whichever is less stable sets the tumbling allowance
-            model = min((fit.x, tr.best.x), key=self.gyroscopic_stability)
+            model = min((top.x, tr.best.x), key=self.gyroscopic_stability)
             if self.gyroscopic_stability(model) < 1.0:  # a kick that may tumble: the fit's
                 # mean, the filter's covariance (it carries the tumbling all flight), widened
                 # by how far the two lie apart
@@ -601,22 +617,10 @@ class FlightTracker:
         lls = np.array([hyp.loglik for hyp in tr.hyps])
         weights = np.exp(lls - lls.max())
         weights /= weights.sum()
-        parts = [[] for _ in PLANE_COLUMNS]
-        for hyp, w in zip(tr.hyps, weights):
-            if w < 1e-6 and len(tr.hyps) > 1:
-                continue
-            for part, moment in zip(parts, self._plane_moments(hyp.x, hyp.P, height, wall)):
-                part.append((w, moment))
-        out = []
-        for part in parts:
-            if not part or any(m is None for _, m in part):
-                out.append(None)
-                continue
-            wsum = sum(w for w, _ in part)
-            mean = sum(w * m[0] for w, m in part) / wsum
-            out.append((mean, sum(w * (m[1] + np.outer(m[0] - mean, m[0] - mean))
-                                  for w, m in part) / wsum))
-        return out
+        return _mix([
+            (w, self._plane_moments(hyp.x, hyp.P, height, wall))
+            for hyp, w in zip(tr.hyps, weights) if w >= 1e-6 or len(tr.hyps) == 1
+        ])
 
     def _plane_moments(self, x, P, height: float, wall: np.ndarray) -> list:
         """
@@ -648,21 +652,59 @@ class FlightTracker:
         s, tr, hand = self.settings, self.track, self.hand
         if s.refine_iterations == 0 or tr is None or hand is None or self._gusty_weight(tr) > 0.5:
             return None
-        key = (tr.t, len(tr.fixes), hand)
-        if tr.fit is None or tr.fit[0] != key:
-            tr.fit = (key, self._refit(tr, hand))
-        return tr.fit[1]
+        return self._hand_fit(tr, hand)
+
+    def _fits(self) -> list[tuple[float, Refined]] | None:
+        """
+        Return the batch fits the predictions come from, with their weights, or None.
+
+        Once one hand is left, its fit (:meth:`_fit`). While both are alive and ``hand_fits``
+        asks for it (:class:`TrackerSettings`): a fit for each hand, weighted by its Laplace
+        evidence exp(-cost / 2) |posterior covariance|^(1/2) (equal odds a priori; the priors
+        differ in the sign of the spin alone). None: the filters' mixture (a fit failed).
+        """
+        s, tr = self.settings, self.track
+        if self.hand is not None:
+            fit = self._fit()
+            return None if fit is None else [(1.0, fit)]
+        if s.refine_iterations == 0 or tr is None or self._gusty_weight(tr) > 0.5 or not (
+            s.hand_fits == 'always' or s.hand_fits == 'pixels' and any(
+                not isinstance(m, PositionFix) for m in tr.fixes.values()
+            )
+        ):
+            return None
+        fits = [self._hand_fit(tr, hand) for hand in (1.0, -1.0)]
+        if any(f is None or not math.isfinite(f.logdet) for f in fits):
+            return None
+        evidence = np.array([0.5 * (f.logdet - f.cost) for f in fits])
+        weights = np.exp(evidence - evidence.max())
+        return [(float(w), f) for w, f in zip(weights / weights.sum(), fits) if w >= 1e-6]
+
+    def _hand_fit(self, tr: _Track, hand: float) -> Refined | None:
+        """Return the fit of ``tr`` for ``hand`` (:meth:`_refit`), cached per newest fix."""
+        key = (tr.t, len(tr.fixes))
+        cached = tr.fits.get(hand)
+        if cached is None or cached[0] != key:
+            tr.fits[hand] = (key, self._refit(tr, hand))
+        return tr.fits[hand][1]
 
     def _refit(self, tr: _Track, hand: float) -> Refined | None:
-        """Fit ``tr``'s fixes for ``hand`` (:meth:`_fit`), from its last fit if it has one."""
+        """
+        Fit ``tr``'s fixes for ``hand`` (:meth:`_fit`).
+
+        From its last fit for that hand if it has one, else from that hand's likeliest filter.
+        """
         s = self.settings
         times = np.array(sorted(tr.fixes))
         if times[-1] != tr.t:
             return None
-        if tr.fit is not None and tr.fit[1] is not None and tr.fit[0][2] == hand:
-            x0 = tr.fit[1].x0
+        last = tr.fits.get(hand)
+        if last is not None and last[1] is not None:
+            x0 = last[1].x0
         else:
-            x0 = fly_state(tr.best.x, [times[0] - tr.t], self.params, s.step)[0]
+            mine = [h for h in tr.hyps if h.hand == hand] or tr.hyps
+            start = max(mine, key=lambda h: h.loglik)
+            x0 = fly_state(start.x, [times[0] - tr.t], self.params, s.step)[0]
         if not np.all(np.isfinite(x0)):
             return None
         prior = Prior((hand * self.nominal_h1, self.nominal_h1 * s.spin_sigma), s.axis_sigma,
@@ -714,10 +756,10 @@ class FlightTracker:
         if tr is None or not (0.001 <= sample_dt <= 10.0):
             return None
         s = self.settings
-        fit = self._fit()
+        fits = self._fits()
         times, pos = path_of(
-            tr.best.x if fit is None else fit.x, self.params, sample_dt, s.landing_step,
-            s.ground, s.horizon
+            tr.best.x if fits is None else max(fits, key=lambda wf: wf[0])[1].x, self.params,
+            sample_dt, s.landing_step, s.ground, s.horizon
         )
         if not np.all(np.isfinite(pos)):
             return None
@@ -764,7 +806,7 @@ class FlightTracker:
         s = self.settings
         new_hyps, accepted, taken = [], False, meas
         best = tr.best
-        jitter = self._jitter(tr, t)
+        jitter = self._jitter(tr, t, meas.source)
         for hyp in tr.hyps:
             x, P, ok = self._predict(hyp.x, hyp.P, t - tr.t, hyp.gusty)
             new = hyp.copy()
@@ -968,9 +1010,20 @@ class FlightTracker:
         """
         return max(self.settings.stamp_jitter, measured_jitter(stamps, min_gaps))
 
-    def _jitter(self, tr: _Track, t: float) -> float:
-        """Return :meth:`jitter` of the fixes the throw took lately and ``t``."""
-        return self.jitter(list(tr.fixes)[-40:] + [t])
+    def _jitter(self, tr: _Track, t: float, source=None) -> float:
+        """Return :meth:`jitter` of the fixes of ``source`` the throw took lately and ``t``."""
+        mine = [k for k, m in tr.fixes.items() if m.source == source]
+        return self.jitter(mine[-40:] + [t])
+
+    def _jitter_of(self, times, fixes, min_gaps: int) -> float:
+        """Return :meth:`jitter` of fixes at ``times`` [s]: each source's, the largest."""
+        by_source = collections.defaultdict(list)
+        for tk, fix in zip(times, fixes):
+            by_source[fix.source].append(tk)
+        return max(
+            [self.jitter(stamps, min_gaps) for stamps in by_source.values()]
+            or [self.settings.stamp_jitter]
+        )
 
     def _find_arc(self, buffer, t: float, meas: Measurement):
         """
@@ -1012,7 +1065,7 @@ class FlightTracker:
                 best = inl
         if best is None or best.size < s.min_points:
             return 'the recent fixes do not fit a ballistic arc yet'
-        jit2 = self.jitter(times[best], min_gaps=4) ** 2  # measured on this ball's fixes alone
+        jit2 = self._jitter_of(times[best], [fixes[k] for k in best], 4) ** 2  # this ball's
         order = best[np.argsort(times[best], kind='stable')]
         keep = list(order)
         for _ in range(3):  # drop the worst fix at most a few times
@@ -1144,7 +1197,7 @@ class FlightTracker:
         self.track.prior = tuple(
             (i, float(x[i]), math.sqrt(P[i, i])) for i in (X_KD, X_KL, X_W, X_W + 1) if i < n_x
         )
-        jitter = self.jitter(times, min_gaps=4)
+        jitter = self._jitter_of(times, fixes, 4)
         g = np.array([0.0, 0.0, self.params[dyn.P_GRAVITY]])
         for tk, fix in zip(times, fixes):  # the arc's velocity at each fix for its jitter
             v_k = v - g * (tk - t)
@@ -1188,6 +1241,25 @@ def warm_up(settings: TrackerSettings | None = None):
     new_hits, new_misses = counts()
     return CompileStep('tracker kernels (filter, predictions, batch fit)',
                        time.perf_counter() - start, new_hits - hits, new_misses - misses)
+
+
+def _mix(weighted: list) -> list:
+    """
+    Mix moments on each plane: ``weighted`` [(weight, [(mean, cov) or None per plane])].
+
+    Returns [(mean, cov) or None] per plane (None where a part missed it).
+    """
+    out = []
+    for k in range(len(PLANE_COLUMNS)):
+        part = [(w, moments_[k]) for w, moments_ in weighted]
+        if not part or any(m is None for _, m in part):
+            out.append(None)
+            continue
+        wsum = sum(w for w, _ in part)
+        mean = sum(w * m[0] for w, m in part) / wsum
+        out.append((mean, sum(w * (m[1] + np.outer(m[0] - mean, m[0] - mean))
+                              for w, m in part) / wsum))
+    return out
 
 
 def _same(entry: _Entry, t: float, meas: Measurement) -> bool:

@@ -319,7 +319,7 @@ class TrackerNode(Node):
     def _on_detection(self, stamp: float, name: str, camera, center, width: float) -> None:
         """One camera detection (nodes/cameras.py): fused as pixels (estimation/camera_fusion)."""
         now = self.get_clock().now().nanoseconds * 1e-9 if self.max_future > 0 else None
-        track_id, result = self._fusion.observe(stamp, camera, center, width, now)
+        track_id, result = self._fusion.observe(stamp, camera, center, width, now, name)
         if track_id is None and isinstance(result, str):
             self._camera_inputs.refuse(name, f'detection refused: {result}')
             return
