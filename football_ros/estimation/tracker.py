@@ -365,6 +365,7 @@ class _Track:
     # folded in), the arc's too
     prior: tuple = ()  # (index, mean, sigma) of the scales (and wind) at the start
     fit: tuple | None = None  # (key, Refined or None) of the last batch fit
+    release_speed: float = 0.0  # [m/s] at the arc's first fix: where S_g is the lowest
 
     def keep(self, t: float, meas: Measurement) -> None:
         """Record a fix the filter took; past MAX_FIXES every other older one is dropped."""
@@ -543,8 +544,8 @@ class FlightTracker:
         else:  # the batch fit of every fix, once one hand is left
             planes = self._plane_moments(fit.x, fit.P, h, wall)
             # whichever is less stable sets the tumbling allowance
-            model = min((fit.x, tr.best.x), key=self.gyroscopic_stability)
-            if self.gyroscopic_stability(model) < 1.0:  # a kick that may tumble: the fit's
+            model = min((fit.x, tr.best.x), key=self._stability)
+            if self._stability(model) < 1.0:  # a kick that may tumble: the fit's
                 # mean, the filter's covariance (it carries the tumbling all flight), widened
                 # by how far the two lie apart
                 planes = [
@@ -881,26 +882,43 @@ class FlightTracker:
         ok = bool(np.all(np.isfinite(xm)) and np.all(np.isfinite(Pm)))
         return xm, 0.5 * (Pm + Pm.T), ok
 
-    def gyroscopic_stability(self, x: np.ndarray) -> float:
-        """Return McCoy's S_g of a filter state (air speed against the parameters' wind)."""
+    def gyroscopic_stability(self, x: np.ndarray, min_speed: float = 0.0) -> float:
+        """
+        Return McCoy's S_g of a filter state (air speed against the parameters' wind).
+
+        At the larger of the state's air speed and ``min_speed`` [m/s] (S_g falls as the speed
+        grows: the overturning moment goes with its square).
+        """
         h1 = float(x[X_H:X_H + 3] @ x[X_S:X_S + 3])  # = (I_s / I_t) p
         air = x[X_V:X_V + 3] - self.params[dyn.P_WIND:dyn.P_WIND + 3]
         if x.size == N_X_WIND:
             air[:2] -= x[X_W:X_W + 2]
-        speed = math.sqrt(float(air @ air))
+        speed = max(math.sqrt(float(air @ air)), min_speed)
         if speed == 0.0:
             return math.inf
         return gyroscopic_stability(self.ball, speed, h1 / self.ball.inertia_ratio)
+
+    def _stability(self, x: np.ndarray) -> float:
+        """
+        Return S_g of a state of the current throw at its release speed (or faster).
+
+        A ball that tumbled near the release, where it is fastest and so least stable, keeps a
+        random attitude after its S_g has risen past 1 near the apex: the spin learnt so far,
+        judged at the speed the throw started with.
+        """
+        tr = self.track
+        return self.gyroscopic_stability(x, tr.release_speed if tr is not None else 0.0)
 
     def _accel_variance(self, x: np.ndarray) -> float:
         """
         Model-error acceleration PSD [m^2/s^4/Hz]: more while the ball can tumble (S_g < 1).
 
-        From the estimate's own S_g (its spin as learnt so far): the sigma points of a
-        tumbling ball spread less than its real axis motion does.
+        From the estimate's own S_g (its spin as learnt so far) at the release speed
+        (:meth:`_stability`): the sigma points of a tumbling ball spread less than its real
+        axis motion does.
         """
         s = self.settings
-        unstable = min(max(1.0 - self.gyroscopic_stability(x), 0.0), 1.0)
+        unstable = min(max(1.0 - self._stability(x), 0.0), 1.0)
         return s.accel_noise**2 + (s.tumble_noise * unstable) ** 2
 
     def _candidate(self, t: float, meas: Measurement) -> UpdateResult:
@@ -1140,7 +1158,7 @@ class FlightTracker:
             hyps.append(_Hypothesis(x, Ph, 0.0, hand))
             if n_x == N_X_WIND and s.gust_rate > 0.0:  # its twin in gusty air
                 hyps.append(_Hypothesis(x.copy(), Ph.copy(), 0.0, hand, gusty=True))
-        self.track = _Track(hyps, float(t))
+        self.track = _Track(hyps, float(t), release_speed=float(np.linalg.norm(v_first)))
         self.track.prior = tuple(
             (i, float(x[i]), math.sqrt(P[i, i])) for i in (X_KD, X_KL, X_W, X_W + 1) if i < n_x
         )
