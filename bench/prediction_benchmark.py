@@ -33,8 +33,9 @@ bombs carrying 50-60 m; the camera at 30 and 120 Hz; 5 mm and 5 cm noise; and th
 (:data:`FIELD_CASES`: a 10-30 Hz camera, stamp jitter 1-10 ms, a mono camera's depth noise 5-20x
 the lateral told per fix, rugby kicks at 0-120 rpm, end over end at 20-120 rpm, a crosswind gust
 of 2-8 m/s over 0.5-2 s; no oracle). ``--clutter`` adds false detections, ``--wind-sigma`` lets
-the tracker estimate the wind (``--gust-rate``: and gusts), ``--draws`` repeats a case
-over independent seeds (the summary gives the median of the per-draw medians and their range).
+the tracker estimate the wind from the start (``--gust-rate``: its gusty twins' rate, 0 = still
+air only; by default the tracker's), ``--draws`` repeats a case over independent seeds (the
+summary gives the median of the per-draw medians and their range).
 NEES: mean over the flights of e' C^-1 e (e the landing point error, C the published 2x2
 covariance): 2 for an honest covariance (above: overconfident), and the fraction inside the
 95 % ellipse. Also prints the tracker's time per fix (update, and update + landing
@@ -174,14 +175,14 @@ def random_releases(rng: np.random.Generator, n: int, case: Case) -> list[Releas
     return out
 
 
-GUST_RATE = [0.0]
-"""The tracker's gust_rate of this run (``--gust-rate``)."""
+GUST_RATE = [None]
+"""The tracker's gust_rate of this run (``--gust-rate``; None: the tracker's default)."""
 
 
 def tracker_settings(case: Case, wind_sigma: float = 0.0) -> TrackerSettings:
     """Return what the tracker is told in ``case``: the ball, the camera's noise, the wind's."""
-    return TrackerSettings(noise=case.noise, ball=case.ball, wind_sigma=wind_sigma,
-                           gust_rate=GUST_RATE[0])
+    gust = {} if GUST_RATE[0] is None else {'gust_rate': GUST_RATE[0]}
+    return TrackerSettings(noise=case.noise, ball=case.ball, wind_sigma=wind_sigma, **gust)
 
 
 # --- baselines ----------------------------------------------------------------------------------
@@ -687,8 +688,9 @@ def main() -> None:
         default=0.0,
         help='the tracker estimates the horizontal wind with this prior sigma [m/s] (0 = not)',
     )
-    ap.add_argument('--gust-rate', type=float, default=0.0,
-                    help="the tracker's gust_rate [m/s/sqrt(s)] (with --wind-sigma)")
+    ap.add_argument('--gust-rate', type=float, default=None,
+                    help="the tracker's gust_rate [m/s/sqrt(s)] (default: the tracker's, "
+                         f'{TrackerSettings.gust_rate:g}; 0 = still air only)')
     ap.add_argument('--draws', type=int, default=1, help='independent draws (seeds seed..)')
     ap.add_argument(
         '--clutter', type=float, default=0.0, help='false detections per second [Hz] added'
@@ -713,7 +715,7 @@ def main() -> None:
         f'camera {RATE:g} Hz, noise {NOISE * 100:g} cm, latency {LATENCY * 1000:g} ms unless the '
         f'case says; {args.flights} flights per case x {args.draws} draws, seeds {args.seed}..'
         f'{args.seed + args.draws - 1}, tracker wind_sigma {args.wind_sigma:g} m/s, '
-        f'gust_rate {args.gust_rate:g} m/s/sqrt(s), '
+        f'gust_rate {tracker_settings(CASES["defaults"]).gust_rate:g} m/s/sqrt(s), '
         f'clutter {args.clutter:g} Hz' + (', a second ball' if args.two_balls else '')
         + '. NEES: 2 and 0.95 in the 95 % ellipse when honest.'
     )
@@ -790,7 +792,7 @@ if __name__ == '__main__':
     # One section per kind of run: the plain cases, with the wind estimated, with clutter.
     pre = argparse.ArgumentParser(add_help=False)
     pre.add_argument('--wind-sigma', type=float, default=0.0)
-    pre.add_argument('--gust-rate', type=float, default=0.0)
+    pre.add_argument('--gust-rate', type=float, default=-1.0)
     pre.add_argument('--clutter', type=float, default=0.0)
     pre.add_argument('--two-balls', action='store_true')
     pre.add_argument('--cameras', action='store_true')
@@ -800,6 +802,6 @@ if __name__ == '__main__':
     section = 'prediction' + (', field cases' if field_only else '') + ''.join(
         f', {name} {value:g}' for name, value in
         (('wind_sigma', flags.wind_sigma), ('gust_rate', flags.gust_rate),
-         ('clutter Hz', flags.clutter)) if value > 0.0
+         ('clutter Hz', flags.clutter)) if value > 0.0 or (name == 'gust_rate' and value == 0.0)
     ) + (', two balls' if flags.two_balls else '') + (', cameras' if flags.cameras else '')
     raise SystemExit(results.recorded(section, main))

@@ -80,7 +80,7 @@ from __future__ import annotations
 
 import bisect
 import collections
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 import math
 from types import SimpleNamespace
 
@@ -165,10 +165,13 @@ class TrackerSettings:
     settings the filter assumes (None = the defaults); ``wind`` (x, y) [m/s] a known steady wind in
     ``field`` (an anemometer's); ``wind_sigma`` [m/s] > 0 adds two states, the unknown horizontal
     wind beyond ``wind`` (prior sigma per axis), with random walk ``wind_rate`` [m/s/sqrt(s)];
-    ``gust_rate`` [m/s/sqrt(s)] > 0 (with ``wind_sigma`` > 0) runs each filter twice, in steady
-    air (``wind_rate``) and in gusts (the wind a random walk of this rate), mixed by likelihood
-    (a multiple model): while the gusty ones are the likelier, the predictions are theirs,
-    widened by the gusts still to come.
+    ``gust_rate`` [m/s/sqrt(s)] > 0 runs each filter twice, in steady air (no wind states, or
+    ``wind_rate`` with ``wind_sigma`` > 0) and in gusts (two wind states, prior sigma
+    ``wind_sigma`` or ``gust_rate`` x 1 s, a random walk of this rate), mixed by likelihood (a
+    multiple model; 0 = still air only): the gusty share is the predictions', widened by the
+    gusts still to come; ``gust_prior`` (0-0.5) the odds of gusty air before the fixes tell,
+    kept as a floor under each gusty twin's likelihood against its still-air twin (the air may
+    turn gusty at any time).
     ``refine_iterations`` > 0: once one hand is left, the predictions come from a batch MAP fit
     of every fix of the throw (:mod:`.refine`, at most that many Levenberg-Marquardt steps a
     prediction, warm-started from the last); 0 = the filter's own estimate. ``hand_fits``: while
@@ -177,10 +180,10 @@ class TrackerSettings:
     depth axis may hide the drift that tells the hands apart all flight), 'never' (the filters'
     mixture until one hand is left).
 
-    The noise and prior defaults make the covariance honest (landing NEES 1.5-3) on the
-    prediction benchmark's flights, which have no model error beyond the unknowns the state
-    carries. Outdoors set ``wind_sigma`` (a steady unknown wind) and ``gust_rate`` (gusts): an
-    unmodelled wind makes the covariance lie; both cost a little accuracy in still air.
+    The noise and prior defaults make the covariance honest (landing NEES 2 or below) on the
+    prediction benchmark's still-air flights; the gusty twins (``gust_rate``, on by default)
+    take in an unmodelled wind, which would make a still-air filter's covariance lie, at the
+    cost of a wider covariance in still air and twice the filter's CPU (bench/RESULTS.md).
     """
 
     noise: float = 0.02
@@ -215,7 +218,8 @@ class TrackerSettings:
     wind: tuple = (0.0, 0.0)
     wind_sigma: float = 0.0
     wind_rate: float = 0.2
-    gust_rate: float = 0.0
+    gust_rate: float = 3.0
+    gust_prior: float = 0.01
     refine_iterations: int = 25
     hand_fits: str = 'pixels'
 
@@ -249,6 +253,7 @@ class TrackerSettings:
         'wind_sigma': (0.0, 30.0),
         'wind_rate': (0.0, 10.0),
         'gust_rate': (0.0, 20.0),
+        'gust_prior': (1e-6, 0.5),
         'refine_iterations': (0, 100),
     }
 
@@ -355,9 +360,10 @@ class _Hypothesis:
     loglik: float = 0.0
     hand: float = 1.0  # sign of the spin it started with
     gusty: bool = False  # its wind a random walk of gust_rate (else wind_rate)
+    component: int = 0  # its spin prior's slice (and hand): a still-air filter and its gusty twin
 
     def copy(self) -> '_Hypothesis':
-        return _Hypothesis(self.x.copy(), self.P.copy(), self.loglik, self.hand, self.gusty)
+        return replace(self, x=self.x.copy(), P=self.P.copy())
 
 
 @dataclass
@@ -380,6 +386,7 @@ class _Track:
     # folded in), the arc's too
     prior: tuple = ()  # (index, mean, sigma) of the scales (and wind) at the start
     fits: dict = field(default_factory=dict)  # hand -> (key, Refined or None), its last fit
+    release_speed: float = 0.0  # [m/s] at the arc's first fix: where S_g is the lowest
 
     def keep(self, t: float, meas: Measurement) -> None:
         """Record a fix the filter took; past MAX_FIXES every other older one is dropped."""
@@ -553,14 +560,15 @@ class FlightTracker:
         if tr is None:
             return None, None, None
         fits = self._fits()
+        gusty = self._gusty_weight(tr)
         if fits is None:  # the filters, mixed by likelihood
             planes, model = self._mixture(tr, h, wall), tr.best.x
         else:  # the batch fit of every fix (one a hand while both are alive), mixed
-            planes = _mix([(w, self._plane_moments(f.x, f.P, h, wall)) for w, f in fits])
+            planes = _mix_planes([(w, self._plane_moments(f.x, f.P, h, wall)) for w, f in fits])
             top = max(fits, key=lambda wf: wf[0])[1]
             # whichever is less stable sets the tumbling allowance
-            model = min((top.x, tr.best.x), key=self.gyroscopic_stability)
-            if self.gyroscopic_stability(model) < 1.0:  # a kick that may tumble: the fit's
+            model = min((top.x, tr.best.x), key=self._stability)
+            if self._stability(model) < 1.0:  # a kick that may tumble: the fit's
                 # mean, the filter's covariance (it carries the tumbling all flight), widened
                 # by how far the two lie apart
                 planes = [
@@ -568,8 +576,15 @@ class FlightTracker:
                     else (f[0], m[1] + np.outer(f[0] - m[0], f[0] - m[0]))
                     for f, m in zip(planes, self._mixture(tr, h, wall))
                 ]
+            if gusty > 1e-3:  # the fit stands for still air; the gusty filters keep their share
+                planes = [
+                    None if f is None or g is None else _mix([(1.0 - gusty, f), (gusty, g)])
+                    for f, g in zip(planes, self._mixture(tr, h, wall, gusty_only=True))
+                ]
         q = self._accel_variance(model)
         gust = self._gust_variance(tr)
+        if gust is not None:  # the gusts to come, for the gusty filters' share
+            gust = gusty * gust
         return (
             self._prediction(planes[0], q, (0.0, 0.0, 1.0), s.ground, gust),
             self._prediction(planes[1], q, (0.0, 0.0, 1.0), h, gust),
@@ -583,12 +598,13 @@ class FlightTracker:
         In gusty air the wind is a random walk of ``gust_rate`` q from now: a change dw at time
         tau before the landing (time T) moves it by about J dw ((T - tau) / T)^2 (the drift
         grows with the square of the time it acts; J = d landing / d wind of the likeliest
-        filter's mean, flown), so the landing's variance grows by q J J' T / 5: whichever
-        filter is the likelier, since a gust may start at any time.
+        gusty filter's mean, flown), so the landing's variance grows by q J J' T / 5
+        (:meth:`predict_planes` weighs it by the gusty filters' share).
         """
-        if not any(h.gusty for h in tr.hyps):
+        gusty = [h for h in tr.hyps if h.gusty]
+        if not gusty:
             return None
-        pts = np.repeat(tr.best.x[None, :], 3, axis=0)
+        pts = np.repeat(max(gusty, key=lambda h: h.loglik).x[None, :], 3, axis=0)
         pts[1, X_W] += 1.0
         pts[2, X_W + 1] += 1.0
         s = self.settings
@@ -608,18 +624,23 @@ class FlightTracker:
         w = np.exp(lls - lls.max())
         return float(sum(wk for wk, h in zip(w, tr.hyps) if h.gusty) / w.sum())
 
-    def _mixture(self, tr: _Track, height: float, wall: np.ndarray) -> list:
+    def _mixture(self, tr: _Track, height: float, wall: np.ndarray,
+                 gusty_only: bool = False) -> list:
         """
         Return the filters' moments on each plane, mixed by likelihood (:data:`PLANE_COLUMNS`).
 
-        [(mean, cov) or None where a point of a filter that counts missed the plane].
+        [(mean, cov) or None where a point of a filter that counts missed the plane]; of the
+        gusty filters alone with ``gusty_only``.
         """
-        lls = np.array([hyp.loglik for hyp in tr.hyps])
+        hyps = [hyp for hyp in tr.hyps if hyp.gusty or not gusty_only]
+        if not hyps:
+            return [None for _ in PLANE_COLUMNS]
+        lls = np.array([hyp.loglik for hyp in hyps])
         weights = np.exp(lls - lls.max())
         weights /= weights.sum()
-        return _mix([
+        return _mix_planes([
             (w, self._plane_moments(hyp.x, hyp.P, height, wall))
-            for hyp, w in zip(tr.hyps, weights) if w >= 1e-6 or len(tr.hyps) == 1
+            for hyp, w in zip(hyps, weights) if w >= 1e-6 or len(hyps) == 1
         ])
 
     def _plane_moments(self, x, P, height: float, wall: np.ndarray) -> list:
@@ -701,8 +722,11 @@ class FlightTracker:
         last = tr.fits.get(hand)
         if last is not None and last[1] is not None:
             x0 = last[1].x0
-        else:
-            mine = [h for h in tr.hyps if h.hand == hand] or tr.hyps
+        else:  # that hand's likeliest still-air filter's (the fit flies a steady wind)
+            still = [h for h in tr.hyps if not h.gusty]
+            mine = [h for h in still if h.hand == hand] or still
+            if not mine:
+                return None
             start = max(mine, key=lambda h: h.loglik)
             x0 = fly_state(start.x, [times[0] - tr.t], self.params, s.step)[0]
         if not np.all(np.isfinite(x0)):
@@ -727,9 +751,12 @@ class FlightTracker:
         t_land = float(mean[0])
         extra = q * max(t_land, 0.0) ** 3 / 3.0
         n = np.asarray(normal, dtype=float)
-        in_plane = extra * (np.eye(3) - np.outer(n, n))
-        if gust is not None:
-            in_plane[:2, :2] += gust * max(t_land, 0.0)
+        project = np.eye(3) - np.outer(n, n)
+        in_plane = extra * project
+        if gust is not None:  # the gusts' drift, x y, within the plane
+            drift = np.zeros((3, 3))
+            drift[:2, :2] = gust * max(t_land, 0.0)
+            in_plane += project @ drift @ project
         if mean.size == 3:  # a horizontal plane
             if not math.isfinite(height):
                 return None
@@ -813,13 +840,18 @@ class FlightTracker:
             if ok:
                 folded = with_timing(meas, x[:3], x[X_V:X_V + 3], jitter)
                 up = unscented_update(x, P, folded, s.spread)
+                if up is not None:
+                    # A filter that refuses a fix another takes is scored on it all the same
+                    # (predicted, not updated): the fix counts against the model that missed.
+                    new = replace(hyp, x=x, P=P, loglik=hyp.loglik - 0.5 * (up.d2 + up.logdet))
                 if up is not None and up.d2 <= s.gate:
                     x = up.x
                     x[X_S:X_S + 3] /= np.linalg.norm(x[X_S:X_S + 3])
                     if np.all(np.isfinite(x)):
-                        new = _Hypothesis(x, up.P, hyp.loglik - 0.5 * (up.d2 + up.logdet),
-                                          hyp.hand, hyp.gusty)
-                        if hyp is best:
+                        new = replace(new, x=x, P=up.P)
+                        # the likeliest decides; a gusty filter also takes what still air
+                        # cannot explain (a gust beyond the still-air filter's gate)
+                        if hyp is best or (hyp.gusty and not best.gusty and not accepted):
                             accepted, taken = True, folded
             new_hyps.append(new)
         if accepted:
@@ -850,7 +882,18 @@ class FlightTracker:
         return result
 
     def _prune(self, tr: _Track) -> None:
-        """Drop the hypotheses (a hand, a spin component) that the best outweighs ``hand_odds``."""
+        """
+        Drop the hypotheses (a hand, a spin component) that the best outweighs ``hand_odds``.
+
+        A gusty filter is kept within ``gust_prior`` of its still-air twin's likelihood (air
+        may turn gusty at any time: the odds of a switch, as in an interacting multiple
+        model), so that still air early in a throw does not rule out a gust later.
+        """
+        still = {h.component: h.loglik for h in tr.hyps if not h.gusty}
+        lift = math.log(self.settings.gust_prior) if self.settings.gust_prior > 0.0 else None
+        for h in tr.hyps:
+            if h.gusty and lift is not None and h.component in still:
+                h.loglik = max(h.loglik, still[h.component] + lift)
         if len(tr.hyps) > 1:
             floor = tr.best.loglik - math.log(self.settings.hand_odds)
             tr.hyps = [h for h in tr.hyps if h.loglik >= floor]
@@ -923,26 +966,43 @@ class FlightTracker:
         ok = bool(np.all(np.isfinite(xm)) and np.all(np.isfinite(Pm)))
         return xm, 0.5 * (Pm + Pm.T), ok
 
-    def gyroscopic_stability(self, x: np.ndarray) -> float:
-        """Return McCoy's S_g of a filter state (air speed against the parameters' wind)."""
+    def gyroscopic_stability(self, x: np.ndarray, min_speed: float = 0.0) -> float:
+        """
+        Return McCoy's S_g of a filter state (air speed against the parameters' wind).
+
+        At the larger of the state's air speed and ``min_speed`` [m/s] (S_g falls as the speed
+        grows: the overturning moment goes with its square).
+        """
         h1 = float(x[X_H:X_H + 3] @ x[X_S:X_S + 3])  # = (I_s / I_t) p
         air = x[X_V:X_V + 3] - self.params[dyn.P_WIND:dyn.P_WIND + 3]
         if x.size == N_X_WIND:
             air[:2] -= x[X_W:X_W + 2]
-        speed = math.sqrt(float(air @ air))
+        speed = max(math.sqrt(float(air @ air)), min_speed)
         if speed == 0.0:
             return math.inf
         return gyroscopic_stability(self.ball, speed, h1 / self.ball.inertia_ratio)
+
+    def _stability(self, x: np.ndarray) -> float:
+        """
+        Return S_g of a state of the current throw at its release speed (or faster).
+
+        A ball that tumbled near the release, where it is fastest and so least stable, keeps a
+        random attitude after its S_g has risen past 1 near the apex: the spin learnt so far,
+        judged at the speed the throw started with.
+        """
+        tr = self.track
+        return self.gyroscopic_stability(x, tr.release_speed if tr is not None else 0.0)
 
     def _accel_variance(self, x: np.ndarray) -> float:
         """
         Model-error acceleration PSD [m^2/s^4/Hz]: more while the ball can tumble (S_g < 1).
 
-        From the estimate's own S_g (its spin as learnt so far): the sigma points of a
-        tumbling ball spread less than its real axis motion does.
+        From the estimate's own S_g (its spin as learnt so far) at the release speed
+        (:meth:`_stability`): the sigma points of a tumbling ball spread less than its real
+        axis motion does.
         """
         s = self.settings
-        unstable = min(max(1.0 - self.gyroscopic_stability(x), 0.0), 1.0)
+        unstable = min(max(1.0 - self._stability(x), 0.0), 1.0)
         return s.accel_noise**2 + (s.tumble_noise * unstable) ** 2
 
     def _candidate(self, t: float, meas: Measurement) -> UpdateResult:
@@ -1144,7 +1204,7 @@ class FlightTracker:
         v_first = v + np.array([0.0, 0.0, self.params[dyn.P_GRAVITY] * t_span])
         axis = v_first / np.linalg.norm(v_first)
         perp = np.eye(3) - np.outer(axis, axis)
-        n_x = N_X_WIND if s.wind_sigma > 0.0 else N_X
+        n_x = N_X_WIND if s.wind_sigma > 0.0 else N_X  # the still-air filters'
         P = np.zeros((n_x, n_x))
         P[:6, :6] = 4.0 * cov6  # the arc ignores drag and lift over the window
         speed = float(np.linalg.norm(v))
@@ -1163,12 +1223,16 @@ class FlightTracker:
         if n_x == N_X_WIND:  # unknown steady wind beyond the known ``wind``, mean 0
             P[X_W, X_W] = P[X_W + 1, X_W + 1] = s.wind_sigma**2
         mean = {X_KD: 1.0, X_KL: 1.0, X_W: 0.0, X_W + 1: 0.0}
+        gust_var = {X_W: s.gust_rate**2 * 1.0, X_W + 1: s.gust_rate**2 * 1.0}  # [m^2/s^2]
         for i, (m, var) in (self.learned or {}).items():  # the last throw's, if carried
-            if i < n_x and math.isfinite(m) and math.isfinite(var) and var > 0.0:
+            if math.isfinite(m) and math.isfinite(var) and var > 0.0:
                 mean[i] = m
-                P[i, i] = min(P[i, i], var + CARRY_VARIANCE[i])
+                if i < n_x:
+                    P[i, i] = min(P[i, i], var + CARRY_VARIANCE[i])
+                else:  # a wind only the gusty twins carry
+                    gust_var[i] = min(gust_var[i], var + CARRY_VARIANCE[i])
         hyps = []
-        for hand, h1, h1_sigma in self._spin_prior():
+        for k, (hand, h1, h1_sigma) in enumerate(self._spin_prior()):
             x = np.zeros(n_x)
             x[:6] = x0
             x[X_S:X_S + 3] = axis
@@ -1190,10 +1254,20 @@ class FlightTracker:
             Ph[X_H:X_H + 3, :6] = hand * h1 * P[X_S:X_S + 3, :6]
             Ph[:6, X_H:X_H + 3] = Ph[X_H:X_H + 3, :6].T
             Ph[X_H:X_H + 3, X_H:X_H + 3] += hand * h1 * c
-            hyps.append(_Hypothesis(x, Ph, 0.0, hand))
-            if n_x == N_X_WIND and s.gust_rate > 0.0:  # its twin in gusty air
-                hyps.append(_Hypothesis(x.copy(), Ph.copy(), 0.0, hand, gusty=True))
-        self.track = _Track(hyps, float(t))
+            if s.gust_rate <= 0.0:
+                hyps.append(_Hypothesis(x, Ph, 0.0, hand, component=k))
+                continue
+            hyps.append(_Hypothesis(x, Ph, math.log1p(-s.gust_prior), hand, component=k))
+            # its twin in gusty air, with the wind's two states (in still air: mean 0, or
+            # the last throw's, sigma the wind a gust of gust_rate brings in a second)
+            xg, Pg = np.zeros(N_X_WIND), np.zeros((N_X_WIND, N_X_WIND))
+            xg[:n_x], Pg[:n_x, :n_x] = x, Ph
+            if n_x == N_X:
+                for i in (X_W, X_W + 1):
+                    xg[i] = mean[i]
+                    Pg[i, i] = gust_var[i]
+            hyps.append(_Hypothesis(xg, Pg, math.log(s.gust_prior), hand, True, k))
+        self.track = _Track(hyps, float(t), release_speed=float(np.linalg.norm(v_first)))
         self.track.prior = tuple(
             (i, float(x[i]), math.sqrt(P[i, i])) for i in (X_KD, X_KL, X_W, X_W + 1) if i < n_x
         )
@@ -1243,23 +1317,24 @@ def warm_up(settings: TrackerSettings | None = None):
                        time.perf_counter() - start, new_hits - hits, new_misses - misses)
 
 
-def _mix(weighted: list) -> list:
+def _mix(parts) -> tuple[np.ndarray, np.ndarray]:
+    """Return the (mean, cov) of a mixture of [(weight, (mean, cov))] (weights any scale)."""
+    wsum = sum(w for w, _ in parts)
+    mean = sum(w * m[0] for w, m in parts) / wsum
+    return mean, sum(w * (m[1] + np.outer(m[0] - mean, m[0] - mean)) for w, m in parts) / wsum
+
+
+def _mix_planes(weighted: list) -> list:
     """
-    Mix moments on each plane: ``weighted`` [(weight, [(mean, cov) or None per plane])].
+    Mix moments plane by plane: ``weighted`` [(weight, [(mean, cov) or None per plane])].
 
     Returns [(mean, cov) or None] per plane (None where a part missed it).
     """
-    out = []
-    for k in range(len(PLANE_COLUMNS)):
-        part = [(w, moments_[k]) for w, moments_ in weighted]
-        if not part or any(m is None for _, m in part):
-            out.append(None)
-            continue
-        wsum = sum(w for w, _ in part)
-        mean = sum(w * m[0] for w, m in part) / wsum
-        out.append((mean, sum(w * (m[1] + np.outer(m[0] - mean, m[0] - mean))
-                              for w, m in part) / wsum))
-    return out
+    return [
+        None if not weighted or any(m[k] is None for _, m in weighted)
+        else _mix([(w, m[k]) for w, m in weighted])
+        for k in range(len(PLANE_COLUMNS))
+    ]
 
 
 def _same(entry: _Entry, t: float, meas: Measurement) -> bool:

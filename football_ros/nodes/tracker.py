@@ -177,9 +177,16 @@ PARAMETERS = (
         (
             'gust_rate',
             TrackerSettings.gust_rate,
-            'Gusts (with wind_sigma > 0): each filter also runs with the wind a random walk of '
-            'this rate [m/s/sqrt(s)], 0 = off',
+            'Gusts: each filter has a gusty twin, the wind a random walk of this rate '
+            '[m/s/sqrt(s)], mixed by likelihood (an unmodelled wind taken in); 0 = still air only',
             TrackerSettings.LIMITS['gust_rate'],
+        ),
+        (
+            'gust_prior',
+            TrackerSettings.gust_prior,
+            'Odds of gusty air before the fixes tell, kept as a floor while still air fits '
+            '(larger: gusts caught sooner, wider in still air)',
+            TrackerSettings.LIMITS['gust_prior'],
         ),
         (
             'carry_over',
@@ -224,6 +231,7 @@ class TrackerNode(Node):
                 wind=(self.wind_x, self.wind_y),
                 wind_sigma=self.wind_sigma,
                 gust_rate=self.gust_rate,
+                gust_prior=self.gust_prior,
             ),
             max_tracks=int(self.max_tracks),
             carry_over=bool(self.carry_over),
