@@ -721,9 +721,9 @@ class SimulatorNode(Node):
         Create a publisher without rclpy's default QoS-event handlers (unless given others).
 
         Each handler is a waitable of the node, and the executor walks every waitable at every
-        wake-up, so that the simulator's own dozen publishers alone made each service call and
-        each SimulateSteps goal cost about twice a bare server's (bench/core_benchmark.py: the
-        do-nothing floor). An incompatible QoS is still reported by the other side's handler.
+        wake-up: the simulator's own dozen publishers alone added to every service call and
+        SimulateSteps goal as much as a do-nothing server costs (bench/core_benchmark.py's
+        floor). An incompatible QoS is still reported by the other side's handler.
         """
         kwargs.setdefault('event_callbacks', PublisherEventCallbacks(use_default_callbacks=False))
         return super().create_publisher(*args, **kwargs)

@@ -699,19 +699,11 @@ class World:
         landed = not math.isnan(c.landing[j])
         return _sample(float(c.landing[j]) if landed else float(c.times[j]), out, d, landed)
 
-    def sample_of(self, entity: Entity, theory: bool = False) -> BallSample:
-        """
-        Return the latest state of ``entity`` as a sample.
-
-        ``theory``: with its flight's linear-theory angles (advances the quasi-steady theory:
-        call with non-decreasing times), else NaN.
-        """
+    def sample_of(self, entity: Entity) -> BallSample:
+        """Return the latest state of ``entity`` as a sample (theory angles NaN: ShownSample)."""
         k = entity.slot
-        t, y = float(self.flown[k]), self.full[k]
-        theory_angles = None
-        if theory and entity.run is not None:
-            theory_angles = entity.run.flight.theory_angles(t, y)
-        return _sample(t, y, self.described[k], self.status[k] == LANDED, theory_angles)
+        return _sample(float(self.flown[k]), self.full[k], self.described[k],
+                       self.status[k] == LANDED)
 
     def reset(self, state: bool, spawned: bool) -> list[Entity]:
         """
