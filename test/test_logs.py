@@ -25,6 +25,7 @@ REPO = Path(__file__).resolve().parent.parent
 
 
 class Recorder:
+
     def __init__(self, name: str) -> None:
         self.name = name
         self.lines = []
