@@ -70,9 +70,13 @@ def width_sigma(camera: Camera, center, width: float, noise: float) -> float:
     (uniform, at the ray through the centre (2,) [px]), in quadrature.
     """
     ray = camera.rotation @ camera.unproject(np.asarray(center, dtype=float).reshape(2))
-    spread = float(camera.width_spread(camera.position + ray))
-    w = float(width)
-    return math.sqrt(noise**2 + (WIDTH_MODEL * w) ** 2 + (spread * w) ** 2 / 3.0)
+    return _width_sigma(camera, camera.position + ray, float(width), noise)
+
+
+def _width_sigma(camera: Camera, point: np.ndarray, width: float, noise: float) -> float:
+    """:func:`width_sigma` with the centre's ray given by a ``point`` (3,) [m, field] on it."""
+    spread = float(camera.width_spread(point))
+    return math.sqrt(noise**2 + (WIDTH_MODEL * width) ** 2 + (spread * width) ** 2 / 3.0)
 
 
 def pixel_fix(
@@ -104,10 +108,11 @@ def range_fix(
     ``source`` the camera's name (:class:`.measurement.Measurement`).
     """
     ray = camera.unproject(np.asarray(center, dtype=float))
-    scale = float(camera.image_width(camera.position + camera.rotation @ ray, 1.0))  # at Z = 1
+    point = camera.position + camera.rotation @ ray  # on the ray at Z = 1
+    scale = float(camera.image_width(point, 1.0))
     w = float(width)
     depth = scale * diameter / w
-    sigma_w = width_sigma(camera, center, w, noise)
+    sigma_w = _width_sigma(camera, point, w, noise)
     p_cam = ray * depth
     # d p_cam / d(depth) = ray; across the ray: noise / scale per unit depth
     across = noise / scale * depth

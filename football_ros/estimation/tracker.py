@@ -387,10 +387,12 @@ class _Track:
     prior: tuple = ()  # (index, mean, sigma) of the scales (and wind) at the start
     fits: dict = field(default_factory=dict)  # hand -> (key, Refined or None), its last fit
     release_speed: float = 0.0  # [m/s] at the arc's first fix: where S_g is the lowest
+    pixels: bool = False  # a fix other than a 3D position (a camera's pixels) was taken
 
     def keep(self, t: float, meas: Measurement) -> None:
         """Record a fix the filter took; past MAX_FIXES every other older one is dropped."""
         self.fixes[t] = meas
+        self.pixels = self.pixels or not isinstance(meas, PositionFix)
         if len(self.fixes) > MAX_FIXES:
             stamps = sorted(self.fixes)
             for stamp in stamps[1:-1:2]:
@@ -689,9 +691,7 @@ class FlightTracker:
             fit = self._fit()
             return None if fit is None else [(1.0, fit)]
         if s.refine_iterations == 0 or tr is None or self._gusty_weight(tr) > 0.5 or not (
-            s.hand_fits == 'always' or s.hand_fits == 'pixels' and any(
-                not isinstance(m, PositionFix) for m in tr.fixes.values()
-            )
+            s.hand_fits == 'always' or s.hand_fits == 'pixels' and tr.pixels
         ):
             return None
         fits = [self._hand_fit(tr, hand) for hand in (1.0, -1.0)]
