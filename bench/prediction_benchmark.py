@@ -175,14 +175,14 @@ def random_releases(rng: np.random.Generator, n: int, case: Case) -> list[Releas
     return out
 
 
-GUST_RATE = [None]
-"""The tracker's gust_rate of this run (``--gust-rate``; None: the tracker's default)."""
+GUSTS: dict = {}
+"""The tracker's gust_rate and gust_prior of this run (``--gust-rate``, ``--gust-prior``; absent:
+the tracker's defaults)."""
 
 
 def tracker_settings(case: Case, wind_sigma: float = 0.0) -> TrackerSettings:
     """Return what the tracker is told in ``case``: the ball, the camera's noise, the wind's."""
-    gust = {} if GUST_RATE[0] is None else {'gust_rate': GUST_RATE[0]}
-    return TrackerSettings(noise=case.noise, ball=case.ball, wind_sigma=wind_sigma, **gust)
+    return TrackerSettings(noise=case.noise, ball=case.ball, wind_sigma=wind_sigma, **GUSTS)
 
 
 # --- baselines ----------------------------------------------------------------------------------
@@ -691,6 +691,10 @@ def main() -> None:
     ap.add_argument('--gust-rate', type=float, default=None,
                     help="the tracker's gust_rate [m/s/sqrt(s)] (default: the tracker's, "
                          f'{TrackerSettings.gust_rate:g}; 0 = still air only)')
+    ap.add_argument('--gust-prior', type=float, default=None,
+                    help="the tracker's gust_prior, the odds of gusty air (default: the "
+                         f"tracker's, {TrackerSettings.gust_prior:g}; docs/tracker.md's gusty "
+                         'day: 0.5)')
     ap.add_argument('--draws', type=int, default=1, help='independent draws (seeds seed..)')
     ap.add_argument(
         '--clutter', type=float, default=0.0, help='false detections per second [Hz] added'
@@ -701,7 +705,9 @@ def main() -> None:
     ap.add_argument('--cameras', action='store_true',
                     help='the cameras case set (config/rig_*.yaml) instead of the cases')
     args = ap.parse_args()
-    GUST_RATE[0] = args.gust_rate
+    GUSTS.update({name: value for name, value in (('gust_rate', args.gust_rate),
+                                                  ('gust_prior', args.gust_prior))
+                  if value is not None})
     if args.cameras:
         camera_main(args)
         return
@@ -716,6 +722,7 @@ def main() -> None:
         f'case says; {args.flights} flights per case x {args.draws} draws, seeds {args.seed}..'
         f'{args.seed + args.draws - 1}, tracker wind_sigma {args.wind_sigma:g} m/s, '
         f'gust_rate {tracker_settings(CASES["defaults"]).gust_rate:g} m/s/sqrt(s), '
+        f'gust_prior {tracker_settings(CASES["defaults"]).gust_prior:g}, '
         f'clutter {args.clutter:g} Hz' + (', a second ball' if args.two_balls else '')
         + '. NEES: 2 and 0.95 in the 95 % ellipse when honest.'
     )
@@ -793,6 +800,7 @@ if __name__ == '__main__':
     pre = argparse.ArgumentParser(add_help=False)
     pre.add_argument('--wind-sigma', type=float, default=0.0)
     pre.add_argument('--gust-rate', type=float, default=-1.0)
+    pre.add_argument('--gust-prior', type=float, default=0.0)
     pre.add_argument('--clutter', type=float, default=0.0)
     pre.add_argument('--two-balls', action='store_true')
     pre.add_argument('--cameras', action='store_true')
@@ -802,6 +810,6 @@ if __name__ == '__main__':
     section = 'prediction' + (', field cases' if field_only else '') + ''.join(
         f', {name} {value:g}' for name, value in
         (('wind_sigma', flags.wind_sigma), ('gust_rate', flags.gust_rate),
-         ('clutter Hz', flags.clutter)) if value > 0.0 or (name == 'gust_rate' and value == 0.0)
+         ('gust_prior', flags.gust_prior), ('clutter Hz', flags.clutter)) if value > 0.0 or (name == 'gust_rate' and value == 0.0)
     ) + (', two balls' if flags.two_balls else '') + (', cameras' if flags.cameras else '')
     raise SystemExit(results.recorded(section, main))
