@@ -810,6 +810,7 @@ if __name__ == '__main__':
     section = 'prediction' + (', field cases' if field_only else '') + ''.join(
         f', {name} {value:g}' for name, value in
         (('wind_sigma', flags.wind_sigma), ('gust_rate', flags.gust_rate),
-         ('gust_prior', flags.gust_prior), ('clutter Hz', flags.clutter)) if value > 0.0 or (name == 'gust_rate' and value == 0.0)
+         ('gust_prior', flags.gust_prior), ('clutter Hz', flags.clutter))
+        if value > 0.0 or (name == 'gust_rate' and value == 0.0)
     ) + (', two balls' if flags.two_balls else '') + (', cameras' if flags.cameras else '')
     raise SystemExit(results.recorded(section, main))
