@@ -53,6 +53,7 @@ import socket
 import sys
 import threading
 import time
+import traceback
 from typing import Sequence
 
 from diagnostic_msgs.msg import DiagnosticArray
@@ -67,6 +68,7 @@ from rclpy.serialization import deserialize_message
 
 from . import messages as mb
 from . import qos
+from .logs import throttled
 from .params import declare_all, ParamSpec
 from .quiet import QuietNode
 from .runner import run_node
@@ -384,38 +386,45 @@ class ViewNode(QuietNode):
         """
         subs: dict[str, tuple] = {}  # topic -> (subscription, class, channel, scene source)
         wait_set = applied = None
-        try:
-            while not self._stop.is_set():
+        while not self._stop.is_set():
+            try:
                 wanted = self._wanted_subs
                 if wanted is not applied:
                     self._reconcile(subs, wanted)
                     applied = wanted
                     wait_set = _rclpy.WaitSet(len(subs), 1, 0, 0, 0, 0, self.context.handle)
-                wait_set.clear_entities()
-                for sub, _, _, _ in subs.values():
-                    wait_set.add_subscription(sub.handle)
-                wait_set.add_guard_condition(self._wake.handle)
-                wait_set.wait(FORWARD_WAIT_NS)
-                ready = wait_set.get_ready_entities('subscription')
-                if not ready:
-                    continue
-                for topic, (sub, cls, channel, scene_source) in subs.items():
-                    if sub.handle.pointer not in ready:
-                        continue
-                    take, data = sub.handle.take_message, None
-                    while (taken := take(cls, True)) is not None:
-                        data = taken[0]
-                        channel.log(data, log_time=time.time_ns())
-                        self._forwarded += 1
-                    if scene_source and data is not None:
-                        with self._scene_lock:
-                            self._latest[topic] = data
-        except Exception:  # noqa: BLE001 - rclpy's errors once the context is shut down
-            if self.context.ok():
-                raise
-        finally:
-            if self.context.ok():
-                self._reconcile(subs, {})
+                self._forward_once(subs, wait_set)
+            except Exception:  # noqa: BLE001 - the node goes on, as after a callback's error
+                if not self.context.ok():  # shut down under the thread: nothing to clean
+                    return
+                throttled(self.get_logger(), 'error',
+                          f'the forwarder failed (it goes on):\n{traceback.format_exc()}', 10.0)
+                applied = None  # the subscriptions and the wait set again
+                self._stop.wait(0.1)
+        if self.context.ok():
+            self._reconcile(subs, {})
+
+    def _forward_once(self, subs: dict, wait_set) -> None:
+        """Wait (at most :data:`FORWARD_WAIT_NS`) and forward what the ready readers hold."""
+        wait_set.clear_entities()
+        for sub, _, _, _ in subs.values():
+            wait_set.add_subscription(sub.handle)
+        wait_set.add_guard_condition(self._wake.handle)
+        wait_set.wait(FORWARD_WAIT_NS)
+        ready = wait_set.get_ready_entities('subscription')
+        if not ready:
+            return
+        for topic, (sub, cls, channel, scene_source) in subs.items():
+            if sub.handle.pointer not in ready:
+                continue
+            take, data = sub.handle.take_message, None
+            while (taken := take(cls, True)) is not None:
+                data = taken[0]
+                channel.log(data, log_time=time.time_ns())
+                self._forwarded += 1
+            if scene_source and data is not None:
+                with self._scene_lock:
+                    self._latest[topic] = data
 
     def _reconcile(self, subs: dict, wanted: dict) -> None:
         """Create and destroy subscriptions until ``subs`` holds the ``wanted`` topics."""
