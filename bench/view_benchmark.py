@@ -150,6 +150,7 @@ def main() -> int:
         return cpu, (late1 - late0) + (skipped1 - skipped0)
 
     rows = []
+    load = [os.getloadavg()]  # the machine's load (1, 5, 15 min) at the start and the end
     try:
         for draw in range(args.draws):
             row = {}
@@ -208,7 +209,8 @@ def main() -> int:
             rows.append(row)
     finally:
         sim.stop()
-    _report(args, rows)
+    load.append(os.getloadavg())
+    _report(args, rows, load)
     return 0
 
 
@@ -233,10 +235,12 @@ def _overflows(bench) -> str:
     return found.get('viewer queue overflows', '?')
 
 
-def _report(args, rows) -> None:
+def _report(args, rows, load) -> None:
     print(f'{args.balls} balls at {args.rate:g} Hz, {args.seconds:g} s windows, '
           f'{len(rows)} draws; stall {args.stall:g} s. CPU = simulator process (user + system) '
-          '[s per window]; late = its overruns + skipped ticks in the window.\n')
+          '[s per window]; late = its overruns + skipped ticks in the window.')
+    print('load average (1, 5, 15 min) at the start ' + ', '.join(f'{v:.2f}' for v in load[0])
+          + '; at the end ' + ', '.join(f'{v:.2f}' for v in load[1]) + '\n')
     print('draw | CPU none | CPU ros | CPU view | view/none | view/ros | late none | late ros '
           '| late view | late stalled')
     for k, r in enumerate(rows):
@@ -255,6 +259,8 @@ def _report(args, rows) -> None:
         ('Foxglove client receipt', [v[0] for r in rows for v in r['view_latency']]),
         ('  of which: handed to the server (view node)', [v[1] for r in rows
                                                           for v in r['view_latency']]),
+        ('  server to client (handed -> receipt)', [v[0] - v[1] for r in rows
+                                                    for v in r['view_latency']]),
     ):
         print(f'{name:46s} | {len(values):5d} | {percentile(values, 50):5.2f} | '
               f'{percentile(values, 95):5.2f} | {max(values, default=float("nan")):5.1f}')

@@ -57,8 +57,6 @@ from geometry_msgs.msg import PoseStamped, Vector3Stamped
 from nav_msgs.msg import Odometry
 import numpy as np
 from rcl_interfaces.msg import SetParametersResult
-from rclpy.event_handler import PublisherEventCallbacks, SubscriptionEventCallbacks
-from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
 from std_msgs.msg import String
 from std_srvs.srv import SetBool, Trigger
@@ -70,6 +68,7 @@ from .cameras import CameraRigPublisher
 from .logs import throttled
 from .observation_hook import ObservationHook, PARAMETERS as OBSERVATION_PARAMETERS
 from .params import declare_all, ParamSpec
+from .quiet import QuietNode
 from .runner import run_node
 
 try:  # the system package on a Jazzy install; pip_ros/simulation_interfaces on the pip ROS
@@ -264,7 +263,7 @@ def check_parameters(values: dict, flight_step: float | None = None) -> str | No
     return None
 
 
-class SimulatorNode(Node):
+class SimulatorNode(QuietNode):
     """
     Simulator node: the ball in flight, paced in real time.
 
@@ -715,32 +714,12 @@ class SimulatorNode(Node):
             outs[2] = pubs[1].get_subscription_count() > 0
             self._wanted[self._check_row] = outs[1] or outs[2]
 
-    # --- publishers and subscriptions without QoS-event handlers ------------------------------
-    def create_publisher(self, *args, **kwargs):
-        """
-        Create a publisher without rclpy's default QoS-event handlers (unless given others).
-
-        Each handler is a waitable of the node, and the executor walks every waitable at every
-        wake-up: the simulator's own dozen publishers alone added to every service call and
-        SimulateSteps goal as much as a do-nothing server costs (bench/core_benchmark.py's
-        floor). An incompatible QoS is still reported by the other side's handler.
-        """
-        kwargs.setdefault('event_callbacks', PublisherEventCallbacks(use_default_callbacks=False))
-        return super().create_publisher(*args, **kwargs)
-
-    def create_subscription(self, *args, **kwargs):
-        """Create a subscription without rclpy's default QoS-event handlers (as publishers)."""
-        kwargs.setdefault(
-            'event_callbacks', SubscriptionEventCallbacks(use_default_callbacks=False)
-        )
-        return super().create_subscription(*args, **kwargs)
-
     # --- simulation_interfaces (simulation_services.py calls these, executor thread) ---------
     def add_entity_publishers(self, entity: Entity) -> None:
         """
         Create a spawned entity's state publishers (its topics counted at once).
 
-        Without QoS-event handlers (:meth:`create_publisher`): with them, hundreds of entities
+        Without QoS-event handlers (:class:`.quiet.QuietNode`): with them, hundreds of entities
         made every service answer take over 100 ms.
         """
         pubs = tuple(

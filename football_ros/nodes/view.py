@@ -33,8 +33,9 @@ the predicted and planned paths, and the field's lines (football_ros/scene.py).
 
 Bounded: each viewer has a queue of ``backlog`` messages (the oldest dropped when a viewer does
 not read); the queue overflows, the viewers and the forwarded counts go to /diagnostics once a
-second. The executor only forwards bytes; the scene (and the bag's player) run in one worker
-thread that decodes the newest message of each source once per update.
+second. Live, one thread forwards: it waits on the viewed topics' readers itself and hands
+every message's CDR bytes to the server untouched (no executor, no decoding); the scene (or
+the bag's player) runs in another, decoding the newest message of each source once per update.
 Bound to another address than the loopback, the node warns that every machine that reaches it
 sees the topics (the protocol has no authentication).
 """
@@ -46,22 +47,30 @@ from collections import deque
 import ipaddress
 import json
 import logging
+import os
+from pathlib import Path
+import socket
 import sys
 import threading
 import time
+import traceback
 from typing import Sequence
 
 from diagnostic_msgs.msg import DiagnosticArray
 import foxglove
 from foxglove import Channel, Schema
 from foxglove.websocket import Capability, PlaybackState, PlaybackStatus
-from rclpy.node import Node
+from rclpy.callback_groups import CallbackGroup
+from rclpy.guard_condition import GuardCondition
+from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message
 
 from . import messages as mb
 from . import qos
+from .logs import throttled
 from .params import declare_all, ParamSpec
+from .quiet import QuietNode
 from .runner import run_node
 from .topics import TOPICS, type_name
 from ..bagfile import msgdef
@@ -80,6 +89,8 @@ VIEW_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
                       reliability=ReliabilityPolicy.BEST_EFFORT)
 """The viewer's readers: best effort (a reliable publisher keeps nothing for it), 100 deep."""
 KNOWN_TYPES = {type_name(cls): cls for cls, _ in TOPICS.values()}
+FORWARD_WAIT_NS = 500_000_000
+"""Longest wait of the forwarder [ns] (a change of the viewed topics wakes it at once)."""
 
 PARAMETERS = (
     ParamSpec('host', '127.0.0.1', 'Address to serve on (another than the loopback: a warning)',
@@ -120,7 +131,24 @@ class _Overflows(logging.Handler):
             self._log.warning(f'foxglove: {text[:300]}')
 
 
-class ViewNode(Node):
+class _Forwarded(CallbackGroup):
+    """The forwarder's subscriptions: no executor waits on them or runs them."""
+
+    def can_execute(self, entity) -> bool:
+        return False
+
+    def beginning_execution(self, entity) -> bool:
+        return False
+
+    def ending_execution(self, entity) -> None:
+        pass
+
+
+def _unused(_data: bytes) -> None:
+    """Stand for the callback of a forwarded subscription (the forwarder takes its messages)."""
+
+
+class ViewNode(QuietNode):
     """Serves the football_ros topics and a 3D scene to Foxglove viewers over WebSocket."""
 
     PARAMETERS = PARAMETERS
@@ -140,7 +168,11 @@ class ViewNode(Node):
         self._types: dict[str, str] = {}  # topic -> ROS type
         self._by_id: dict[int, str] = {}  # channel id -> topic
         self._viewers: dict[str, set[int]] = {}  # topic -> subscribed client ids
-        self._subs: dict[str, object] = {}  # topic -> ROS subscription
+        # topic -> (class, channel, scene source): the forwarder's subscriptions, replaced whole
+        self._wanted_subs: dict[str, tuple] = {}
+        self._subscribed = 0  # subscriptions the forwarder holds
+        self._forwarded_group = _Forwarded()
+        self._wake = GuardCondition(None, None, self.context)  # wakes the forwarder
         self._scene_lock = threading.Lock()
         self._latest: dict[str, bytes] = {}  # scene source topic -> newest message
         self._removed: list[str] = []  # scene parts to delete (their topics retired)
@@ -191,6 +223,10 @@ class ViewNode(Node):
         except Exception as exc:  # noqa: BLE001 - the SDK raises its own error types
             raise ValueError(f'cannot serve on {self.host}:{self.port}: {exc}') from None
         self.url = f'ws://{self.host}:{self.server.port}'
+        if not no_delay(self.server.port):
+            self.get_logger().warning(
+                'could not set TCP_NODELAY on the server socket: a viewer may get small '
+                'messages up to one delayed acknowledgement (about 40 ms) late')
         self._diag_pub = self.create_publisher(DiagnosticArray, qos.DIAGNOSTICS,
                                                qos.DIAGNOSTICS_QOS)
         self.create_timer(DIAGNOSTICS_S, self._diagnose)
@@ -200,13 +236,18 @@ class ViewNode(Node):
         else:
             self.create_timer(DISCOVERY_S, self._discover)
             self._discover()
-        # The scene (and the bag's player) work in their own thread: the executor only
-        # forwards bytes, and gets the interpreter back within 0.5 ms of wanting it.
+        # The forwarder and the scene (or the bag's player) work in their own threads: the
+        # executor only takes the viewers' requests; a thread that wants the interpreter
+        # gets it back within 0.5 ms.
         sys.setswitchinterval(5e-4)
         self._stop = threading.Event()
-        self._worker = threading.Thread(target=self._play if self._bag else self._live,
-                                        name='football-view', daemon=True)
-        self._worker.start()
+        self._threads = [threading.Thread(target=self._play if self._bag else self._live,
+                                          name='football-view', daemon=True)]
+        if not self._bag:
+            self._threads.append(threading.Thread(target=self._forward,
+                                                  name='football-view-forward', daemon=True))
+        for thread in self._threads:
+            thread.start()
         if not _loopback(self.host):
             self.get_logger().warning(
                 f'serving on {self.host}: every machine that reaches this address sees the '
@@ -243,7 +284,7 @@ class ViewNode(Node):
 
     def _retire(self, topic: str) -> None:
         """Close the channel of a topic no node publishes any more; forget its scene part."""
-        self._unsubscribe(topic)
+        self._want(self._wanted_subs.keys() - {topic})
         with self._lock:
             channel = self._channels.pop(topic)
             self._by_id.pop(channel.id(), None)
@@ -323,34 +364,82 @@ class ViewNode(Node):
                     self._commanded = True
             return
         scene = bool(self._viewers.get(SCENE_TOPIC))
-        for topic in list(self._channels):
-            if self._viewers.get(topic) or (scene and topic in self._roles):
-                self._subscribe(topic)
-            else:
-                self._unsubscribe(topic)
+        self._want({topic for topic in self._channels
+                    if self._viewers.get(topic) or (scene and topic in self._roles)})
 
-    def _subscribe(self, topic: str) -> None:
-        if topic in self._subs:
+    def _want(self, topics: set[str]) -> None:
+        """Ask the forwarder for subscriptions to exactly ``topics`` (executor thread)."""
+        wanted = {t: (KNOWN_TYPES[self._types[t]], self._channels[t], t in self._roles)
+                  for t in topics}
+        if wanted != self._wanted_subs:
+            self._wanted_subs = wanted
+            self._wake.trigger()
+
+    # --- the forwarder (its own thread): subscriptions, bytes to the channels ---------------
+    def _forward(self) -> None:
+        """
+        Wait on the viewed topics' subscriptions and hand every message to its channel.
+
+        The thread owns the subscriptions (created, waited on, destroyed only here): no
+        executor sees them (their callback group runs nothing), and each wake-up takes every
+        message each ready reader holds, as CDR bytes, straight to the server.
+        """
+        subs: dict[str, tuple] = {}  # topic -> (subscription, class, channel, scene source)
+        wait_set = applied = None
+        while not self._stop.is_set():
+            try:
+                wanted = self._wanted_subs
+                if wanted is not applied:
+                    self._reconcile(subs, wanted)
+                    applied = wanted
+                    wait_set = _rclpy.WaitSet(len(subs), 1, 0, 0, 0, 0, self.context.handle)
+                self._forward_once(subs, wait_set)
+            except Exception:  # noqa: BLE001 - the node goes on, as after a callback's error
+                if not self.context.ok():  # shut down under the thread: nothing to clean
+                    return
+                throttled(self.get_logger(), 'error',
+                          f'the forwarder failed (it goes on):\n{traceback.format_exc()}', 10.0)
+                applied = None  # the subscriptions and the wait set again
+                self._stop.wait(0.1)
+        if self.context.ok():
+            self._reconcile(subs, {})
+
+    def _forward_once(self, subs: dict, wait_set) -> None:
+        """Wait (at most :data:`FORWARD_WAIT_NS`) and forward what the ready readers hold."""
+        wait_set.clear_entities()
+        for sub, _, _, _ in subs.values():
+            wait_set.add_subscription(sub.handle)
+        wait_set.add_guard_condition(self._wake.handle)
+        wait_set.wait(FORWARD_WAIT_NS)
+        ready = wait_set.get_ready_entities('subscription')
+        if not ready:
             return
-        cls = KNOWN_TYPES[self._types[topic]]
-        channel = self._channels[topic]
-        scene_source = topic in self._roles
-
-        def forward(data: bytes) -> None:
-            channel.log(data, log_time=time.time_ns())
-            self._forwarded += 1
-            if scene_source:
+        for topic, (sub, cls, channel, scene_source) in subs.items():
+            if sub.handle.pointer not in ready:
+                continue
+            take, data = sub.handle.take_message, None
+            while (taken := take(cls, True)) is not None:
+                data = taken[0]
+                channel.log(data, log_time=time.time_ns())
+                self._forwarded += 1
+            if scene_source and data is not None:
                 with self._scene_lock:
                     self._latest[topic] = data
 
-        self._subs[topic] = self.create_subscription(cls, topic, forward, VIEW_QOS, raw=True)
-
-    def _unsubscribe(self, topic: str) -> None:
-        sub = self._subs.pop(topic, None)
-        if sub is not None:
-            self.destroy_subscription(sub)
+    def _reconcile(self, subs: dict, wanted: dict) -> None:
+        """Create and destroy subscriptions until ``subs`` holds the ``wanted`` topics."""
+        for topic in [t for t in subs if t not in wanted]:
+            self.destroy_subscription(subs.pop(topic)[0])
             with self._scene_lock:
                 self._latest.pop(topic, None)
+        for topic, (cls, channel, scene_source) in wanted.items():
+            if topic in subs:  # a topic retired and offered again: its new channel
+                subs[topic] = (subs[topic][0], cls, channel, scene_source)
+                continue
+            sub = self.create_subscription(cls, topic, _unused, VIEW_QOS, raw=True,
+                                           callback_group=self._forwarded_group)
+            subs[topic] = (sub, cls, channel, scene_source)
+        self._subscribed = len(subs)
 
     # --- the scene (the worker thread) -----------------------------------------------------
     def _feed(self, topic: str, data: bytes) -> None:
@@ -447,7 +536,7 @@ class ViewNode(Node):
             'url': self.url,
             'viewers': len(viewers),
             'channels': len(self._channels) + 1,
-            'subscribed topics': len(self._subs),
+            'subscribed topics': self._subscribed,
             'forwarded': self._forwarded,
             'scene updates': self._scenes,
             'viewer queue overflows': self._overflows.count,
@@ -465,13 +554,55 @@ class ViewNode(Node):
             header=mb.header(self.get_clock().now().to_msg(), ''), status=[status]))
 
     def close(self) -> None:
-        """Stop the worker and the server (idempotent)."""
+        """Stop the threads (the forwarder destroys its subscriptions) and the server."""
         self._stop.set()
-        self._worker.join(timeout=2.0)
+        self._wake.trigger()
+        for thread in self._threads:
+            thread.join(timeout=2.0)
+        self._wake.destroy()
         if self._bag is not None:
             self._bag.close()
         self.server.stop()
         logging.getLogger('foxglove').removeHandler(self._overflows)
+
+
+def no_delay(port: int) -> int:
+    """
+    Set TCP_NODELAY on this process's listening TCP sockets on ``port``; return how many.
+
+    The Foxglove SDK's server leaves Nagle's algorithm on for its clients, so a small message
+    waits for the client's (delayed, up to 40 ms) acknowledgement of the one before; on Linux
+    an accepted connection inherits the option from the listening socket, so setting it there
+    before any viewer connects covers every viewer. Finds the sockets by their inodes in
+    /proc (0 where there is no /proc).
+    """
+    inodes = set()
+    for table in ('/proc/net/tcp', '/proc/net/tcp6'):
+        try:
+            lines = Path(table).read_text().splitlines()[1:]
+        except OSError:
+            continue
+        for line in lines:
+            fields = line.split()  # sl local remote state ... inode (field 9)
+            if (len(fields) > 9 and fields[3] == '0A'  # LISTEN
+                    and int(fields[1].rsplit(':', 1)[1], 16) == port):
+                inodes.add(f'socket:[{fields[9]}]')
+    done = 0
+    try:
+        fds = os.listdir('/proc/self/fd')
+    except OSError:
+        return 0
+    for fd in fds:
+        try:
+            if os.readlink(f'/proc/self/fd/{fd}') not in inodes:
+                continue
+            sock = socket.socket(fileno=os.dup(int(fd)))  # closing a dup leaves it open
+        except OSError:  # the descriptor closed meanwhile
+            continue
+        with sock:
+            sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+            done += 1
+    return done
 
 
 def _loopback(host: str) -> bool:
