@@ -251,6 +251,26 @@ def test_cli_json_shape_and_its_coefficients_fly_in_simulate(tmp_path):
     assert 'c_d0' in text.stdout and 'simulate with: football-ros simulate' in text.stdout
 
 
+def test_a_flight_of_another_model_is_warned_of_not_given_a_bare_number(tmp_path):
+    """
+    A flight of another model is flagged: a vacuum parabola under 9.75 m/s^2.
+
+    The full model (g 9.81) matches it only with a negative C_D0; the report says the model
+    does not fit rather than giving only a number.
+    """
+    t = np.arange(0.0, 2.5, 0.01)
+    pos = np.column_stack([20.0 * t, 0.0 * t, 1.8 + 10.0 * t - 0.5 * 9.75 * t**2])
+    pos += np.random.default_rng(6).normal(0.0, 0.005, pos.shape)
+    path = _write_csv(tmp_path / 'moon.csv', t, pos)
+    out = run_cli('fit', str(path), '--ball', 'american', '--no-profile', '--json')
+    assert out.returncode == 0, out.stderr
+    report = json.loads(out.stdout)
+    d0 = report['coefficients']['c_d0']
+    assert d0['identifiable'] and d0['ci95'][1] < 0.0
+    assert any('c_d0: its 95 % interval is outside its physical range' in w
+               for w in report['warnings'])
+
+
 def test_reads_a_bag_of_observations_split_into_flights(tmp_path):
     from rosbags.rosbag2 import Writer
     from rosbags.typesys import get_typestore, Stores

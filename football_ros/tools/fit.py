@@ -197,6 +197,12 @@ def to_mapping(result: 'FitResult', args: argparse.Namespace) -> dict[str, Any]:
     argv, warnings = simulate_args(result, args)
     if not result.converged:
         warnings.append('the fit stopped at its iteration limit before converging')
+    for name, c in result.coefficients.items():
+        lo, hi = COEFFICIENTS[name].physical
+        if c.identifiable and (c.ci95[1] < lo or c.ci95[0] > hi):
+            warnings.append(f'{name}: its 95 % interval is outside its physical range '
+                            f'[{lo:g}, {hi:g}]: the model does not fit these flights (a wrong '
+                            'held value, or flights of another model)')
     return json_safe({
         'coefficients': coefficients,
         'residual_rms_m': result.residual_rms_m,
@@ -273,16 +279,16 @@ def print_report(report: dict[str, Any]) -> None:
     flights = report['flights']
     print(f"football-ros fit: {len(flights)} flight(s), {sum(f['fixes'] for f in flights)} "
           f"fixes; {report['ball']} ball, {report['model']} model ({report['moment']} moment)")
-    print(f"{'coefficient':<13}{'value':>12}  {'95 % interval':<26}identifiable")
+    print(f"{'coefficient':<13}{'value':>12}  {'95 % interval':<26} identifiable")
     for name, c in report['coefficients'].items():
         unit = f' {c["unit"]}' if c['unit'] else ''
         if c['identifiable']:
             lo, hi = c['ci95']
             interval = f'[{lo:.5g}, {hi:.5g}]{unit}'
             how = ' (profile likelihood)' if c['interval'] == 'profile' else ''
-            print(f"{name:<13}{c['value']:>12.5g}  {interval:<26}yes{how}")
+            print(f"{name:<13}{c['value']:>12.5g}  {interval:<26} yes{how}")
         else:
-            print(f"{name:<13}{'-':>12}  {'-':<26}NO: {c['reason']}")
+            print(f"{name:<13}{'-':>12}  {'-':<26} NO: {c['reason']}")
     noise = report['noise_m']
     said = f'estimated sigma {noise:.4g} m' if noise is not None else 'sigma as given'
     print(f"residual RMS {report['residual_rms_m']:.4g} m ({said}); chi-square "
