@@ -23,12 +23,12 @@ speed U(20, 28) m/s, elevation U(15, 35) deg, azimuth U(-15, 15) deg, released a
 600 rpm (the fit's spin, fixed), axis off the velocity by N(0, 2 deg) per angle, no axis rate.
 The fit is told the truth's values of what it does not free (C_D2 and, unless freed, C_Malpha:
 the lift acts on the yaw of repose C_Malpha sets, so a wrong held value biases C_Lalpha) and
-starts the freed ones at the package's defaults.
+starts the freed ones at the package's defaults; the release rates are its default ('auto').
 
 Cases (each ``--trials`` trials of ``--passes`` passes):
 - positions: C_D0 and C_Lalpha freed; targets: median relative error <= 5 % and <= 10 %;
 - axes: positions and axes, C_D0, C_Lalpha and C_Malpha freed; C_Malpha <= 5 %;
-- short pass: one 12-15 m pass (speed U(14, 16) m/s, elevation U(5, 10) deg), C_D0,
+- short pass: one pass under 1 s (speed U(12, 14) m/s, elevation U(3, 8) deg), C_D0,
   C_Lalpha and C_Npalpha freed: Magnus cannot be identified from it (its interval at the
   truth, from the noise-free information, is wider than its physical range in every trial):
   flagged in >= 95 % of trials.

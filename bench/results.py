@@ -80,7 +80,7 @@ def write_section(name: str, body: str, command: str) -> None:
     # Up to the section's closing fence: a benchmark's own output may hold '## ' lines.
     pattern = re.compile(rf'^## {re.escape(name)}\n.*?^```\n.*?^```\n', re.S | re.M)
     if pattern.search(text):
-        text = pattern.sub(lambda _m: section + '\n', text).rstrip() + '\n'
+        text = pattern.sub(lambda _m: section, text).rstrip() + '\n'
     else:
         text = text.rstrip() + '\n\n' + section
     RESULTS.write_text(text)

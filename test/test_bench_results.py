@@ -37,3 +37,4 @@ def test_a_rerun_replaces_its_whole_section_even_with_headings_in_its_output(tmp
     assert 'old' not in text and text.count('## Accuracy') == 1 and 'new 2' in text
     assert text.count('## planner') == 1 and 'other body' in text
     assert text.index('## planner') < text.index('## other')  # the section kept its place
+    assert '```\n\n## other' in text and '\n\n\n' not in text  # one blank line between

@@ -24,6 +24,7 @@ round trip into ``simulate``, and hostile files (named by file and line), fuzzed
 
 from __future__ import annotations
 
+from dataclasses import replace
 import json
 import math
 from pathlib import Path
@@ -42,11 +43,18 @@ TRUTH_BALL = {'c_m_alpha': 0.28}
 
 
 def flight(rng, speed=25.0, elevation=28.0, noise=0.02, axis_noise=None, aero=TRUTH_AERO,
-           ball=TRUTH_BALL, duration=10.0):
-    """Return (t, positions, axes) of a pass of the truth, with noise; axes None unless asked."""
+           ball=TRUTH_BALL, duration=10.0, wobble=0.0):
+    """
+    Return (t, positions, axes) of a pass of the truth, with noise; axes None unless asked.
+
+    The axis starts off the velocity by N(0, 2 deg) per angle, turning at N(0, ``wobble``)
+    [deg/s] per angle.
+    """
+    rates = rng.normal(0.0, wobble, 2) if wobble else (0.0, 0.0)
     release = Release(ball='american', speed=speed, elevation_deg=elevation,
                       azimuth_deg=rng.uniform(-10.0, 10.0), spin_rpm=600.0,
                       alpha0_deg=rng.normal(0.0, 2.0), beta0_deg=rng.normal(0.0, 2.0),
+                      alpha_rate_deg_s=rates[0], beta_rate_deg_s=rates[1],
                       position=(0.0, 0.0, 1.8), model='full', aero=aero, ball_params=ball)
     trajectory = Flight.from_release(release).simulate(rate=100.0, duration=duration)
     n = trajectory.times.size - 1 if trajectory.landed else trajectory.times.size
@@ -113,6 +121,48 @@ def test_coverage_of_the_intervals_over_trials():
     for name, (k, n) in hits.items():
         assert n >= 18, (name, n)  # a 2.5 s pass determines both
         assert k >= n - 5, (name, k, n)
+
+
+def _passes(seed, wobble, n=8):
+    rng = np.random.default_rng(seed)
+    return [Track(*flight(rng, speed=rng.uniform(22, 27), elevation=rng.uniform(20, 32),
+                          wobble=wobble)[:2]) for _ in range(n)]
+
+
+def test_steady_passes_hold_their_release_rate_and_keep_the_drag_unbiased():
+    """
+    Positions of passes released without a wobble rate: 'auto' holds the rate at zero.
+
+    Freed, each pass's rate fits the noise and only adds mean drag (C_D2 sin^2 delta), so C_D0
+    falls: below the held fit's value, the one-sided bias many passes do not average out.
+    """
+    tracks = _passes(1, 0.0)
+    settings = replace(told(('c_d0', 'c_l_alpha')), profile=False)
+    held = fit(tracks, settings)
+    assert not any(f.rate_fitted for f in held.flights)
+    assert all(np.linalg.norm(f.transverse_rate) < 1e-4 for f in held.flights)
+    d0 = held.coefficients['c_d0']
+    assert abs(d0.value - 0.075) <= 2.5 * d0.sigma, (d0.value, d0.sigma)
+    freed = fit(tracks, replace(settings, release_rate='free'))
+    assert all(f.rate_fitted for f in freed.flights)
+    assert freed.coefficients['c_d0'].value < d0.value - d0.sigma
+
+
+def test_wobbling_passes_free_their_release_rate():
+    """
+    Passes released turning at N(0, 150 deg/s) per angle: the positions show the wobble.
+
+    'auto' frees every rate and C_D0 holds the truth; held at zero, the wobble's mean drag
+    goes into C_D0, far beyond its interval.
+    """
+    tracks = _passes(1, 150.0)
+    settings = replace(told(('c_d0', 'c_l_alpha')), profile=False)
+    auto = fit(tracks, settings)
+    assert all(f.rate_fitted for f in auto.flights)
+    d0 = auto.coefficients['c_d0']
+    assert abs(d0.value - 0.075) <= 2.5 * d0.sigma, (d0.value, d0.sigma)
+    held = fit(tracks, replace(settings, release_rate='held')).coefficients['c_d0']
+    assert held.value - 0.075 > 5.0 * held.sigma
 
 
 def test_magnus_from_a_short_pass_is_not_identifiable_and_has_no_number():
@@ -199,6 +249,26 @@ def test_cli_json_shape_and_its_coefficients_fly_in_simulate(tmp_path):
     text = run_cli('fit', str(paths[0]), '--ball', 'american', '--no-profile')
     assert text.returncode == 0, text.stderr
     assert 'c_d0' in text.stdout and 'simulate with: football-ros simulate' in text.stdout
+
+
+def test_a_flight_of_another_model_is_warned_of_not_given_a_bare_number(tmp_path):
+    """
+    A flight of another model is flagged: a vacuum parabola under 9.75 m/s^2.
+
+    The full model (g 9.81) matches it only with a negative C_D0; the report says the model
+    does not fit rather than giving only a number.
+    """
+    t = np.arange(0.0, 2.5, 0.01)
+    pos = np.column_stack([20.0 * t, 0.0 * t, 1.8 + 10.0 * t - 0.5 * 9.75 * t**2])
+    pos += np.random.default_rng(6).normal(0.0, 0.005, pos.shape)
+    path = _write_csv(tmp_path / 'moon.csv', t, pos)
+    out = run_cli('fit', str(path), '--ball', 'american', '--no-profile', '--json')
+    assert out.returncode == 0, out.stderr
+    report = json.loads(out.stdout)
+    d0 = report['coefficients']['c_d0']
+    assert d0['identifiable'] and d0['ci95'][1] < 0.0
+    assert any('c_d0: its 95 % interval is outside its physical range' in w
+               for w in report['warnings'])
 
 
 def test_reads_a_bag_of_observations_split_into_flights(tmp_path):

@@ -80,6 +80,10 @@ C_Malpha from the rugby ball's 0.147 and the football's 0.33 with room; C_Mq and
 ALIASES = {'spin': ('spin_rpm',), 'wind': ('wind_x', 'wind_y')}
 """Names ``--free`` also takes."""
 
+RELEASE_RATES = ('auto', 'free', 'held')
+"""How a fit treats each flight's transverse angular velocity at release
+(:attr:`~.problem.FitSettings.release_rate`)."""
+
 DEFAULT_FREE = {'full': ('c_d0', 'c_l_alpha'), 'paper': ('c_m_alpha',)}
 """What a fit frees when the user does not say."""
 

@@ -18,10 +18,11 @@ Coefficients from measured flights: :func:`fit` and what it reports.
 Every flight's release state and the freed shared values (:mod:`.coefficients`) are fitted at
 once (:mod:`.problem`, :mod:`.solver`); unknown noise sigmas are estimated in turn with the fit
 until they settle. When the spin is freed its hand is not known: both signs are tried and the
-better fit kept. Each freed value is then judged (:mod:`.uncertainty`): a value the data cannot
-determine is reported as not identifiable, with the reason and no number; an identifiable one
-gets its 95 % interval from the Jacobian, checked against the profile likelihood (the profile's
-where they differ).
+better fit kept. A flight without observed axes has its release rate held at zero unless
+freeing those rates lowers the chi-square beyond chance (:mod:`.problem` says why). Each freed
+value is then judged (:mod:`.uncertainty`): a value the data cannot determine is reported as
+not identifiable, with the reason and no number; an identifiable one gets its 95 % interval
+from the Jacobian, checked against the profile likelihood (the profile's where they differ).
 """
 
 from __future__ import annotations
@@ -40,6 +41,9 @@ from ..physics.release import RPM
 
 NOISE_ROUNDS = 6
 """Most refits for the estimated noise sigmas (each ends when they change by under 1 %)."""
+RATE_SHOWN = 0.99
+"""Chi-square quantile (2 degrees of freedom per flight) the fall of the chi-square from
+freeing the held release rates must pass for an 'auto' fit to keep them freed."""
 
 
 @dataclass(frozen=True)
@@ -70,7 +74,8 @@ class FlightFit:
     ``name``, ``t0`` its first fix's time [s], ``times`` (K,) [s]
     since then, the ``fixes`` (K, 3) [m] and the ``fitted`` positions and axes (K, 6); the
     release state at the first fix (position [m], velocity [m/s], unit axis, transverse
-    angular velocity [rad/s], spin [rpm], ``field``); RMS position residual [m] and, with axis
+    angular velocity [rad/s], spin [rpm], ``field``); whether that ``rate_fitted`` (else held
+    at zero: :attr:`FitSettings.release_rate`); RMS position residual [m] and, with axis
     observations, RMS axis residual [deg].
     """
 
@@ -84,6 +89,7 @@ class FlightFit:
     axis: np.ndarray
     transverse_rate: np.ndarray
     spin_rpm: float
+    rate_fitted: bool
     residual_rms_m: float
     axis_residual_rms_deg: float | None
 
@@ -143,7 +149,35 @@ def fit(tracks: list[Track], settings: FitSettings) -> FitResult:
     # Each start's cost is whitened by its own estimated sigmas: compare them under one.
     costs = [problem.cost(state.blocks, state.values) for state, _, _ in fits]
     state, problem.noise, problem.axis_sigma = fits[int(np.argmin(costs))]
+    if problem.release_rate == 'auto' and not problem.rate_free.all():
+        state = _free_shown_rates(problem, state, settings.max_iterations)
     return _report(problem, state, settings)
+
+
+def _free_shown_rates(problem: Problem, state: State, max_iterations: int) -> State:
+    """
+    Free the held release rates if the positions show them ('auto'; :mod:`.problem`).
+
+    They are freed and the fit redone under the same sigmas; they stay freed, and the fit is
+    redone with the sigmas re-estimated, if the chi-square fell by more than its
+    :data:`RATE_SHOWN` quantile for two degrees of freedom per freed flight. All or none: a
+    wobble shows in a flight's drag, one flight's worth of it is within the noise.
+    """
+    from scipy.stats import chi2
+
+    held = ~problem.rate_free
+    problem.rate_free = np.ones_like(held)
+    try:
+        freed = minimise(problem, state.blocks, state.values, max_iterations=max_iterations)
+    except FitError:
+        freed = None
+    if freed is None or state.cost - freed.cost <= chi2.ppf(RATE_SHOWN, 2 * held.sum()):
+        problem.rate_free = ~held
+        state.iterations += 0 if freed is None else freed.iterations
+        return state
+    refit = _fit_noise(problem, freed.blocks, freed.values, max_iterations)
+    refit.iterations += state.iterations + freed.iterations
+    return refit
 
 
 def _fit_noise(problem: Problem, blocks: np.ndarray, values: np.ndarray,
@@ -152,7 +186,8 @@ def _fit_noise(problem: Problem, blocks: np.ndarray, values: np.ndarray,
     state = minimise(problem, blocks, values, max_iterations=max_iterations)
     iterations = state.iterations
     for _ in range(NOISE_ROUNDS):
-        if problem.estimate_noise(state.lin, state.blocks.size + state.values.size) < 0.01:
+        fitted = state.blocks.size + state.values.size - problem.n_held
+        if problem.estimate_noise(state.lin, fitted) < 0.01:
             break
         state = minimise(problem, state.blocks, state.values, max_iterations=max_iterations)
         iterations += state.iterations
@@ -226,4 +261,5 @@ def _flight(problem: Problem, state: State, f: int) -> FlightFit:
         track.name, float(track.times[0]), problem.rel[f], track.positions, out,
         block[B_R:B_R + 3].copy(), block[B_V:B_V + 3].copy(), s,
         block[B_W] * e_psi + block[B_W + 1] * e_theta, float(spin[0] / RPM),
+        bool(problem.rate_free[f]),
         float(math.sqrt(np.mean(err**2))), axis_rms)

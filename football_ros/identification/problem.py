@@ -25,10 +25,16 @@ fixed (the ball's, the aero settings', the spin when not freed).
 Residuals, whitened: each fix's position error over its sigma; each observed axis's error (the
 observation taken along the model's axis, either sign) over the axis sigma, per component; and
 per flight the release wobble's prior (:data:`N_PRIOR` terms): the axis's two components across
-the air velocity over ``axis_prior`` and h_perp over ``rate_prior``. The data alone hardly see
-the wobble's fast (nutation) mode, whose lift averages out within a cycle, while its mean
-drag (C_D2 sin^2 delta) trades against C_D0: the prior keeps that direction from being flat,
-and the profile likelihood of :mod:`.solver` shows what it leaves of C_D0.
+the air velocity over ``axis_prior`` and h_perp over ``rate_prior``, or over
+:data:`HELD_RATE` where the rate is held (:attr:`FitSettings.release_rate`).
+
+Why the rate is held where no axis is observed: h_perp sets the wobble's fast (nutation)
+mode, which positions hardly see (its lift averages out within a cycle, a sub-millimetre
+ripple) but for its mean drag, C_D2 sin^2 delta, never negative. Freed, each flight's rate
+fits the noise: every pass gains drag, C_D0 loses it, and that bias stays while the interval
+shrinks with more passes. Held, a wobble the positions cannot show adds its drag to C_D0; one
+they do show is freed again (:func:`~.fit.fit`). The axis offset (the slow mode, seen through
+the lift) stays free.
 
 Sigmas: a fix's own where the track has one, else the given noise, else one sigma for all
 such fixes, estimated (:meth:`Problem.estimate_noise`); the axes' likewise.
@@ -58,6 +64,8 @@ N_PRIOR = 4
 """Prior residuals per flight: the axis across the air velocity (2), h_perp (2)."""
 START_AXIS_NOISE = math.radians(1.0)
 """Axis sigma [rad] the estimation of an unknown axis noise starts from."""
+HELD_RATE = 1e-6
+"""Prior sigma [rad/s] of a held h_perp: zero for any flight the data could show."""
 MAX_STEP = 0.01
 """Longest RK4 step [s] (also at most 0.4 / |h1|, h1 the nutation's rate): against a 0.1 ms
 flight, under 20 um and 0.03 deg off over a pass at 300-1200 rpm."""
@@ -74,7 +82,10 @@ class FitSettings:
     default), ``spin_rpm`` the release spin (None: the ball's nominal; the start when freed),
     ``noise`` [m] the sigma of fixes without their own and ``axis_noise`` [rad] (None:
     estimated), ``step`` the longest RK4 step [s] (None: from the spin), the wobble prior's
-    ``axis_prior`` [rad] and ``rate_prior`` [rad/s], whether to check the intervals against the
+    ``axis_prior`` [rad] and ``rate_prior`` [rad/s], the ``release_rate`` (h_perp) of each
+    flight: 'free' (under ``rate_prior``), 'held' at zero (the axis not turning at release) or
+    'auto' (free for a flight with observed axes; for those without, held unless their
+    positions show it: :func:`~.fit.fit`), whether to check the intervals against the
     ``profile`` likelihood, and the most Levenberg-Marquardt iterations.
     """
 
@@ -89,6 +100,7 @@ class FitSettings:
     step: float | None = None
     axis_prior: float = math.radians(10.0)
     rate_prior: float = 5.0
+    release_rate: str = 'auto'
     profile: bool = True
     max_iterations: int = 60
 
@@ -161,6 +173,12 @@ class Problem:
         self.axis_estimated = any(r.size for r in self.axis_rows) and model.axis_noise is None
         self.axis_sigma = START_AXIS_NOISE if model.axis_noise is None else model.axis_noise
         self.noise = first_noise(tracks)
+        check_choice('release_rate', model.release_rate, co.RELEASE_RATES)
+        self.release_rate = model.release_rate
+        self.rate_free = np.array([
+            model.release_rate == 'free' or (model.release_rate == 'auto' and bool(a.size))
+            for a in self.axis_rows
+        ])
         self.axis_prior, self.rate_prior = model.axis_prior, model.rate_prior
         h1 = abs(self.ratio * self.spin_rpm * RPM)
         self.step = model.step or min(MAX_STEP, 0.4 / max(h1, 1e-9))
@@ -169,6 +187,16 @@ class Problem:
     def n_data(self) -> int:
         """Freedoms of the data: 3 per fix, 2 per observed axis."""
         return sum(3 * r.size + 2 * a.size for r, a in zip(self.rel, self.axis_rows))
+
+    @property
+    def rate_sigma(self) -> np.ndarray:
+        """Prior sigma (F,) [rad/s] of each flight's h_perp: ``rate_prior`` or held."""
+        return np.where(self.rate_free, self.rate_prior, HELD_RATE)
+
+    @property
+    def n_held(self) -> int:
+        """Unknowns held by their prior (h_perp of flights whose rate is held)."""
+        return 2 * int(np.count_nonzero(~self.rate_free))
 
     def sigmas(self, f: int) -> np.ndarray:
         """Position sigma (K,) [m] of flight ``f`` now."""
@@ -194,7 +222,8 @@ class Problem:
         spin = np.tile(co.spin_of(self.names, values, self.spin_rpm), n_f)
         states = block_states(flat, spin, self.ratio).reshape(n_f, m, mp.N_STATE)
         params = co.apply(self.params, self.names, values, self.ball)
-        prior = self.prior(flat, np.tile(params[:, mp.P_WIND:mp.P_WIND + 3], (n_f, 1)))
+        prior = self.prior(flat, np.tile(params[:, mp.P_WIND:mp.P_WIND + 3], (n_f, 1)),
+                           np.repeat(self.rate_sigma, m))
         prior = prior.reshape(n_f, m, N_PRIOR)
         out = []
         for f, track in enumerate(self.tracks):
@@ -211,8 +240,12 @@ class Problem:
             out.append(np.concatenate(parts, axis=1))
         return out
 
-    def prior(self, blocks: np.ndarray, wind: np.ndarray) -> np.ndarray:
-        """Return the wobble prior's whitened terms (m, N_PRIOR) of ``blocks`` in ``wind``."""
+    def prior(self, blocks: np.ndarray, wind: np.ndarray, rate_sigma: np.ndarray) -> np.ndarray:
+        """
+        Return the wobble prior's whitened terms (m, N_PRIOR) of ``blocks`` in ``wind``.
+
+        ``rate_sigma`` (m,) [rad/s] is each row's h_perp sigma.
+        """
         u = blocks[:, B_V:B_V + 3] - wind
         e1 = u / np.linalg.norm(u, axis=1)[:, None]
         e2 = np.array([0.0, 0.0, 1.0]) - e1[:, 2:3] * e1
@@ -222,7 +255,7 @@ class Problem:
         return np.column_stack([
             np.sum(s * e2, axis=1) / self.axis_prior,
             np.sum(s * e3, axis=1) / self.axis_prior,
-            blocks[:, B_W:B_W + 2] / self.rate_prior,
+            blocks[:, B_W:B_W + 2] / rate_sigma[:, None],
         ])
 
     def cost(self, blocks: np.ndarray, values: np.ndarray) -> float:

@@ -40,7 +40,9 @@ from typing import Any, TYPE_CHECKING
 
 from .plan import json_safe
 from ..command_line import key_values, UsageError
-from ..identification.coefficients import ALIASES, COEFFICIENTS, DEFAULT_FREE, parse_free
+from ..identification.coefficients import (
+    ALIASES, COEFFICIENTS, DEFAULT_FREE, parse_free, RELEASE_RATES
+)
 from ..physics import PRESETS
 from ..physics.aero import AeroModel
 from ..physics.presets import get_preset
@@ -85,6 +87,11 @@ def add_fit_options(parser: argparse.ArgumentParser) -> None:
                         'simulate takes it (repeatable)')
     parser.add_argument('--ball-param', action='append', default=[], metavar='KEY=VALUE',
                         help='override a ball parameter, e.g. c_m_alpha=0.3 (repeatable)')
+    parser.add_argument('--release-rate', default='auto', choices=RELEASE_RATES,
+                        help="each flight's transverse angular velocity at release (its "
+                        'wobble): fitted (free), zero (held), or auto: fitted for flights with '
+                        'observed axes; for the others held unless freeing it fits their '
+                        'positions significantly better (default auto)')
     parser.add_argument('--topic', help='the bag topic to read (default: football/observation, '
                         'else the one pose topic)')
     parser.add_argument('--no-profile', action='store_true',
@@ -122,7 +129,7 @@ def settings_from_args(args: argparse.Namespace) -> 'FitSettings':
         ball, args.model, args.moment, aero if args.model == 'full' else None, free,
         args.spin_rpm, args.noise,
         None if args.axis_noise is None else math.radians(args.axis_noise),
-        profile=not args.no_profile,
+        release_rate=args.release_rate, profile=not args.no_profile,
     )
 
 
@@ -182,13 +189,20 @@ def to_mapping(result: 'FitResult', args: argparse.Namespace) -> dict[str, Any]:
             'residual_rms_m': f.residual_rms_m,
             'axis_residual_rms_deg': f.axis_residual_rms_deg,
             'release': {'position': f.position, 'velocity': f.velocity, 'axis': f.axis,
-                        'transverse_rate': f.transverse_rate, 'spin_rpm': f.spin_rpm},
+                        'transverse_rate': f.transverse_rate,
+                        'transverse_rate_fitted': f.rate_fitted, 'spin_rpm': f.spin_rpm},
         }
         for f in result.flights
     ]
     argv, warnings = simulate_args(result, args)
     if not result.converged:
         warnings.append('the fit stopped at its iteration limit before converging')
+    for name, c in result.coefficients.items():
+        lo, hi = COEFFICIENTS[name].physical
+        if c.identifiable and (c.ci95[1] < lo or c.ci95[0] > hi):
+            warnings.append(f'{name}: its 95 % interval is outside its physical range '
+                            f'[{lo:g}, {hi:g}]: the model does not fit these flights (a wrong '
+                            'held value, or flights of another model)')
     return json_safe({
         'coefficients': coefficients,
         'residual_rms_m': result.residual_rms_m,
@@ -265,16 +279,16 @@ def print_report(report: dict[str, Any]) -> None:
     flights = report['flights']
     print(f"football-ros fit: {len(flights)} flight(s), {sum(f['fixes'] for f in flights)} "
           f"fixes; {report['ball']} ball, {report['model']} model ({report['moment']} moment)")
-    print(f"{'coefficient':<13}{'value':>12}  {'95 % interval':<26}identifiable")
+    print(f"{'coefficient':<13}{'value':>12}  {'95 % interval':<26} identifiable")
     for name, c in report['coefficients'].items():
         unit = f' {c["unit"]}' if c['unit'] else ''
         if c['identifiable']:
             lo, hi = c['ci95']
             interval = f'[{lo:.5g}, {hi:.5g}]{unit}'
             how = ' (profile likelihood)' if c['interval'] == 'profile' else ''
-            print(f"{name:<13}{c['value']:>12.5g}  {interval:<26}yes{how}")
+            print(f"{name:<13}{c['value']:>12.5g}  {interval:<26} yes{how}")
         else:
-            print(f"{name:<13}{'-':>12}  {'-':<26}NO: {c['reason']}")
+            print(f"{name:<13}{'-':>12}  {'-':<26} NO: {c['reason']}")
     noise = report['noise_m']
     said = f'estimated sigma {noise:.4g} m' if noise is not None else 'sigma as given'
     print(f"residual RMS {report['residual_rms_m']:.4g} m ({said}); chi-square "
