@@ -103,6 +103,7 @@ MODULE_TESTS: dict[str, tuple[str, ...]] = {
     'football_ros.nodes.params': ('test_parameters.py',),
     'football_ros.nodes.planner': ('test_planner_node.py',),
     'football_ros.nodes.qos': ('test_topics.py',),
+    'football_ros.nodes.quiet': ('test_quiet.py', 'test_view_node.py'),
     'football_ros.nodes.recorder': ('test_recorder.py',),
     'football_ros.nodes.reference': ('test_parameters.py',),
     'football_ros.nodes.release': ('test_release_node.py', 'test_security.py'),
