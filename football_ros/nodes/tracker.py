@@ -185,7 +185,7 @@ PARAMETERS = (
             'gust_prior',
             TrackerSettings.gust_prior,
             'Odds of gusty air before the fixes tell, kept as a floor while still air fits '
-            '(larger: gusts caught sooner, wider in still air)',
+            '(larger: gusts caught sooner, wider in still air; 0.5 on a gusty day)',
             TrackerSettings.LIMITS['gust_prior'],
         ),
         (
