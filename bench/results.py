@@ -69,12 +69,19 @@ def _commit() -> str:
         return 'unknown'
 
 
-def write_section(name: str, body: str, command: str) -> None:
-    """Replace (or add) the section ``name`` of RESULTS.md with ``body``."""
+def write_section(name: str, body: str, command: str, commit: str | None = None) -> None:
+    """
+    Replace (or add) the section ``name`` of RESULTS.md with ``body``.
+
+    ``commit``: the code the run started from (None: the checkout's now); a checkout that
+    moved on during the run is named too.
+    """
     text = RESULTS.read_text() if RESULTS.exists() else HEADER
     stamp = datetime.datetime.now(datetime.timezone.utc).strftime('%Y-%m-%d %H:%M UTC')
+    now = _commit()
+    commit = now if commit is None or commit == now else f'{commit}, {now} when recorded'
     section = (
-        f'## {name}\n\n`{command}` ({stamp}, commit {_commit()}, {os.cpu_count()} cores)\n\n'
+        f'## {name}\n\n`{command}` ({stamp}, commit {commit}, {os.cpu_count()} cores)\n\n'
         f'```\n{body.rstrip()}\n```\n'
     )
     # Up to the section's closing fence: a benchmark's own output may hold '## ' lines.
@@ -91,10 +98,11 @@ def recorded(name: str, main: Callable[[], object]) -> int:
     record = '--no-record' not in sys.argv
     sys.argv = [a for a in sys.argv if a != '--no-record']
     command = ' '.join(['.venv/bin/python', os.path.relpath(sys.argv[0]), *sys.argv[1:]])
+    commit = _commit()  # the code the run starts from
     tee = _Tee(sys.stdout)
     with contextlib.redirect_stdout(tee):
         code = main()
     if record:
-        write_section(name, tee.buffer_text.getvalue(), command)
+        write_section(name, tee.buffer_text.getvalue(), command, commit)
         print(f'(recorded in {os.path.relpath(RESULTS)}, section "{name}")')
     return int(code or 0)

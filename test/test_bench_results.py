@@ -15,6 +15,7 @@
 """bench/results.py: a benchmark's section of RESULTS.md is replaced whole."""
 
 import importlib.util
+import os
 from pathlib import Path
 
 BENCH = Path(__file__).resolve().parents[1] / 'bench'
@@ -38,3 +39,13 @@ def test_a_rerun_replaces_its_whole_section_even_with_headings_in_its_output(tmp
     assert text.count('## planner') == 1 and 'other body' in text
     assert text.index('## planner') < text.index('## other')  # the section kept its place
     assert '```\n\n## other' in text and '\n\n\n' not in text  # one blank line between
+
+
+def test_a_section_names_the_commit_its_run_started_from(tmp_path):
+    results = _results(tmp_path)
+    results._commit = lambda: 'b2'  # the checkout when the section is written
+    results.write_section('same', 'body', 'cmd', 'b2')
+    results.write_section('moved', 'body', 'cmd', 'a1')
+    text = results.RESULTS.read_text()
+    assert 'commit b2, 2 cores' in text.replace(f'{os.cpu_count()} cores', '2 cores')
+    assert 'commit a1, b2 when recorded,' in text
