@@ -177,8 +177,16 @@ class TrackerSettings:
     prediction, warm-started from the last); 0 = the filter's own estimate. ``hand_fits``: while
     both hands are alive, 'always' fits each hand and mixes the two by their evidence, 'pixels'
     (default) only once the throw has fixes that are not positions (a camera's pixels, whose
-    depth axis may hide the drift that tells the hands apart all flight), 'never' (the filters'
-    mixture until one hand is left).
+    depth axis may hide the drift that tells the hands apart all flight) or, with
+    ``unstable_fits``, the kick is gyroscopically unstable (its wobble hides that drift),
+    'never' (the filters' mixture until one hand is left). ``unstable_fits`` (off by default):
+    the fit of an unstable kick (S_g < 1) takes ``tumble_rate_sigma`` [rad/s] as the prior of
+    its transverse rate (a punt end over end, not a spiral's wobble) and starts from every
+    filter of its hand, from its prior and from ``tumble_starts`` tumbles (rates up to
+    ``tumble_rate_sigma``, end over end either way), the lowest objective kept: its likelihood
+    has several optima (:meth:`FlightTracker._refit`). Its landing is then near the
+    information bound, but the prediction keeps the filter's tumbling covariance, far too
+    wide for it (test/test_tracker_robustness.py): off until that covariance is reworked.
 
     The noise and prior defaults make the covariance honest (landing NEES 2 or below) on the
     prediction benchmark's still-air flights; the gusty twins (``gust_rate``, on by default)
@@ -222,6 +230,9 @@ class TrackerSettings:
     gust_prior: float = 0.01
     refine_iterations: int = 25
     hand_fits: str = 'pixels'
+    unstable_fits: bool = False
+    tumble_rate_sigma: float = 15.0
+    tumble_starts: int = 8
 
     LIMITS = {
         'noise': (1e-4, 10.0),
@@ -255,6 +266,8 @@ class TrackerSettings:
         'gust_rate': (0.0, 20.0),
         'gust_prior': (1e-6, 0.5),
         'refine_iterations': (0, 100),
+        'tumble_rate_sigma': (1e-4, 100.0),
+        'tumble_starts': (0, 32),
     }
 
     def __post_init__(self) -> None:
@@ -274,6 +287,8 @@ class TrackerSettings:
                 f"tracker 'spin_rpm' must be None or |.| in [10, 3000], got {self.spin_rpm!r}"
             )
         get_preset(self.ball)  # raises ValueError for an unknown ball
+        if not isinstance(self.unstable_fits, bool):
+            raise ValueError(f"tracker 'unstable_fits' must be a bool, got {self.unstable_fits!r}")
         if self.hand_fits not in HAND_FITS:
             raise ValueError(
                 f"tracker 'hand_fits' must be one of {HAND_FITS}, got {self.hand_fits!r}"
@@ -388,6 +403,7 @@ class _Track:
     fits: dict = field(default_factory=dict)  # hand -> (key, Refined or None), its last fit
     release_speed: float = 0.0  # [m/s] at the arc's first fix: where S_g is the lowest
     pixels: bool = False  # a fix other than a 3D position (a camera's pixels) was taken
+    spread_at: dict = field(default_factory=dict)  # hand -> fixes at its last multi-start fit
 
     def keep(self, t: float, meas: Measurement) -> None:
         """Record a fix the filter took; past MAX_FIXES every other older one is dropped."""
@@ -691,7 +707,8 @@ class FlightTracker:
             fit = self._fit()
             return None if fit is None else [(1.0, fit)]
         if s.refine_iterations == 0 or tr is None or self._gusty_weight(tr) > 0.5 or not (
-            s.hand_fits == 'always' or s.hand_fits == 'pixels' and tr.pixels
+            s.hand_fits == 'always' or s.hand_fits == 'pixels' and (
+                tr.pixels or s.unstable_fits and self._stability(tr.best.x) < 1.0)
         ):
             return None
         fits = [self._hand_fit(tr, hand) for hand in (1.0, -1.0)]
@@ -714,27 +731,85 @@ class FlightTracker:
         Fit ``tr``'s fixes for ``hand`` (:meth:`_fit`).
 
         From its last fit for that hand if it has one, else from that hand's likeliest filter.
+        With ``unstable_fits``, a kick the filters find gyroscopically unstable has a
+        likelihood with several optima (the spin, the hand and a tumble trade off against the
+        attitude), so at its first fit and whenever its fixes have doubled since, its fit also
+        starts from each of the hand's filters and from its prior (:meth:`_prior_starts`,
+        :meth:`_spread_fit`); the lowest objective is kept.
         """
         s = self.settings
         times = np.array(sorted(tr.fixes))
         if times[-1] != tr.t:
             return None
+        tumbling = s.unstable_fits and self._stability(tr.best.x) < 1.0
+        still = [h for h in tr.hyps if not h.gusty]  # the fit flies a steady wind
+        mine = sorted([h for h in still if h.hand == hand] or still, key=lambda h: -h.loglik)
         last = tr.fits.get(hand)
-        if last is not None and last[1] is not None:
-            x0 = last[1].x0
-        else:  # that hand's likeliest still-air filter's (the fit flies a steady wind)
-            still = [h for h in tr.hyps if not h.gusty]
-            mine = [h for h in still if h.hand == hand] or still
-            if not mine:
-                return None
-            start = max(mine, key=lambda h: h.loglik)
-            x0 = fly_state(start.x, [times[0] - tr.t], self.params, s.step)[0]
-        if not np.all(np.isfinite(x0)):
-            return None
+        starts = [last[1].x0] if last is not None and last[1] is not None else []
+        if mine and not starts:
+            starts = [fly_state(mine[0].x, [times[0] - tr.t], self.params, s.step)[0]]
         prior = Prior((hand * self.nominal_h1, self.nominal_h1 * s.spin_sigma), s.axis_sigma,
-                      s.rate_sigma, tr.prior)
+                      s.tumble_rate_sigma if tumbling else s.rate_sigma, tr.prior)
         fixes = [tr.fixes[t] for t in times]
-        return refine(times, fixes, x0, prior, s.noise, self.params, s.step, s.refine_iterations)
+        fits = [refine(times, fixes, x0, prior, s.noise, self.params, s.step, s.refine_iterations)
+                for x0 in starts if np.all(np.isfinite(x0))]
+        if mine and tumbling and times.size >= 2 * tr.spread_at.get(hand, 0):
+            tr.spread_at[hand] = times.size
+            back = [fly_state(h.x, [times[0] - tr.t], self.params, s.step)[0] for h in mine]
+            fits.append(self._spread_fit(times, fixes, back + self._prior_starts(back[0], hand),
+                                         prior))
+        fits = [f for f in fits if f is not None]
+        return min(fits, key=lambda f: f.cost) if fits else None
+
+    def _spread_fit(self, times: np.ndarray, fixes: list, starts: list,
+                    prior: Prior) -> Refined | None:
+        """
+        Return the lowest-objective fit of ``fixes`` from many ``starts`` (states at times[0]).
+
+        Each start takes ``refine_iterations`` steps; the lowest is polished with three times
+        as many (cold starts take more steps than a warm one).
+        """
+        s = self.settings
+        fits = [refine(times, fixes, x0, prior, s.noise, self.params, s.step, s.refine_iterations)
+                for x0 in starts if np.all(np.isfinite(x0))]
+        fits = [f for f in fits if f is not None]
+        if not fits:
+            return None
+        top = min(fits, key=lambda f: f.cost)
+        best = refine(times, fixes, top.x0, prior, s.noise, self.params, s.step,
+                      3 * s.refine_iterations)
+        return best if best is not None and best.cost <= top.cost else top
+
+    def _prior_starts(self, x: np.ndarray, hand: float) -> list[np.ndarray]:
+        """
+        Return starts of a fit drawn from its prior, at the position and velocity of ``x``.
+
+        The axis along the velocity (the prior's mean), spinning at each of ``hand``'s spin
+        prior slices (:meth:`_spin_prior`) and at a tenth of the nominal; then at that slow
+        spin, ``tumble_starts`` tumbles: the transverse momentum h - (h.s) s [rad/s] along
+        s x z (end over end, either way), of sizes spread evenly up to ``tumble_rate_sigma``.
+        """
+        s = self.settings
+        axis = x[X_V:X_V + 3] / np.linalg.norm(x[X_V:X_V + 3])
+        pitch = np.cross(axis, (0.0, 0.0, 1.0))
+        if not np.all(np.isfinite(axis)) or np.linalg.norm(pitch) < 1e-6:
+            return []
+        pitch /= np.linalg.norm(pitch)
+        spins = [h1 for sign, h1, _ in self._spin_prior() if sign == hand]
+        h1 = hand * 0.1 * self.nominal_h1
+        out = []
+        for h in [hand * m for m in spins] + [h1]:
+            y = x.copy()
+            y[X_S:X_S + 3] = axis
+            y[X_H:X_H + 3] = h * axis
+            out.append(y)
+        half = (s.tumble_starts + 1) // 2
+        for i in range(s.tumble_starts):
+            rate = s.tumble_rate_sigma * (i // 2 + 1) / half * (1.0 if i % 2 == 0 else -1.0)
+            y = x.copy()
+            y[X_H:X_H + 3] = h1 * axis + rate * pitch
+            out.append(y)
+        return out
 
     def _prediction(self, moments_, q: float, normal, height: float = math.nan, gust=None):
         """
