@@ -125,6 +125,10 @@ next: gusts and a ball that gets wet or scuffed."""
 
 HAND_FITS = ('never', 'pixels', 'always')
 """Choices of ``hand_fits`` (:class:`TrackerSettings`)."""
+DECISIVE = math.log(100.0)
+"""Log evidence by which one hand's fit beats the other's (odds 100:1) before the loser is fitted
+again from the winner's state, its spin reversed: a verdict must not rest on a fit held in a
+local minimum."""
 
 
 # --- settings and results -----------------------------------------------------------------------
@@ -658,7 +662,8 @@ class FlightTracker:
         out = []
         for cols in PLANE_COLUMNS:
             found = flown[:, cols]
-            out.append(moments(found[:, :-1], wm, wc) if np.all(found[:, -1] == 1.0) else None)
+            flown_all = np.all(found[:, -1] == 1.0) and np.all(np.isfinite(found))
+            out.append(moments(found[:, :-1], wm, wc) if flown_all else None)
         return out
 
     def _fit(self) -> Refined | None:
@@ -698,6 +703,14 @@ class FlightTracker:
         if any(f is None or not math.isfinite(f.logdet) for f in fits):
             return None
         evidence = np.array([0.5 * (f.logdet - f.cost) for f in fits])
+        if abs(evidence[0] - evidence[1]) > DECISIVE:  # a verdict: the loser from the winner too
+            lose = int(np.argmin(evidence))
+            hand, win = (1.0, -1.0)[lose], fits[1 - lose]
+            retry = self._fit_from(tr, hand, [_reversed(win.x0)])
+            if retry is not None and math.isfinite(retry.logdet) and retry.cost < fits[lose].cost:
+                fits[lose] = retry
+                tr.fits[hand] = (tr.fits[hand][0], retry)
+                evidence[lose] = 0.5 * (retry.logdet - retry.cost)
         weights = np.exp(evidence - evidence.max())
         return [(float(w), f) for w, f in zip(weights / weights.sum(), fits) if w >= 1e-6]
 
@@ -714,27 +727,59 @@ class FlightTracker:
         Fit ``tr``'s fixes for ``hand`` (:meth:`_fit`).
 
         From its last fit for that hand if it has one, else from that hand's likeliest filter.
+        A fit that is not sound (its iterations ran out, or its spin momentum h.s has the other
+        hand's sign: the other hand's minimum, held by the prior alone) is tried again from that
+        hand's filter and from the other hand's fit with its spin reversed; the lowest objective
+        is kept.
         """
-        s = self.settings
         times = np.array(sorted(tr.fixes))
         if times[-1] != tr.t:
             return None
         last = tr.fits.get(hand)
         if last is not None and last[1] is not None:
-            x0 = last[1].x0
-        else:  # that hand's likeliest still-air filter's (the fit flies a steady wind)
-            still = [h for h in tr.hyps if not h.gusty]
-            mine = [h for h in still if h.hand == hand] or still
-            if not mine:
-                return None
-            start = max(mine, key=lambda h: h.loglik)
-            x0 = fly_state(start.x, [times[0] - tr.t], self.params, s.step)[0]
-        if not np.all(np.isfinite(x0)):
+            fit = self._fit_from(tr, hand, [last[1].x0])
+            if fit is not None and _sound(fit, hand):
+                return fit
+        else:
+            fit = None
+        starts = [self._filter_start(tr, hand, times)]
+        other = tr.fits.get(-hand)
+        if other is not None and other[1] is not None:
+            starts.append(_reversed(other[1].x0))
+        alt = self._fit_from(tr, hand, [x0 for x0 in starts if x0 is not None])
+        if alt is not None and (fit is None or alt.cost < fit.cost):
+            return alt
+        return fit
+
+    def _filter_start(self, tr: _Track, hand: float, times: np.ndarray) -> np.ndarray | None:
+        """Return that hand's likeliest still-air filter (else any's) flown to ``times[0]``."""
+        still = [h for h in tr.hyps if not h.gusty]
+        mine = [h for h in still if h.hand == hand] or still
+        if not mine:
             return None
+        start = max(mine, key=lambda h: h.loglik)
+        return fly_state(start.x, [times[0] - tr.t], self.params, self.settings.step)[0]
+
+    def _fit_from(self, tr: _Track, hand: float, starts: list) -> Refined | None:
+        """
+        Return the fit (:func:`.refine.refine`) of ``tr`` for ``hand`` of least objective.
+
+        Over ``starts`` (states at the first fix); None if none fits.
+        """
+        s = self.settings
+        times = np.array(sorted(tr.fixes))
         prior = Prior((hand * self.nominal_h1, self.nominal_h1 * s.spin_sigma), s.axis_sigma,
                       s.rate_sigma, tr.prior)
         fixes = [tr.fixes[t] for t in times]
-        return refine(times, fixes, x0, prior, s.noise, self.params, s.step, s.refine_iterations)
+        best = None
+        for x0 in starts:
+            if not np.all(np.isfinite(x0)):
+                continue
+            fit = refine(times, fixes, x0, prior, s.noise, self.params, s.step,
+                         s.refine_iterations)
+            if fit is not None and (best is None or fit.cost < best.cost):
+                best = fit
+        return best
 
     def _prediction(self, moments_, q: float, normal, height: float = math.nan, gust=None):
         """
@@ -947,6 +992,8 @@ class FlightTracker:
             return x.copy(), P.copy(), True
         pts, wm, wc = sigma_points(x, P, s.spread)
         propagate_points(pts, dt, self.params, s.step)
+        if not np.all(np.isfinite(pts)):  # a point that cannot be flown (an absurd start)
+            return x.copy(), P.copy(), False
         xm, Pm = moments(pts, wm, wc)
         q = self._accel_variance(x)
         for i in range(3):
@@ -1315,6 +1362,18 @@ def warm_up(settings: TrackerSettings | None = None):
     new_hits, new_misses = counts()
     return CompileStep('tracker kernels (filter, predictions, batch fit)',
                        time.perf_counter() - start, new_hits - hits, new_misses - misses)
+
+
+def _sound(fit: Refined, hand: float) -> bool:
+    """Whether ``fit`` converged with a spin momentum h.s [rad/s] of ``hand``'s sign."""
+    return fit.converged and hand * float(fit.x0[X_H:X_H + 3] @ fit.x0[X_S:X_S + 3]) > 0.0
+
+
+def _reversed(x0: np.ndarray) -> np.ndarray:
+    """Return the state ``x0`` with its spin h [rad/s] reversed (the other hand's start)."""
+    out = np.array(x0, dtype=float)
+    out[X_H:X_H + 3] *= -1.0
+    return out
 
 
 def _mix(parts) -> tuple[np.ndarray, np.ndarray]:
