@@ -393,3 +393,59 @@ def test_a_mono_camera_s_hands_are_fitted_each_while_both_are_alive():
     assert np.all(np.isfinite(pred.position)) and np.all(np.linalg.eigvalsh(pred.covariance) > 0)
     with pytest.raises(ValueError, match='hand_fits'):
         TrackerSettings(hand_fits='sometimes')
+
+
+def test_a_hand_s_fit_held_in_the_other_hand_s_minimum_is_fitted_again():
+    """A fit warm-started from the other hand's minimum is refitted to its own (h.s its sign)."""
+    from football_ros.estimation import FlightTracker
+    from football_ros.estimation.camera_fusion import CameraFusion
+    from football_ros.estimation.motion import X_H, X_S
+
+    rig = load_rig(CONFIG / 'rig_mono.yaml')
+    ball, truth, balls_at = _flight()  # a right-handed spiral: h.s > 0
+    frames = simulate(rig, balls_at, 0.0, truth.times[-1], ball.length, ball.diameter)
+    cams = {c.name: c.camera for c in rig}
+    fusion = CameraFusion(FlightTracker(), 1.0, ball.diameter)
+    for f in frames:
+        if f.delivery > truth.times[-1] - 1.0:
+            break
+        for d in f.detections:
+            fusion.observe(f.stamp, cams[f.camera], d.center, d.width)
+    tracker = fusion.tracker
+    tr = tracker.track
+    assert tracker.hand is None and tracker._fits() is not None
+    right, left = tr.fits[1.0][1], tr.fits[-1.0][1]
+    assert right.converged and left.converged
+    assert right.x0[X_H:X_H + 3] @ right.x0[X_S:X_S + 3] > 0.0
+    # The trap: the right hand warm-started from the left hand's minimum (its prior alone
+    # pulls the spin over; the drift's fit holds it), on the same fixes as a new key.
+    tr.fits[1.0] = ((math.nan, 0), left)
+    again = tracker._hand_fit(tr, 1.0)
+    assert again.x0[X_H:X_H + 3] @ again.x0[X_S:X_S + 3] > 0.0
+    assert again.cost <= right.cost + 1.0  # back in its own minimum, not the left's + prior
+    assert again.cost < left.cost + 0.5 * ((2.0 * tracker.nominal_h1) / (
+        tracker.nominal_h1 * tracker.settings.spin_sigma)) ** 2
+
+
+def test_the_fit_says_whether_it_converged():
+    from football_ros.estimation import FlightTracker, TrackerSettings
+    from football_ros.estimation.motion import fly_state, X_H, X_KD, X_KL, X_S
+    from football_ros.estimation.refine import Prior, refine
+
+    tracker = FlightTracker(TrackerSettings())
+    _, truth, _ = _flight()
+    x = np.zeros(14)
+    x[0:3], x[3:6] = truth.positions[0], truth.velocities[0]
+    x[X_S:X_S + 3] = x[3:6] / np.linalg.norm(x[3:6])
+    x[X_H:X_H + 3] = tracker.nominal_h1 * x[X_S:X_S + 3]
+    x[X_KD] = x[X_KL] = 1.0
+    times = np.arange(0, 60) / 60.0
+    zs = fly_state(x, times, tracker.params, 0.005)[1]
+    prior = Prior((tracker.nominal_h1, 0.19 * tracker.nominal_h1), 0.03, 0.3,
+                  ((X_KD, 1.0, 0.2), (X_KL, 1.0, 0.2)))
+    start = x.copy()
+    start[3:6] += (1.0, -1.0, 0.5)
+    short = refine(times, zs, start, prior, 0.02, tracker.params, 0.005, 1)
+    full = refine(times, zs, start, prior, 0.02, tracker.params, 0.005, 25)
+    assert not short.converged and short.cost > 1.0  # one step from 1 m/s off: far from it
+    assert full.converged and full.cost < 1e-6 and full.iterations < 25

@@ -82,7 +82,8 @@ class Refined:
     prior's terms), ``iterations`` taken, ``logdet`` the log-determinant of the posterior's
     covariance of the step delta at the first fix (units of :data:`FD_STEP`): with ``cost``,
     the Laplace evidence of the fit's prior, -cost / 2 + logdet / 2 + a constant that two fits
-    of the same fixes and step share.
+    of the same fixes and step share; ``converged`` whether a step's decrease fell below
+    :data:`CONVERGED` or no step lowered the objective (False: the iterations ran out).
     """
 
     x0: np.ndarray
@@ -91,6 +92,7 @@ class Refined:
     cost: float
     iterations: int
     logdet: float = math.nan
+    converged: bool = True
 
 
 def _basis(u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -197,7 +199,7 @@ def refine(
     lin = linearise(x)
     if lin is None:
         return None
-    lam, it, cost = 1e-3, 0, math.inf
+    lam, it, cost, converged = 1e-3, 0, math.inf, False
     while it < max_iterations:
         it += 1
         r0, jac = lin[:2]
@@ -215,9 +217,11 @@ def refine(
                 break
             lam *= 4.0
         if new >= cost:  # no step lowers it: at the minimum
+            converged = True
             break
         x, lam, cost = trial[0], max(lam / 4.0, 1e-7), new
         if r0 @ r0 - new <= CONVERGED:  # the last Jacobian serves the posterior
+            converged = True
             break
         lin = linearise(x)
         if lin is None:
@@ -238,4 +242,4 @@ def refine(
     P = ends.T @ cov @ ends  # carried linearly
     if not (np.all(np.isfinite(mode)) and np.all(np.isfinite(P))):
         return None
-    return Refined(x, mode, 0.5 * (P + P.T), cost, it, logdet)
+    return Refined(x, mode, 0.5 * (P + P.T), cost, it, logdet, converged)

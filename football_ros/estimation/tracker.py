@@ -125,6 +125,10 @@ next: gusts and a ball that gets wet or scuffed."""
 
 HAND_FITS = ('never', 'pixels', 'always')
 """Choices of ``hand_fits`` (:class:`TrackerSettings`)."""
+DECISIVE = math.log(100.0)
+"""Log evidence by which one hand's fit beats the other's (odds 100:1) before the loser is fitted
+again from the winner's state, its spin reversed: a verdict must not rest on a fit held in a
+local minimum."""
 
 
 # --- settings and results -----------------------------------------------------------------------
@@ -674,7 +678,8 @@ class FlightTracker:
         out = []
         for cols in PLANE_COLUMNS:
             found = flown[:, cols]
-            out.append(moments(found[:, :-1], wm, wc) if np.all(found[:, -1] == 1.0) else None)
+            flown_all = np.all(found[:, -1] == 1.0) and np.all(np.isfinite(found))
+            out.append(moments(found[:, :-1], wm, wc) if flown_all else None)
         return out
 
     def _fit(self) -> Refined | None:
@@ -715,6 +720,14 @@ class FlightTracker:
         if any(f is None or not math.isfinite(f.logdet) for f in fits):
             return None
         evidence = np.array([0.5 * (f.logdet - f.cost) for f in fits])
+        if abs(evidence[0] - evidence[1]) > DECISIVE:  # a verdict: the loser from the winner too
+            lose = int(np.argmin(evidence))
+            hand, win = (1.0, -1.0)[lose], fits[1 - lose]
+            retry = self._fit_from(tr, hand, [_reversed(win.x0)])
+            if retry is not None and math.isfinite(retry.logdet) and retry.cost < fits[lose].cost:
+                fits[lose] = retry
+                tr.fits[hand] = (tr.fits[hand][0], retry)
+                evidence[lose] = 0.5 * (retry.logdet - retry.cost)
         weights = np.exp(evidence - evidence.max())
         return [(float(w), f) for w, f in zip(weights / weights.sum(), fits) if w >= 1e-6]
 
@@ -731,54 +744,85 @@ class FlightTracker:
         Fit ``tr``'s fixes for ``hand`` (:meth:`_fit`).
 
         From its last fit for that hand if it has one, else from that hand's likeliest filter.
-        With ``unstable_fits``, a kick the filters find gyroscopically unstable has a
-        likelihood with several optima (the spin, the hand and a tumble trade off against the
-        attitude), so at its first fit and whenever its fixes have doubled since, its fit also
-        starts from each of the hand's filters and from its prior (:meth:`_prior_starts`,
-        :meth:`_spread_fit`); the lowest objective is kept.
+        A fit that is not sound (its iterations ran out, or its spin momentum h.s has the other
+        hand's sign: the other hand's minimum, held by the prior alone) is tried again from that
+        hand's filter and from the other hand's fit with its spin reversed. With
+        ``unstable_fits``, a kick the filters find gyroscopically unstable has a likelihood with
+        several optima (the spin, the hand and a tumble trade off against the attitude), so at
+        its first fit and whenever its fixes have doubled since, its fit also starts from each
+        of the hand's filters and from its prior (:meth:`_prior_starts`, :meth:`_spread_fit`).
+        The lowest objective is kept.
         """
-        s = self.settings
         times = np.array(sorted(tr.fixes))
         if times[-1] != tr.t:
             return None
-        tumbling = s.unstable_fits and self._stability(tr.best.x) < 1.0
-        still = [h for h in tr.hyps if not h.gusty]  # the fit flies a steady wind
-        mine = sorted([h for h in still if h.hand == hand] or still, key=lambda h: -h.loglik)
         last = tr.fits.get(hand)
-        starts = [last[1].x0] if last is not None and last[1] is not None else []
-        if mine and not starts:
-            starts = [fly_state(mine[0].x, [times[0] - tr.t], self.params, s.step)[0]]
-        prior = Prior((hand * self.nominal_h1, self.nominal_h1 * s.spin_sigma), s.axis_sigma,
-                      s.tumble_rate_sigma if tumbling else s.rate_sigma, tr.prior)
-        fixes = [tr.fixes[t] for t in times]
-        fits = [refine(times, fixes, x0, prior, s.noise, self.params, s.step, s.refine_iterations)
-                for x0 in starts if np.all(np.isfinite(x0))]
-        if mine and tumbling and times.size >= 2 * tr.spread_at.get(hand, 0):
+        fit = None
+        if last is not None and last[1] is not None:
+            fit = self._fit_from(tr, hand, [last[1].x0])
+        if fit is None or not _sound(fit, hand):
+            starts = [self._filter_start(tr, hand, times)]
+            other = tr.fits.get(-hand)
+            if other is not None and other[1] is not None:
+                starts.append(_reversed(other[1].x0))
+            fit = _least(fit, self._fit_from(tr, hand, [x0 for x0 in starts if x0 is not None]))
+        if self._tumbling(tr) and times.size >= 2 * tr.spread_at.get(hand, 0):
             tr.spread_at[hand] = times.size
-            back = [fly_state(h.x, [times[0] - tr.t], self.params, s.step)[0] for h in mine]
-            fits.append(self._spread_fit(times, fixes, back + self._prior_starts(back[0], hand),
-                                         prior))
-        fits = [f for f in fits if f is not None]
-        return min(fits, key=lambda f: f.cost) if fits else None
+            still = [h for h in tr.hyps if not h.gusty]  # the fit flies a steady wind
+            mine = sorted([h for h in still if h.hand == hand] or still, key=lambda h: -h.loglik)
+            back = [fly_state(h.x, [times[0] - tr.t], self.params, self.settings.step)[0]
+                    for h in mine]
+            if back:
+                fit = _least(fit, self._spread_fit(
+                    tr, hand, back + self._prior_starts(back[0], hand)))
+        return fit
 
-    def _spread_fit(self, times: np.ndarray, fixes: list, starts: list,
-                    prior: Prior) -> Refined | None:
+    def _tumbling(self, tr: _Track) -> bool:
+        """Whether ``unstable_fits`` treats ``tr`` as an unstable kick (its best filter's S_g)."""
+        return self.settings.unstable_fits and self._stability(tr.best.x) < 1.0
+
+    def _filter_start(self, tr: _Track, hand: float, times: np.ndarray) -> np.ndarray | None:
+        """Return that hand's likeliest still-air filter (else any's) flown to ``times[0]``."""
+        still = [h for h in tr.hyps if not h.gusty]
+        mine = [h for h in still if h.hand == hand] or still
+        if not mine:
+            return None
+        start = max(mine, key=lambda h: h.loglik)
+        return fly_state(start.x, [times[0] - tr.t], self.params, self.settings.step)[0]
+
+    def _fit_from(self, tr: _Track, hand: float, starts: list,
+                  iterations: int | None = None) -> Refined | None:
         """
-        Return the lowest-objective fit of ``fixes`` from many ``starts`` (states at times[0]).
+        Return the fit (:func:`.refine.refine`) of ``tr`` for ``hand`` of least objective.
+
+        Over ``starts`` (states at the first fix), ``iterations`` each (None:
+        ``refine_iterations``); the transverse rate's prior is ``tumble_rate_sigma`` for a
+        kick :meth:`_tumbling` treats as unstable. None if none fits.
+        """
+        s = self.settings
+        times = np.array(sorted(tr.fixes))
+        prior = Prior((hand * self.nominal_h1, self.nominal_h1 * s.spin_sigma), s.axis_sigma,
+                      s.tumble_rate_sigma if self._tumbling(tr) else s.rate_sigma, tr.prior)
+        fixes = [tr.fixes[t] for t in times]
+        best = None
+        for x0 in starts:
+            if np.all(np.isfinite(x0)):
+                best = _least(best, refine(times, fixes, x0, prior, s.noise, self.params, s.step,
+                                           iterations or s.refine_iterations))
+        return best
+
+    def _spread_fit(self, tr: _Track, hand: float, starts: list) -> Refined | None:
+        """
+        Return the lowest-objective fit of ``tr`` for ``hand`` from many ``starts``.
 
         Each start takes ``refine_iterations`` steps; the lowest is polished with three times
         as many (cold starts take more steps than a warm one).
         """
-        s = self.settings
-        fits = [refine(times, fixes, x0, prior, s.noise, self.params, s.step, s.refine_iterations)
-                for x0 in starts if np.all(np.isfinite(x0))]
-        fits = [f for f in fits if f is not None]
-        if not fits:
+        top = self._fit_from(tr, hand, starts)
+        if top is None:
             return None
-        top = min(fits, key=lambda f: f.cost)
-        best = refine(times, fixes, top.x0, prior, s.noise, self.params, s.step,
-                      3 * s.refine_iterations)
-        return best if best is not None and best.cost <= top.cost else top
+        return _least(top, self._fit_from(tr, hand, [top.x0],
+                                          3 * self.settings.refine_iterations))
 
     def _prior_starts(self, x: np.ndarray, hand: float) -> list[np.ndarray]:
         """
@@ -1022,6 +1066,8 @@ class FlightTracker:
             return x.copy(), P.copy(), True
         pts, wm, wc = sigma_points(x, P, s.spread)
         propagate_points(pts, dt, self.params, s.step)
+        if not np.all(np.isfinite(pts)):  # a point that cannot be flown (an absurd start)
+            return x.copy(), P.copy(), False
         xm, Pm = moments(pts, wm, wc)
         q = self._accel_variance(x)
         for i in range(3):
@@ -1390,6 +1436,25 @@ def warm_up(settings: TrackerSettings | None = None):
     new_hits, new_misses = counts()
     return CompileStep('tracker kernels (filter, predictions, batch fit)',
                        time.perf_counter() - start, new_hits - hits, new_misses - misses)
+
+
+def _sound(fit: Refined, hand: float) -> bool:
+    """Whether ``fit`` converged with a spin momentum h.s [rad/s] of ``hand``'s sign."""
+    return fit.converged and hand * float(fit.x0[X_H:X_H + 3] @ fit.x0[X_S:X_S + 3]) > 0.0
+
+
+def _least(a: Refined | None, b: Refined | None) -> Refined | None:
+    """Return the fit of lower objective of ``a`` and ``b`` (either may be None)."""
+    if a is None or b is None:
+        return a if b is None else b
+    return a if a.cost <= b.cost else b
+
+
+def _reversed(x0: np.ndarray) -> np.ndarray:
+    """Return the state ``x0`` with its spin h [rad/s] reversed (the other hand's start)."""
+    out = np.array(x0, dtype=float)
+    out[X_H:X_H + 3] *= -1.0
+    return out
 
 
 def _mix(parts) -> tuple[np.ndarray, np.ndarray]:
