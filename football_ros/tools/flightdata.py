@@ -21,7 +21,8 @@ moment, aero settings). A CSV says it in its sidecar ``<name>.csv.json`` (writte
 ``simulate``, :func:`write_sidecar`); a bag in its ``football/flight/order`` messages (the
 JSON of :meth:`football_ros.requests.FlightOrder.to_json`; the order of the flight taken).
 A bag may hold several flights: the last one is taken. Flights follow each other in the bag's
-order: a flight begins with its order message (``football/flight/order``, by receive time), or,
+order: a flight begins with its order message (``football/flight/order``, by receive time; its
+first samples may arrive just before it, and those stamped from its release on are taken), or,
 in a bag without orders, after the held landed state of the flight before. The landed state the
 simulator republishes after the landing is dropped. A pause in the state stream (a stalled
 simulator skips ticks) splits nothing: a sample's flight time is its stamp less the release's
@@ -224,6 +225,11 @@ def load_csv(path: Path) -> FlightRecord:
     )
 
 
+RELEASE_SLACK_S = 1e-4
+"""A sample stamped this much [s] before the release found from the flight is still its first
+(the release's estimate is a median of stamp less flight time: rounding, not ticks)."""
+
+
 def release_stamp(stamps: np.ndarray, positions: np.ndarray, flight: Flight) -> float:
     """
     Return the stamp [s] at which a flight of ``flight`` was released.
@@ -299,27 +305,34 @@ def load_bag(path: Path) -> FlightRecord:
     if len(odom_a) < 2:
         raise ValueError(f'{path}: fewer than two football/odom messages')
     orders.sort(key=lambda o: o[0])
-    odom_a = odom_a[np.argsort(odom_a[:, 12], kind='stable')]  # the order they arrived in
-    keep, which = _last_flight(
-        odom_a[:, 1:4], np.searchsorted(odom_a[:, 12], [o[0] for o in orders], 'right')
-    )
+    received = odom_a[np.argsort(odom_a[:, 12], kind='stable')]  # the order they arrived in
+    starts = np.searchsorted(received[:, 12], [o[0] for o in orders], 'right')
+    keep, which = _last_flight(received[:, 1:4], starts)
     if keep.size < 2:
         raise ValueError(f'{path}: fewer than two football/odom messages in the last flight')
-    odom_a = odom_a[keep]
+    odom_a = received[keep]
     odom_a = odom_a[np.argsort(odom_a[:, 0], kind='stable')]
-    stamps = odom_a[:, 0]
-    rot = frames.quaternion_to_matrix(odom_a[:, 4:8])
-    velocity = np.einsum('nij,nj->ni', rot, odom_a[:, 8:11])  # body -> field
-    info, released = None, stamps[0]
+    info, released = None, odom_a[0, 0]
     if which >= 0:
         text = orders[which][1]
         try:
             info = info_from_order(text, f'{Path(path).name}: football/flight/order')
-            released = release_stamp(stamps, odom_a[:, 1:4], order_flight(text))
+            released = release_stamp(odom_a[:, 0], odom_a[:, 1:4], order_flight(text))
         except ValueError as exc:
             raise ValueError(
                 f'{path}: unreadable football/flight/order message ({str(exc)[:120]})'
             ) from None
+        # The first samples may reach the recorder before the order that caused them (two
+        # publishers, no order between them): those received since the flight before,
+        # stamped from the release on, are this flight's too.
+        early = received[(starts[which - 1] if which > 0 else 0):starts[which]]
+        early = early[early[:, 0] >= released - RELEASE_SLACK_S]
+        if early.size:
+            odom_a = np.concatenate([early, odom_a])
+            odom_a = odom_a[np.argsort(odom_a[:, 0], kind='stable')]
+    stamps = odom_a[:, 0]
+    rot = frames.quaternion_to_matrix(odom_a[:, 4:8])
+    velocity = np.einsum('nij,nj->ni', rot, odom_a[:, 8:11])  # body -> field
 
     def by_stamp(arr: np.ndarray, column: int) -> np.ndarray:
         if len(arr) == 0:
