@@ -366,24 +366,30 @@ def test_the_stamps_jitter_is_measured_per_camera():
         assert tracker._jitter(tr, tr.t, source) < 2.5e-4  # each camera's own: 0.1 ms
 
 
-def test_a_mono_camera_s_hands_are_fitted_each_while_both_are_alive():
-    """hand_fits 'pixels': a fit per hand, weighted by evidence; 'never': the filters'."""
-    from football_ros.estimation import FlightTracker, TrackerSettings
+def _fed_mono(tracker):
+    """Feed ``tracker`` the one-camera rig's detections of :func:`_flight` until 1 s lead."""
     from football_ros.estimation.camera_fusion import CameraFusion
 
     rig = load_rig(CONFIG / 'rig_mono.yaml')
     ball, truth, balls_at = _flight()
     frames = simulate(rig, balls_at, 0.0, truth.times[-1], ball.length, ball.diameter)
     cams = {c.name: c.camera for c in rig}
+    fusion = CameraFusion(tracker, 1.0, ball.diameter)
+    for f in frames:
+        if f.delivery > truth.times[-1] - 1.0:
+            break
+        for d in f.detections:
+            fusion.observe(f.stamp, cams[f.camera], d.center, d.width)
+    return tracker
+
+
+def test_a_mono_camera_s_hands_are_fitted_each_while_both_are_alive():
+    """hand_fits 'pixels': a fit per hand, weighted by evidence; 'never': the filters'."""
+    from football_ros.estimation import FlightTracker, TrackerSettings
+
     got = {}
     for mode in ('pixels', 'never'):
-        fusion = CameraFusion(FlightTracker(TrackerSettings(hand_fits=mode)), 1.0, ball.diameter)
-        for f in frames:
-            if f.delivery > truth.times[-1] - 1.0:
-                break
-            for d in f.detections:
-                fusion.observe(f.stamp, cams[f.camera], d.center, d.width)
-        tracker = fusion.tracker
+        tracker = _fed_mono(FlightTracker(TrackerSettings(hand_fits=mode)))
         assert tracker.hand is None  # the depth axis hides the drift that tells the hands
         got[mode] = (tracker._fits(), tracker.predict_landing())
     fits, pred = got['pixels']
@@ -398,20 +404,9 @@ def test_a_mono_camera_s_hands_are_fitted_each_while_both_are_alive():
 def test_a_hand_s_fit_held_in_the_other_hand_s_minimum_is_fitted_again():
     """A fit warm-started from the other hand's minimum is refitted to its own (h.s its sign)."""
     from football_ros.estimation import FlightTracker
-    from football_ros.estimation.camera_fusion import CameraFusion
     from football_ros.estimation.motion import X_H, X_S
 
-    rig = load_rig(CONFIG / 'rig_mono.yaml')
-    ball, truth, balls_at = _flight()  # a right-handed spiral: h.s > 0
-    frames = simulate(rig, balls_at, 0.0, truth.times[-1], ball.length, ball.diameter)
-    cams = {c.name: c.camera for c in rig}
-    fusion = CameraFusion(FlightTracker(), 1.0, ball.diameter)
-    for f in frames:
-        if f.delivery > truth.times[-1] - 1.0:
-            break
-        for d in f.detections:
-            fusion.observe(f.stamp, cams[f.camera], d.center, d.width)
-    tracker = fusion.tracker
+    tracker = _fed_mono(FlightTracker())  # a right-handed spiral: h.s > 0
     tr = tracker.track
     assert tracker.hand is None and tracker._fits() is not None
     right, left = tr.fits[1.0][1], tr.fits[-1.0][1]

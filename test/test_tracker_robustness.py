@@ -491,24 +491,26 @@ def test_gyroscopic_stability_of_a_state_is_the_modes_s_g():
     assert tracker.gyroscopic_stability(x) == pytest.approx(1.0, abs=0.01)
 
 
+def _screw_kicks(rng, rpm: tuple, offsets: bool = False, n: int = 6) -> list:
+    """Rugby screw kicks of |spin| in ``rpm``, either hand; axis offsets N(0, 1.5 deg) too."""
+    kicks = []
+    for _ in range(n):
+        speed, elevation = float(rng.uniform(18.0, 27.0)), float(rng.uniform(25.0, 40.0))
+        spin = float(rng.choice([-1.0, 1.0]) * rng.uniform(*rpm))
+        extra = ({'alpha0_deg': float(rng.normal(0.0, 1.5)),
+                  'beta0_deg': float(rng.normal(0.0, 1.5))} if offsets else {})
+        kicks.append(Release(ball='rugby', model='full', speed=speed, elevation_deg=elevation,
+                             spin_rpm=spin, position=(0.0, 0.0, 1.8), **extra))
+    return kicks
+
+
 def test_low_spin_rugby_kicks_that_tumble_keep_an_honest_covariance():
     """
     Screw kicks at 80-200 rpm (S_g < 1): at 1 s lead the defaults' NEES is an honest size.
 
     Against one Gaussian spin prior without the tumbling term, which is overconfident.
     """
-    rng = np.random.default_rng(23)
-    kicks = [
-        Release(
-            ball='rugby',
-            model='full',
-            speed=float(rng.uniform(18.0, 27.0)),
-            elevation_deg=float(rng.uniform(25.0, 40.0)),
-            spin_rpm=float(rng.choice([-1.0, 1.0]) * rng.uniform(80.0, 200.0)),
-            position=(0.0, 0.0, 1.8),
-        )
-        for _ in range(6)
-    ]
+    kicks = _screw_kicks(np.random.default_rng(23), (80.0, 200.0))
     variants = {  # the control: no slices, no tumbling term, no gusty twins to absorb the misfit
         'one Gaussian': {'spin_components': 1, 'tumble_noise': 0.0, 'gust_rate': 0.0},
         'defaults': {},
@@ -539,20 +541,7 @@ def test_an_unstable_kicks_fit_starts_from_its_prior_and_finds_the_landing():
     At 1 s lead. Both hands stay alive all flight (the wobble hides the drift that tells them
     apart), so at the defaults no fit runs and the filters' mixture predicts.
     """
-    rng = np.random.default_rng(31)
-    kicks = [
-        Release(
-            ball='rugby',
-            model='full',
-            speed=float(rng.uniform(18.0, 27.0)),
-            elevation_deg=float(rng.uniform(25.0, 40.0)),
-            spin_rpm=float(rng.choice([-1.0, 1.0]) * rng.uniform(0.0, 120.0)),
-            alpha0_deg=float(rng.normal(0.0, 1.5)),
-            beta0_deg=float(rng.normal(0.0, 1.5)),
-            position=(0.0, 0.0, 1.8),
-        )
-        for _ in range(6)
-    ]
+    kicks = _screw_kicks(np.random.default_rng(31), (0.0, 120.0), offsets=True)
     variants = {'multi-start': {'unstable_fits': True}, 'defaults': {}}
     err = {name: [] for name in variants}
     nees = []
