@@ -625,3 +625,30 @@ def test_the_defaults_take_in_an_unmodelled_crosswind_and_stay_sharp_in_still_ai
         assert err < err_still_only + 0.005 and nees < 5.991, (err, err_still_only, nees)
     with pytest.raises(ValueError, match='gust_prior'):
         TrackerSettings(gust_prior=0.0)
+
+
+def test_a_gusty_filter_that_misses_the_ground_leaves_the_fit_s_prediction():
+    """
+    A gusty filter that cannot be flown to the ground does not void the fit's landing.
+
+    It had (no prediction at all, though the fit landed); the fit then stands for the gusty
+    share too, with the gusts to come still in its covariance.
+    """
+    kept, t_land, xy = fixes(RELEASE, seed=5)
+    tracker = FlightTracker(TrackerSettings(gust_prior=0.5))  # a gusty share of 1/3 or more
+    for t, z in kept:
+        if t <= t_land - 1.0:
+            tracker.update(t, z)
+    assert tracker.hand is not None and tracker._gusty_weight(tracker.track) > 0.2
+    whole, _ = landing_error(tracker, xy)
+    mixture = tracker._mixture
+
+    def gusty_filters_miss(tr, height, wall, gusty_only=False):
+        return [None, None, None] if gusty_only else mixture(tr, height, wall, gusty_only)
+
+    tracker._mixture = gusty_filters_miss
+    tracker.track.fits.clear()
+    alone, pred = landing_error(tracker, xy)
+    assert alone < 0.3 and abs(alone - whole) < 0.2, (alone, whole)
+    d = pred.position[:2] - xy
+    assert float(d @ np.linalg.solve(pred.covariance, d)) < 13.8  # inside its 99.9 % ellipse

@@ -599,8 +599,11 @@ class FlightTracker:
                     for f, m in zip(planes, self._mixture(tr, h, wall))
                 ]
             if gusty > 1e-3:  # the fit stands for still air; the gusty filters keep their share
+                # (when a gusty filter cannot be flown to a plane, a sigma point of an absurd
+                # hypothesis outside the horizon, the fit stands for all: the gusts to come
+                # are still added below)
                 planes = [
-                    None if f is None or g is None else _mix([(1.0 - gusty, f), (gusty, g)])
+                    f if f is None or g is None else _mix([(1.0 - gusty, f), (gusty, g)])
                     for f, g in zip(planes, self._mixture(tr, h, wall, gusty_only=True))
                 ]
         q = self._accel_variance(model)
