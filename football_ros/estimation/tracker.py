@@ -771,10 +771,8 @@ class FlightTracker:
             fit = _least(fit, self._fit_from(tr, hand, [x0 for x0 in starts if x0 is not None]))
         if self._tumbling(tr) and times.size >= 2 * tr.spread_at.get(hand, 0):
             tr.spread_at[hand] = times.size
-            still = [h for h in tr.hyps if not h.gusty]  # the fit flies a steady wind
-            mine = sorted([h for h in still if h.hand == hand] or still, key=lambda h: -h.loglik)
             back = [fly_state(h.x, [times[0] - tr.t], self.params, self.settings.step)[0]
-                    for h in mine]
+                    for h in _hand_filters(tr, hand)]
             if back:
                 fit = _least(fit, self._spread_fit(
                     tr, hand, back + self._prior_starts(back[0], hand)))
@@ -786,12 +784,10 @@ class FlightTracker:
 
     def _filter_start(self, tr: _Track, hand: float, times: np.ndarray) -> np.ndarray | None:
         """Return that hand's likeliest still-air filter (else any's) flown to ``times[0]``."""
-        still = [h for h in tr.hyps if not h.gusty]
-        mine = [h for h in still if h.hand == hand] or still
+        mine = _hand_filters(tr, hand)
         if not mine:
             return None
-        start = max(mine, key=lambda h: h.loglik)
-        return fly_state(start.x, [times[0] - tr.t], self.params, self.settings.step)[0]
+        return fly_state(mine[0].x, [times[0] - tr.t], self.params, self.settings.step)[0]
 
     def _fit_from(self, tr: _Track, hand: float, starts: list,
                   iterations: int | None = None) -> Refined | None:
@@ -1444,6 +1440,12 @@ def warm_up(settings: TrackerSettings | None = None):
 def _sound(fit: Refined, hand: float) -> bool:
     """Whether ``fit`` converged with a spin momentum h.s [rad/s] of ``hand``'s sign."""
     return fit.converged and hand * float(fit.x0[X_H:X_H + 3] @ fit.x0[X_S:X_S + 3]) > 0.0
+
+
+def _hand_filters(tr: _Track, hand: float) -> list:
+    """Return ``hand``'s still-air filters (else every still-air one), likeliest first."""
+    still = [h for h in tr.hyps if not h.gusty]  # the fit flies a steady wind
+    return sorted([h for h in still if h.hand == hand] or still, key=lambda h: -h.loglik)
 
 
 def _least(a: Refined | None, b: Refined | None) -> Refined | None:
