@@ -28,7 +28,8 @@ Every figure is a ratio to a baseline measured in the same run, ``--draws`` time
   measured the same way ("less floor": (simulator - floor) / core); and the simulator's own
   call of one step (its executor with all its services, publishers and action; "less its
   1 step": what the 999 further steps cost it, over the core's 1000). The default ball's
-  lock-step (flown by a flight order) beside a spawned ball's.
+  lock-step (flown by a flight order) beside a spawned ball's. The simulator and the floor on
+  each executor (``executor_type``: events, the default, and single_threaded, the baseline).
 - Real time at 100 Hz: the simulator's CPU (cores) with ``--rt-balls`` balls in the air and a
   /tf subscriber (and the /tf messages received per tick published), with nobody subscribed (and
   the physics' share: the core's kernel pass for those balls in this process over the
@@ -36,8 +37,10 @@ Every figure is a ratio to a baseline measured in the same run, ``--draws`` time
   its publishing floor (entities_benchmark.floor: the same messages encoded and published by a
   bare pacing loop to a client subscribed to all, no simulation, no executor).
 - Soak (``--soak`` s): 100 balls re-thrown every 10 s at 100 Hz with a /tf subscriber: the
-  simulator's RSS growth and late ticks beside the bare pacing loop's (no ROS, no work), run
-  at the same time in another process.
+  simulator's RSS growth and late ticks beside two pacing loops run at the same time in other
+  processes (no ROS, one thread): the bare loop (no work) and one busy for the simulator's CPU
+  per tick of the same workload (its real-time row): on the normal scheduler a loaded machine
+  delays a loop by the work it does a tick, so the second is the floor of the first target.
 
 ``--thread-priority`` > 0 puts the simulator's pacing thread (its ``thread_priority``) and the
 bare pacing loop on SCHED_FIFO at that priority (root or an rtprio limit); its run is recorded
@@ -75,6 +78,8 @@ STEPS = 1000
 REPEATS = 7
 ROUNDS = 5  # batches of REPEATS calls, each from a fresh throw
 ALL_BALLS = 100  # balls of the every-topic-subscribed row and of its publishing floor
+SOAK_BALLS = 100
+EXECUTORS = ('events', 'single_threaded')  # the simulator's executor_type: default first
 
 
 def bare_core(balls: int, default: bool = False) -> float:
@@ -243,11 +248,18 @@ def rss_mb(pid: int) -> float:
     return float('nan')
 
 
-def floor_server() -> None:
-    """Serve StepSimulation and SimulateSteps answered at once: the do-nothing floor."""
+def floor_server(executor: str = 'single_threaded') -> None:
+    """
+    Serve StepSimulation and SimulateSteps answered at once: the do-nothing floor.
+
+    ``executor``: 'single_threaded' (rclpy.spin's, the issue's floor) or 'events' (the
+    simulator's default, runner.make_executor).
+    """
     import rclpy
     from rclpy.action import ActionServer
     from rclpy.executors import ExternalShutdownException
+
+    from football_ros.nodes.runner import make_executor
     from simulation_interfaces.action import SimulateSteps
     from simulation_interfaces.srv import GetSimulationState, ResetSimulation, SetSimulationState
     from simulation_interfaces.srv import StepSimulation
@@ -276,9 +288,12 @@ def floor_server() -> None:
     ActionServer(node, SimulateSteps, '~/simulate_steps', execute_callback=execute,
                  goal_service_qos_profile=depth, result_service_qos_profile=depth,
                  cancel_service_qos_profile=depth)
+    spinner = make_executor(executor)
+    spinner.add_node(node)
     print('ready', flush=True)
     try:
-        rclpy.spin(node)
+        while rclpy.ok():  # as the runner spins (7.1.6's EventsExecutor.spin() busy-waits)
+            spinner.spin_once(timeout_sec=0.1)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
 
@@ -328,11 +343,21 @@ def stop(proc: subprocess.Popen) -> None:
         proc.wait()
 
 
-def simulator(tmp: Path, tag: str, priority: int) -> subprocess.Popen:
+def simulator(tmp: Path, tag: str, priority: int, executor: str = 'events') -> subprocess.Popen:
     return start([sys.executable, '-m', 'football_ros.cli', 'simulator', '--ros-args', '-p',
                   'publish_rate:=100.0', '-p', 'max_entities:=1000', '-p', 'marker_rate:=0.0',
-                  '-p', f'thread_priority:={priority}'],
+                  '-p', f'thread_priority:={priority}', '-p', f'executor_type:={executor}'],
                  tmp / f'simulator-{tag}.log')
+
+
+def pace_phase(seconds: float, priority: int, work_ms: float = 0.0) -> dict:
+    """Run the bare pacing loop at 100 Hz, each tick busy for ``work_ms`` of this thread's CPU."""
+    def work(_t: float) -> None:
+        end = time.thread_time() + work_ms * 1e-3
+        while time.thread_time() < end:
+            pass
+
+    return eb.pace(100.0, seconds, priority, work if work_ms > 0.0 else None)
 
 
 def parser() -> argparse.ArgumentParser:
@@ -360,13 +385,13 @@ def section(priority: int) -> str:
 
 def main(argv=None) -> int:
     args = parser().parse_args(argv)
-    if args.phase == 'floor_server':
-        floor_server()
-        return 0
     if args.phase:
         options = json.loads(args.options)
+        if args.phase == 'floor_server':
+            floor_server(**options)
+            return 0
         fn = {'lockstep': lock_step_phase, 'realtime': realtime_phase, 'soak': soak_phase,
-              'pace': lambda seconds, priority: eb.pace(100.0, seconds, priority)}[args.phase]
+              'pace': pace_phase}[args.phase]
         print(json.dumps(fn(**options)))
         return 0
     if any(b < 1 for b in args.balls) or args.rt_balls < 1 or args.draws < 1 or args.hogs < 0:
@@ -381,32 +406,50 @@ def main(argv=None) -> int:
                 row = {'core': {n: bare_core(n) for n in args.balls},
                        'core default': bare_core(1, default=True),
                        'physics': bare_tick(args.rt_balls)}
-                floor = start([sys.executable, __file__, '--no-record', '--phase', 'floor_server'],
-                              tmp / f'floor-{draw}.log')
+                for executor in EXECUTORS:  # the do-nothing floor, on each executor
+                    floor = start([sys.executable, __file__, '--no-record', '--phase',
+                                   'floor_server', '--options',
+                                   json.dumps({'executor': executor})],
+                                  tmp / f'floor-{draw}-{executor}.log')
+                    try:
+                        row[f'floor {executor}'] = run_phase('lockstep', pid=floor.pid, balls=[0])
+                    finally:
+                        stop(floor)
+                # The simulator on its classic executor: the lock-step baseline of the same run.
+                sim = simulator(tmp, f'{draw}-single', args.thread_priority, 'single_threaded')
                 try:
-                    row['floor'] = run_phase('lockstep', pid=floor.pid, balls=[0])
+                    row['sim single_threaded'] = run_phase('lockstep', pid=sim.pid,
+                                                           balls=args.balls)
                 finally:
-                    stop(floor)
+                    stop(sim)
                 sim = simulator(tmp, str(draw), args.thread_priority)
                 try:
-                    row['sim'] = run_phase('lockstep', pid=sim.pid, balls=args.balls)
+                    row['sim events'] = run_phase('lockstep', pid=sim.pid, balls=args.balls)
                     row['rt'] = {
                         case: run_phase('realtime', pid=sim.pid, balls=n,
                                         seconds=args.seconds, subscribed=case.split()[1])
                         for case, n in ((f'{args.rt_balls} tf', args.rt_balls),
                                         (f'{args.rt_balls} none', args.rt_balls),
-                                        (f'{ALL_BALLS} all', ALL_BALLS))
+                                        (f'{ALL_BALLS} all', ALL_BALLS),
+                                        (f'{SOAK_BALLS} tf', SOAK_BALLS))
                     }
                     # The publishing floor of the all-subscribed row: the same messages encoded
                     # and published to a client subscribed to all, no simulation, no executor.
                     row['publish floor'] = eb.floor(100.0, ALL_BALLS, args.seconds,
                                                     args.thread_priority)
-                    if args.soak > 0 and draw == 0:  # the bare pacing loop beside the soak
-                        pace = phase_process('pace', seconds=args.soak + 5.0,
-                                             priority=args.thread_priority)
-                        row['soak'] = run_phase('soak', pid=sim.pid, balls=100,
+                    if args.soak > 0 and draw == 0:
+                        # Beside the soak, two pacing loops: the bare one (no work) and one
+                        # whose tick busies its CPU for the simulator's CPU per tick of this
+                        # workload (its real-time row just measured): the floor of any loop
+                        # doing that much work a tick on this machine, no ROS, one thread.
+                        work_ms = row['rt'][f'{SOAK_BALLS} tf']['cores'] * 10.0  # 100 Hz
+                        paces = [phase_process('pace', seconds=args.soak + 5.0,
+                                               priority=args.thread_priority, work_ms=w)
+                                 for w in (0.0, work_ms)]
+                        row['soak'] = run_phase('soak', pid=sim.pid, balls=SOAK_BALLS,
                                                 seconds=args.soak)
-                        row['pace'] = phase_result('pace', pace)
+                        row['pace'], row['pace work'] = (phase_result('pace', p) for p in paces)
+                        row['pace work']['work_ms'] = work_ms
                 finally:
                     stop(sim)
                 draws.append(row)
@@ -431,26 +474,38 @@ def report(draws: list[dict], args) -> None:
     print()
     print(f'Lock-step, {STEPS} steps of 1 ms per call (CPU ms per call; ratios to the bare core '
           'measured in the same draw)')
-    print('| call | balls | bare core ms | floor ms (do-nothing server) | simulator ms '
-          '| simulator / core | (simulator - floor) / core | simulator, 1 step ms '
-          '| (simulator - its 1 step) / core |')
-    print('|---|---|---|---|---|---|---|---|---|')
+    print("executor: the simulator's executor_type (events: its default; single_threaded: "
+          "the classic, the baseline) and the do-nothing floor server's; (simulator - floor) "
+          '/ core subtracts the floor on the same executor, (... - classic floor) the '
+          "single_threaded one (rclpy.spin: the issue's floor).")
+    print('| call | balls | executor | bare core ms | floor ms (do-nothing server) | simulator ms '
+          '| simulator / core | (simulator - floor) / core | (simulator - classic floor) / core '
+          '| simulator, 1 step ms | (simulator - its 1 step) / core |')
+    print('|---|---|---|---|---|---|---|---|---|---|---|')
     for kind, key in (('StepSimulation', 'step'), ('SimulateSteps', 'action')):
         for n in args.balls:
-            core_ms = [d['core'][n] * 1e3 for d in draws]
-            floor_ms = [d['floor'][key] * 1e3 for d in draws]
-            sim_ms = [d['sim'][f'{key} {n}'] * 1e3 for d in draws]
-            one_ms = [d['sim'][f'{key} {n} one'] * 1e3 for d in draws]
-            print(f'| {kind} | {n} | {_cells(core_ms, "{:.3f}")} | {_cells(floor_ms)} '
-                  f'| {_cells(sim_ms)} | {_cells([s / c for s, c in zip(sim_ms, core_ms)])} '
-                  f'| {_cells([(s - f) / c for s, f, c in zip(sim_ms, floor_ms, core_ms)])} '
-                  f'| {_cells(one_ms)} '
-                  f'| {_cells([(s - o) / c for s, o, c in zip(sim_ms, one_ms, core_ms)])} |')
+            for executor in EXECUTORS:
+                core_ms = [d['core'][n] * 1e3 for d in draws]
+                floor_ms = [d[f'floor {executor}'][key] * 1e3 for d in draws]
+                classic_ms = [d['floor single_threaded'][key] * 1e3 for d in draws]
+                sim = [d[f'sim {executor}'] for d in draws]
+                sim_ms = [x[f'{key} {n}'] * 1e3 for x in sim]
+                one_ms = [x[f'{key} {n} one'] * 1e3 for x in sim]
+                print(f'| {kind} | {n} | {executor} | {_cells(core_ms, "{:.3f}")} '
+                      f'| {_cells(floor_ms)} | {_cells(sim_ms)} '
+                      f'| {_cells([s / c for s, c in zip(sim_ms, core_ms)])} '
+                      f'| {_cells([(s - f) / c for s, f, c in zip(sim_ms, floor_ms, core_ms)])} '
+                      f'| {_cells([(s - f) / c for s, f, c in zip(sim_ms, classic_ms, core_ms)])} '
+                      f'| {_cells(one_ms)} '
+                      f'| {_cells([(s - o) / c for s, o, c in zip(sim_ms, one_ms, core_ms)])} |')
     if 1 in args.balls:
         core_ratio = [d['core default'] / d['core'][1] for d in draws]
-        sim_ratio = [d['sim']['step default'] / d['sim']['step 1'] for d in draws]
-        print(f'| StepSimulation, the default ball (a flight order) / a spawned ball (ratios) '
-              f'| 1 | {_cells(core_ratio)} | | {_cells(sim_ratio)} | | | | |')
+        for executor in EXECUTORS:
+            sim_ratio = [d[f'sim {executor}']['step default'] / d[f'sim {executor}']['step 1']
+                         for d in draws]
+            print(f'| StepSimulation, the default ball (a flight order) / a spawned ball (ratios)'
+                  f' | 1 | {executor} | {_cells(core_ratio)} | | {_cells(sim_ratio)} '
+                  '| | | | | |')
     print()
     print(f'Real time at 100 Hz ({args.seconds:g} s windows; cores = simulator CPU s per s)')
     print('| balls | subscribed | cores | late ticks | skipped | messages received / published '
@@ -481,11 +536,15 @@ def report(draws: list[dict], args) -> None:
         print()
         print(f'Soak: 100 balls at 100 Hz re-thrown every 10 s, a /tf subscriber, '
               f'{args.soak:g} s')
+        work = draws[0]['pace work']
         print('| RSS start MB | RSS end MB | growth MB | late ticks | skipped '
-              '| bare pacing loop late ticks (beside it, same run) |')
-        print('|---|---|---|---|---|---|')
+              '| bare pacing loop late ticks (beside it, same run) '
+              f"| pacing loop busy {work['work_ms']:.2f} ms a tick (the simulator's CPU per tick "
+              'of this workload, its real-time row), late ticks |')
+        print('|---|---|---|---|---|---|---|')
         print(f"| {soak['rss0']:.1f} | {soak['rss1']:.1f} | {soak['rss1'] - soak['rss0']:.2f} "
-              f"| {soak['late']} | {soak['skipped']} | {draws[0]['pace']['late']} |")
+              f"| {soak['late']} | {soak['skipped']} | {draws[0]['pace']['late']} "
+              f"| {work['late']} |")
         if draws[0]['pace']['refused']:
             print(f"The bare loop's SCHED_FIFO was refused: {draws[0]['pace']['refused']}")
 

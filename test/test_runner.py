@@ -144,3 +144,34 @@ def test_a_stop_signal_in_llvmlites_callbacks_waits_for_a_safe_point():
         signal.setitimer(signal.ITIMER_REAL, 0.0)
         for sig, handler in previous.items():
             signal.signal(sig, handler)
+
+
+def test_make_executor_gives_the_kind_asked_and_falls_back_with_a_warning(monkeypatch):
+    import rclpy
+    from rclpy.executors import SingleThreadedExecutor
+
+    from football_ros.nodes.runner import make_executor
+
+    class Logger:
+
+        lines = []
+
+        def warning(self, text):
+            self.lines.append(text)
+
+    class Node:
+
+        def get_logger(self):
+            return Logger()
+
+    rclpy.init()
+    try:
+        events = make_executor('events', Node())
+        assert not isinstance(events, SingleThreadedExecutor) and hasattr(events, 'wake')
+        assert isinstance(make_executor('single_threaded', Node()), SingleThreadedExecutor)
+        assert Logger.lines == []
+        monkeypatch.setitem(sys.modules, 'rclpy.experimental', None)  # an rclpy without it
+        assert isinstance(make_executor('events', Node()), SingleThreadedExecutor)
+        assert len(Logger.lines) == 1 and 'no EventsExecutor' in Logger.lines[0]
+    finally:
+        rclpy.shutdown()

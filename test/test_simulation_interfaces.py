@@ -66,8 +66,9 @@ def throw_of(name: str, release: Release) -> dict:
     }
 
 
-def test_generic_client_matches_offline_flight_bit_for_bit(start_node, tmp_path):
-    start_node('simulator')
+@pytest.mark.parametrize('executor', ['events', 'single_threaded'])
+def test_generic_client_matches_offline_flight_bit_for_bit(start_node, tmp_path, executor):
+    start_node('simulator', '--ros-args', '-p', f'executor_type:={executor}')
     throws = [
         throw_of('pass', Release(alpha0_deg=2.0, alpha_rate_deg_s=10.0)),
         throw_of('kick', Release(ball='rugby', spin_rpm=-300.0, position=(0.0, 1.0, 1.0))),

@@ -25,6 +25,13 @@ A callback that raises is logged with its traceback and the node goes on. A star
 (an option other than ``-h`` before ``--ros-args``, ROS arguments rcl cannot parse, a
 parameter out of range, DDS security that cannot start) is one line on stderr and exit code 2.
 
+The executor is rclpy's SingleThreadedExecutor unless the node's ``executor_type`` attribute
+(a parameter) asks for 'events': rclpy.experimental.EventsExecutor, which dispatches in C++
+without rebuilding a wait set in Python at every wake-up (cheaper per call: the simulator's
+lock-step, bench/core_benchmark.py); where rclpy lacks it (before Jazzy's rclpy 7.1.4) the
+node warns and uses the other. Either is spun by ``spin_once`` with a timeout (the 7.1.6
+EventsExecutor's ``spin()`` busy-waits on a core and does not return at shutdown).
+
 ``-h``/``--help`` before ``--ros-args`` prints the node's description and parameters (the node
 class's ``PARAMETERS`` table: name, default, range or choices, description) and exits 0
 without starting anything.
@@ -40,7 +47,7 @@ from typing import Callable, Sequence
 import rclpy
 from rclpy._rclpy_pybind11 import RCLError
 from rclpy.exceptions import InvalidParameterTypeException, ParameterException
-from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.executors import Executor, ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
 import rclpy.signals
 
@@ -225,9 +232,9 @@ def _start_and_spin(factory, argv, program: str, made: list, signals: _Signals) 
         print(f'{program}: error: cannot start: {_rcl_reason(exc)}', file=sys.stderr)
         return EXIT_USAGE
     signals.spinning = True  # from here a signal stops the loop (not an executor half-built)
-    executor = SingleThreadedExecutor()
-    executor.add_node(made[0])
     node = made[0]
+    executor = make_executor(getattr(node, 'executor_type', 'single_threaded'), node)
+    executor.add_node(node)
     while rclpy.ok() and not signals.stop:  # short waits: a signal is seen within SPIN_WAIT_S
         try:
             executor.spin_once(timeout_sec=SPIN_WAIT_S)
@@ -242,6 +249,27 @@ def _start_and_spin(factory, argv, program: str, made: list, signals: _Signals) 
     if signals.stop and rclpy.ok():
         _drain(executor, node)
     return 0
+
+
+def make_executor(kind: str, node: Node | None = None) -> Executor:
+    """
+    Return a new executor of ``kind`` ('events' or 'single_threaded').
+
+    'events' falls back to a SingleThreadedExecutor where rclpy has no EventsExecutor, with a
+    warning on ``node``'s logger.
+    """
+    if kind == 'events':
+        try:
+            from rclpy.experimental import EventsExecutor
+        except ImportError as exc:
+            if node is not None:
+                node.get_logger().warning(
+                    f'executor_type events: this rclpy has no EventsExecutor ({exc}); '
+                    'using the SingleThreadedExecutor'
+                )
+        else:
+            return EventsExecutor()
+    return SingleThreadedExecutor()
 
 
 def _drain(executor, node: Node) -> None:

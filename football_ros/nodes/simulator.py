@@ -191,6 +191,15 @@ PARAMETERS = (
         read_only=True,
     ),
     ParamSpec(
+        'executor_type',
+        'events',
+        "Executor of the services, the action and the parameters: 'events' "
+        '(rclpy.experimental.EventsExecutor: C++ dispatch, the cheaper per call; the other where '
+        "rclpy lacks it) or 'single_threaded' (rclpy's SingleThreadedExecutor)",
+        choices=('events', 'single_threaded'),
+        read_only=True,
+    ),
+    ParamSpec(
         'model',
         'release',
         "Equations of motion: 'release' (as each release asks), 'paper' or 'full'",
