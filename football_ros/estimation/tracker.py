@@ -71,9 +71,11 @@ Predictions once one hand is left (``refine_iterations`` > 0): a batch MAP fit o
 the throw under the same prior (:mod:`.refine`), warm-started at each prediction. The filter's
 process noise, which keeps it honest and lets it follow a ball the model misses, also makes it
 forget; the fit keeps all the fixes, and so comes closer to the information bound. Where
-either finds the ball gyroscopically unstable (a kick that may tumble, which the deterministic
-fit cannot follow but the filter's tumbling noise carries all flight), the prediction keeps the
-fit's mean with the filter's covariance, widened by how far the two lie apart.
+either finds the ball gyroscopically unstable (a kick that may tumble), the multi-start fit
+(``unstable_fits``) keeps its own covariance if its objective passes a chi-square check, the
+filters keeping the chance that it sits in a wrong basin; else (or without ``unstable_fits``)
+the prediction keeps the fit's mean with the filters' tumbling covariance, widened by how far
+the two lie apart (docs/physics.md, "Low spin and tumbling").
 """
 
 from __future__ import annotations
