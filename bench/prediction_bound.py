@@ -38,7 +38,8 @@ the pooled median is <= 5 cm (the issue's target).
 known): an estimator that reaches the bound shows that the bound is tight. ``--tracker``
 replays the same fixes into the tracker (told nothing / the spin / the coefficients / both, as
 the benchmark's oracle, and told nothing without its batch fit, 'filter alone'; ``--set``
-changes TrackerSettings) and prints its median error and the
+changes TrackerSettings: NAME=VALUE, VALUE an int, a float or true / false, e.g.
+``--set unstable_fits=false``) and prints its median error and the
 median over flights of its error over the bound's per-flight median (1 = at the limit), its
 |spin| error and how often it picked the right hand.
 
@@ -329,7 +330,9 @@ def map_errors(release, obs: list, model: ThrowModel, xy_land, case) -> dict:
 
 
 def _value(text: str):
-    """Parse a --set value (int or float)."""
+    """Parse a --set value: true / false (any case), else an int or a float."""
+    if text.lower() in ('true', 'false'):
+        return text.lower() == 'true'
     try:
         return int(text)
     except ValueError:

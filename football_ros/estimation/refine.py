@@ -83,7 +83,9 @@ class Refined:
     covariance of the step delta at the first fix (units of :data:`FD_STEP`): with ``cost``,
     the Laplace evidence of the fit's prior, -cost / 2 + logdet / 2 + a constant that two fits
     of the same fixes and step share; ``converged`` whether a step's decrease fell below
-    :data:`CONVERGED` or no step lowered the objective (False: the iterations ran out).
+    :data:`CONVERGED` or no step lowered the objective (False: the iterations ran out);
+    ``dof`` the objective's degrees of freedom, its whitened residuals less the unknowns (a
+    fit in the right basin has ``cost`` near it: chi-square).
     """
 
     x0: np.ndarray
@@ -93,6 +95,7 @@ class Refined:
     iterations: int
     logdet: float = math.nan
     converged: bool = True
+    dof: int = 0
 
 
 def _basis(u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -242,4 +245,4 @@ def refine(
     P = ends.T @ cov @ ends  # carried linearly
     if not (np.all(np.isfinite(mode)) and np.all(np.isfinite(P))):
         return None
-    return Refined(x, mode, 0.5 * (P + P.T), cost, it, logdet, converged)
+    return Refined(x, mode, 0.5 * (P + P.T), cost, it, logdet, converged, jac.shape[0] - n)

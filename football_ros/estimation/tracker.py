@@ -71,9 +71,11 @@ Predictions once one hand is left (``refine_iterations`` > 0): a batch MAP fit o
 the throw under the same prior (:mod:`.refine`), warm-started at each prediction. The filter's
 process noise, which keeps it honest and lets it follow a ball the model misses, also makes it
 forget; the fit keeps all the fixes, and so comes closer to the information bound. Where
-either finds the ball gyroscopically unstable (a kick that may tumble, which the deterministic
-fit cannot follow but the filter's tumbling noise carries all flight), the prediction keeps the
-fit's mean with the filter's covariance, widened by how far the two lie apart.
+either finds the ball gyroscopically unstable (a kick that may tumble), the multi-start fit
+(``unstable_fits``) keeps its own covariance if its objective passes a chi-square check, the
+filters keeping the chance that it sits in a wrong basin; else (or without ``unstable_fits``)
+the prediction keeps the fit's mean with the filters' tumbling covariance, widened by how far
+the two lie apart (docs/physics.md, "Low spin and tumbling").
 """
 
 from __future__ import annotations
@@ -114,6 +116,15 @@ from ..physics.presets import get_preset
 from ..physics.release import RPM
 
 CHI2_3_9999 = 21.11  # chi-square 3 dof, 99.99 %
+CHI2_Z95 = 1.645
+"""Standard normal 95 % point: the chi-square check of an unstable kick's fit
+(:func:`_wrong_basin`)."""
+WRONG_BASIN = (0.05, 2.0)
+"""An unstable kick's multi-start fit: the chance that it sits in a wrong basin although it passes
+the chi-square check (one in twenty on the prediction benchmark's tumbling cases: its landing
+off by 4-20 of its sigmas), and how
+far such a basin's objective lies above a right one's [standard deviations of chi-square]
+(:func:`_wrong_basin`)."""
 MAX_FIXES = 1000
 """Fixes of a throw kept for the batch fit (beyond, every other one is dropped: bounded cost)."""
 PLANE_COLUMNS = (slice(0, 4), slice(4, 8), slice(8, 13))
@@ -188,9 +199,13 @@ class TrackerSettings:
     its transverse rate (a punt end over end, not a spiral's wobble) and starts from every
     filter of its hand, from its prior and from ``tumble_starts`` tumbles (rates up to
     ``tumble_rate_sigma``, end over end either way), the lowest objective kept: its likelihood
-    has several optima (:meth:`FlightTracker._refit`). Its landing is then near the
-    information bound, but the prediction keeps the filter's tumbling covariance, far too
-    wide for it (test/test_tracker_robustness.py): off until that covariance is reworked.
+    has several optima (:meth:`FlightTracker._refit`). The prediction takes the fit's own
+    covariance where the fit passes a chi-square check, the filters' mixture keeping the
+    chance that it sits in a wrong basin, else the filters' tumbling covariance
+    (:func:`_wrong_basin`); False: the filters' tumbling covariance always, and no multi-start.
+    Off by default: on end-over-end punts 81-88 % of landings fall inside the 95 % ellipse (16
+    flights, bench/RESULTS.md), and a mono camera's spiral, whose filters' spin is near 0 early
+    (S_g < 1), would be treated as a tumbling kick.
 
     The noise and prior defaults make the covariance honest (landing NEES 2 or below) on the
     prediction benchmark's still-air flights; the gusty twins (``gust_rate``, on by default)
@@ -590,15 +605,25 @@ class FlightTracker:
             top = max(fits, key=lambda wf: wf[0])[1]
             # whichever is less stable sets the tumbling allowance
             model = min((top.x, tr.best.x), key=self._stability)
-            if self._stability(model) < 1.0:  # a kick that may tumble: the fit's
-                # mean, the filter's covariance (it carries the tumbling all flight), widened
-                # by how far the two lie apart
+            if self._stability(model) < 1.0:  # a kick that may tumble: the fit's mean
+                wrong = _wrong_basin(fits) if self._tumbling(tr) else None
                 planes = [
                     None if f is None or m is None
+                    # a multi-start fit that passes the chi-square check: its own moments,
+                    # the filters' mixture keeping the chance that it is in a wrong basin
+                    else _mix([(1.0 - wrong, f), (wrong, m)]) if wrong is not None
+                    # else the filters' covariance (it carries the tumbling all flight),
+                    # widened by how far the fit lies from them
                     else (f[0], m[1] + np.outer(f[0] - m[0], f[0] - m[0]))
                     for f, m in zip(planes, self._mixture(tr, h, wall))
                 ]
-            if gusty > 1e-3:  # the fit stands for still air; the gusty filters keep their share
+                if wrong is not None:  # the fit flies the full model, attitude and all, and
+                    # its fixes in steady air: no tumbling allowance, and the gusty filters'
+                    # share (filters that cannot follow the tumble, whose misfit gusts take in)
+                    # only in the wrong basin's; the gusts to come are still added
+                    model = None
+            if gusty > 1e-3 and model is not None:  # the fit stands for still air; the gusty
+                # filters keep their share
                 # (when a gusty filter cannot be flown to a plane, a sigma point of an absurd
                 # hypothesis outside the horizon, the fit stands for all: the gusts to come
                 # are still added below)
@@ -606,7 +631,7 @@ class FlightTracker:
                     f if f is None or g is None else _mix([(1.0 - gusty, f), (gusty, g)])
                     for f, g in zip(planes, self._mixture(tr, h, wall, gusty_only=True))
                 ]
-        q = self._accel_variance(model)
+        q = s.accel_noise**2 if model is None else self._accel_variance(model)
         gust = self._gust_variance(tr)
         if gust is not None:  # the gusts to come, for the gusty filters' share
             gust = gusty * gust
@@ -1446,6 +1471,33 @@ def _hand_filters(tr: _Track, hand: float) -> list:
     """Return ``hand``'s still-air filters (else every still-air one), likeliest first."""
     still = [h for h in tr.hyps if not h.gusty]  # the fit flies a steady wind
     return sorted([h for h in still if h.hand == hand] or still, key=lambda h: -h.loglik)
+
+
+def _wrong_basin(fits: list) -> float | None:
+    """
+    Return the chance that the fits of an unstable kick sit in a wrong basin, or None.
+
+    None (a wrong basin) when a fit of weight 1 % or more fails the chi-square check, its
+    objective above the 95 % point of chi-square with ``dof`` degrees of freedom
+    (Wilson-Hilferty; one right fit in twenty fails and takes the filters' wider covariance:
+    width, not a lie). Else the posterior of two hypotheses on the worst z = (cost - dof) /
+    sqrt(2 dof): right (z ~ N(0, 1)) or wrong (z ~ N(shift, 1)), prior odds and shift
+    :data:`WRONG_BASIN`: a wrong basin that fits the fixes almost as well (another tumble or
+    spin) is told only by a slightly higher objective.
+    """
+    odds, shift = WRONG_BASIN
+    worst = -math.inf
+    for w, fit in fits:
+        if w < 0.01:
+            continue
+        if fit.dof < 1:
+            return None
+        k = 2.0 / (9.0 * fit.dof)
+        if fit.cost > fit.dof * (1.0 - k + CHI2_Z95 * math.sqrt(k)) ** 3:
+            return None
+        worst = max(worst, (fit.cost - fit.dof) / math.sqrt(2.0 * fit.dof))
+    ratio = odds / (1.0 - odds) * math.exp(shift * worst - 0.5 * shift**2)
+    return ratio / (1.0 + ratio)
 
 
 def _least(a: Refined | None, b: Refined | None) -> Refined | None:
