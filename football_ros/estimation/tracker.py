@@ -406,6 +406,7 @@ class _Track:
     prior: tuple = ()  # (index, mean, sigma) of the scales (and wind) at the start
     fits: dict = field(default_factory=dict)  # hand -> (key, Refined or None), its last fit
     release_speed: float = 0.0  # [m/s] at the arc's first fix: where S_g is the lowest
+    release_at: int = 0  # fixes when release_speed was last estimated
     pixels: bool = False  # a fix other than a 3D position (a camera's pixels) was taken
     spread_at: dict = field(default_factory=dict)  # hand -> fixes at its last multi-start fit
 
@@ -588,8 +589,10 @@ class FlightTracker:
         else:  # the batch fit of every fix (one a hand while both are alive), mixed
             planes = _mix_planes([(w, self._plane_moments(f.x, f.P, h, wall)) for w, f in fits])
             top = max(fits, key=lambda wf: wf[0])[1]
-            # whichever is less stable sets the tumbling allowance
-            model = min((top.x, tr.best.x), key=self._stability)
+            # whichever is less stable sets the tumbling allowance (the filter's only where it
+            # knows its spin: a single camera's leaves it unknown, its mean meaningless)
+            judged = [top.x] + ([tr.best.x] if _spin_known(tr.best) else [])
+            model = min(judged, key=self._stability)
             if self._stability(model) < 1.0:  # a kick that may tumble: the fit's
                 # mean, the filter's covariance (it carries the tumbling all flight), widened
                 # by how far the two lie apart
@@ -978,6 +981,7 @@ class FlightTracker:
             tr.rejected_in_row = 0
             self._candidates.clear()
             self._prune(tr)
+            self._release_speed(tr)
             result = UpdateResult('accepted')
         else:
             tr.rejected_in_row += 1
@@ -1015,6 +1019,25 @@ class FlightTracker:
         if len(tr.hyps) > 1:
             floor = tr.best.loglik - math.log(self.settings.hand_odds)
             tr.hyps = [h for h in tr.hyps if h.loglik >= floor]
+
+    def _release_speed(self, tr: _Track) -> None:
+        """
+        Re-estimate ``tr.release_speed`` [m/s]: the likeliest filter flown back to the first fix.
+
+        The arc's speed at the start is a guess from a few fixes: a single camera's range along
+        its ray makes it tens of m/s off (measured: 41.8 m/s for a 16.7 m/s pass), and S_g,
+        which falls with the square of the speed, judged there would call a spiral a tumbling
+        kick all flight (the tumbling allowance, the filter's covariance for the fit's). Each
+        time the throw's fixes have grown by a quarter (a few dozen flights back a throw).
+        """
+        n = len(tr.fixes)
+        if n < 1.25 * tr.release_at:
+            return
+        tr.release_at = n
+        x = fly_state(tr.best.x, [min(tr.fixes) - tr.t], self.params, self.settings.step)[0]
+        speed = float(np.linalg.norm(x[X_V:X_V + 3]))
+        if math.isfinite(speed) and speed > 0.0:
+            tr.release_speed = speed
 
     def _below_ground_soon(self, tr: _Track) -> bool:
         """
@@ -1440,6 +1463,19 @@ def warm_up(settings: TrackerSettings | None = None):
 def _sound(fit: Refined, hand: float) -> bool:
     """Whether ``fit`` converged with a spin momentum h.s [rad/s] of ``hand``'s sign."""
     return fit.converged and hand * float(fit.x0[X_H:X_H + 3] @ fit.x0[X_S:X_S + 3]) > 0.0
+
+
+def _spin_known(hyp: _Hypothesis) -> bool:
+    """
+    Whether a filter knows its spin momentum h.s [rad/s] to within its mean (1 sigma).
+
+    Its S_g, judged at the mean, means nothing otherwise: seen by one camera, whose range
+    along the ray leaves the start's axis (and so h) uncertain, a spiral's filters carried h
+    with sigmas of 40-110 rad/s against a nominal 38, their means near 0 (S_g 0.1).
+    """
+    axis = hyp.x[X_S:X_S + 3]
+    spin = float(hyp.x[X_H:X_H + 3] @ axis)
+    return float(axis @ hyp.P[X_H:X_H + 3, X_H:X_H + 3] @ axis) < spin**2
 
 
 def _hand_filters(tr: _Track, hand: float) -> list:
