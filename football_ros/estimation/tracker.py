@@ -50,16 +50,16 @@ tell, overconfident). The predictions mix them by likelihood; a filter is droppe
 outweighs it by ``hand_odds`` (the lateral drift tells the hands apart within a few tenths of a
 second).
 
-Track management: a throw starts when ``min_points`` unassociated fixes within
-``init_window`` of the newest fit a ballistic arc (known gravity) to within the noise and move
-faster than ``min_speed``; the arc is found by consensus (the arcs through the new fix and each
-buffered one, at most one fix per stamp), so clutter, a second ball or wild stamps among the
-buffered fixes neither hide it nor empty the buffer. Fixes whose innovation is beyond the
-Mahalanobis gate are rejected (and, after ``reinit_after`` in a row that form a new arc, start
-a new throw); a late fix (older than the newest) rolls the filter back to the checkpoint before
-it and re-applies the later fixes; a fix from the future or non-finite is refused, and one
-older than ``max_lag`` too, unless such old fixes form an arc of their own: the clock of the
-fixes jumped back (a restart), the time base is reset and the throw starts
+Track management: a throw starts when ``min_points`` unassociated fixes within ``init_window``
+of the newest fit a ballistic arc (known gravity) to within the noise and move faster than
+``min_speed`` but not than ``max_speed``; the arc is found by consensus (the arcs through the
+new fix and each buffered one, at most one fix per stamp), so clutter, a second ball or wild
+stamps among the buffered fixes neither hide it nor empty the buffer. Fixes whose innovation is
+beyond the Mahalanobis gate are rejected (and, after ``reinit_after`` in a row that form a new
+arc, start a new throw); a late fix (older than the newest) rolls the filter back to the
+checkpoint before it and re-applies the later fixes; a fix from the future or non-finite is
+refused, and one older than ``max_lag`` too, unless such old fixes form an arc of their own: the
+clock of the fixes jumped back (a restart), the time base is reset and the throw starts
 (:meth:`FlightTracker.reset_time_base`). The throw ends (landed) when the estimate reaches the
 ground, or will before the fix after next is due (the last frames before the ground may be
 lost). Several balls: :mod:`.multi`. Times [s] are on the observations' clock.
@@ -111,11 +111,13 @@ from ..physics import dynamics as dyn
 from ..physics.aero import AeroModel, resolve
 from ..physics.modes import gyroscopic_stability
 from ..physics.presets import get_preset
-from ..physics.release import RPM
+from ..physics.release import LIMITS, RPM
 
 CHI2_3_9999 = 21.11  # chi-square 3 dof, 99.99 %
 MAX_FIXES = 1000
 """Fixes of a throw kept for the batch fit (beyond, every other one is dropped: bounded cost)."""
+ARC_INFLATION = 4.0
+"""Factor on the start arc's covariance for the filter's start (the arc ignores drag and lift)."""
 PLANE_COLUMNS = (slice(0, 4), slice(4, 8), slice(8, 13))
 """Columns of :func:`.motion.fly_to_planes`'s rows: landing, height, wall (each ends in a flag)."""
 CARRY_VARIANCE = {X_KD: 0.05**2, X_KL: 0.05**2, X_W: 1.0, X_W + 1: 1.0}
@@ -158,7 +160,9 @@ class TrackerSettings:
     another filter (a hand, a spin component); ``gate`` squared Mahalanobis distance; ``max_lag``
     [s] oldest fix accepted behind the newest; ``max_future`` [s] newest fix ahead of ``now``;
     ``max_gap`` [s] silence that ends a track; ``min_points``, ``init_window`` [s], ``min_speed``
-    [m/s] for a new throw (the window grows to ``min_points`` + 1 fix intervals of a slow
+    and ``max_speed`` [m/s] (by default the fastest release, :data:`.release.LIMITS`; the
+    arc's velocity is taken under a weak prior of that size, :meth:`FlightTracker._physical`)
+    for a new throw (the window grows to ``min_points`` + 1 fix intervals of a slow
     camera, the interval measured from the fixes' stamps); ``stamp_jitter`` [s, 1 sigma] of the
     fixes' stamps, folded into each fix's noise along the velocity (the larger of it and the
     jitter measured from the stamps' spacing, :func:`measured_jitter`); ``spread`` the
@@ -219,6 +223,7 @@ class TrackerSettings:
     min_points: int = 5
     init_window: float = 0.25
     min_speed: float = 3.0
+    max_speed: float = LIMITS['speed'][1]
     stamp_jitter: float = 0.0
     reinit_after: int = 6
     step: float = 0.005
@@ -259,6 +264,7 @@ class TrackerSettings:
         'min_points': (3, 100),
         'init_window': (0.01, 10.0),
         'min_speed': (0.0, 100.0),
+        'max_speed': (1.0, 300.0),
         'stamp_jitter': (0.0, 0.1),
         'reinit_after': (1, 1000),
         'step': (1e-4, 0.02),
@@ -282,6 +288,11 @@ class TrackerSettings:
             count = SPIN_COMPONENTS.get(self.ball, 2) if isinstance(self.ball, str) else 2
             object.__setattr__(self, 'spin_components', count)
         check_numbers('tracker', self, self.LIMITS)  # the counts' int limits: ints
+        if self.min_speed >= self.max_speed:
+            raise ValueError(
+                f"tracker 'min_speed' ({self.min_speed:g}) must be below 'max_speed' "
+                f'({self.max_speed:g})'
+            )
         if self.spin_rpm is not None and (
             isinstance(self.spin_rpm, bool)
             or not isinstance(self.spin_rpm, (int, float))
@@ -1281,11 +1292,46 @@ class FlightTracker:
             if bad[worst] <= 1.0:
                 if np.linalg.norm(x0[3:6]) < s.min_speed:
                     return 'the fixes do not move like a throw'
+                start = self._physical(x0, ARC_INFLATION * cov)  # the filter's start
+                if isinstance(start, str):
+                    return start
+                x0, cov = start[0], start[1] / ARC_INFLATION
                 return times[keep], [fixes[k] for k in keep], x0, cov, {idx[k] for k in keep}
             if len(keep) - 1 < s.min_points:
                 break
             del keep[worst]
         return 'the recent fixes do not fit a ballistic arc yet'
+
+    def _physical(self, x0: np.ndarray, cov: np.ndarray):
+        """
+        Return an arc's (x0, cov) under the physical prior of a throw's velocity, or why not.
+
+        ``x0`` (6,) position [m] and velocity [m/s] in ``field`` at the arc's last fix, ``cov``
+        (6, 6) the filter's start covariance of it (:data:`ARC_INFLATION`); the reason (str)
+        where the arc is refused. The prior: each velocity component N(0, (``max_speed`` /
+        2)^2), a weak one that fixes of a few centimetres do not notice (a 0.5 m/s sigma moves
+        by 0.03 %), but that bounds a start seen along a camera's ray, whose range from the
+        apparent size leaves the speed tens of m/s uncertain (mono starts at 111 and 147 m/s,
+        metres off along the ray, got through; the filters' axis and spin, guessed from that
+        velocity, were then unknown all flight): the arc is updated by the pseudo-fix v = 0 of
+        that noise (Kalman, so the position along the ray moves with the speed). An arc still
+        faster than ``max_speed`` is no throw (a physical limit of releases,
+        :data:`football_ros.physics.release.LIMITS`).
+        """
+        s = self.settings
+        prior = (0.5 * s.max_speed) ** 2 * np.eye(3)
+        gain = np.linalg.solve(cov[3:6, 3:6] + prior, cov[3:6, :]).T  # (6, 3)
+        x1 = x0 - gain @ x0[3:6]
+        cov1 = cov - gain @ cov[3:6, :]
+        speed = float(np.linalg.norm(x1[3:6]))
+        if not (np.all(np.isfinite(x1)) and np.all(np.isfinite(cov1))):
+            return 'the fixes give no finite arc'
+        if speed > s.max_speed:
+            return (
+                f'the fixes move at {speed:.1f} m/s, faster than a throw (max_speed '
+                f'{s.max_speed:g} m/s)'
+            )
+        return x1, 0.5 * (cov1 + cov1.T)
 
     def _ballistic_fit(self, times, zs, covs, jit2: float):
         """
@@ -1349,7 +1395,7 @@ class FlightTracker:
         perp = np.eye(3) - np.outer(axis, axis)
         n_x = N_X_WIND if s.wind_sigma > 0.0 else N_X  # the still-air filters'
         P = np.zeros((n_x, n_x))
-        P[:6, :6] = 4.0 * cov6  # the arc ignores drag and lift over the window
+        P[:6, :6] = ARC_INFLATION * cov6
         speed = float(np.linalg.norm(v))
         for i in range(3):
             P[3 + i, 3 + i] += (0.01 * speed) ** 2
