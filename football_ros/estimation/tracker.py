@@ -116,6 +116,10 @@ from ..physics.release import LIMITS, RPM
 CHI2_3_9999 = 21.11  # chi-square 3 dof, 99.99 %
 MAX_FIXES = 1000
 """Fixes of a throw kept for the batch fit (beyond, every other one is dropped: bounded cost)."""
+LONGEST = 120.0
+"""Flight [s] to which the sigma points still aloft at ``horizon`` are flown on (the most
+``horizon`` accepts): only a point that cannot be flown, or stays up 2 min, leaves a plane
+without a prediction (:meth:`FlightTracker._plane_moments`)."""
 ARC_INFLATION = 4.0
 """Factor on the start arc's covariance for the filter's start (the arc ignores drag and lift)."""
 PLANE_COLUMNS = (slice(0, 4), slice(4, 8), slice(8, 13))
@@ -269,7 +273,7 @@ class TrackerSettings:
         'reinit_after': (1, 1000),
         'step': (1e-4, 0.02),
         'landing_step': (1e-4, 0.05),
-        'horizon': (0.1, 120.0),
+        'horizon': (0.1, LONGEST),
         'ground': (-100.0, 100.0),
         'wind_sigma': (0.0, 30.0),
         'wind_rate': (0.0, 10.0),
@@ -464,6 +468,9 @@ class FlightTracker:
         """Stamps [s] of the latest fixes seen (any track's): the camera's measured rate."""
         self.time_resets = 0
         self.counts: collections.Counter = collections.Counter()
+        self.no_prediction = 'no throw'
+        """Why the last :meth:`predict_planes` (or :meth:`predict_landing`) gave no landing
+        ('' if it gave one)."""
         self.learned: dict | None = None
         """Prior of the next throw's drag and lift scales (and wind): {state index: (mean,
         variance)} from a throw of the same ball in the same air (:meth:`learn_from`)."""
@@ -592,6 +599,7 @@ class FlightTracker:
         wall = _plane_or_none(plane)
         tr = self.track
         if tr is None:
+            self.no_prediction = 'no throw'
             return None, None, None
         fits = self._fits()
         gusty = self._gusty_weight(tr)
@@ -624,8 +632,12 @@ class FlightTracker:
         gust = self._gust_variance(tr)
         if gust is not None:  # the gusts to come, for the gusty filters' share
             gust = gusty * gust
+        landing = self._prediction(planes[0], q, (0.0, 0.0, 1.0), s.ground, gust)
+        self.no_prediction = '' if landing is not None else (
+            f'a sigma point of a hypothesis with weight cannot be flown or stays aloft beyond '
+            f'{LONGEST:g} s' if planes[0] is None else 'the landing moments are not finite')
         return (
-            self._prediction(planes[0], q, (0.0, 0.0, 1.0), s.ground, gust),
+            landing,
             self._prediction(planes[1], q, (0.0, 0.0, 1.0), h, gust),
             self._prediction(planes[2], q, (wall[2], wall[3], 0.0), gust=gust),
         )
@@ -687,11 +699,22 @@ class FlightTracker:
         Fly the sigma points of (``x``, ``P``) to the ground, noting the planes on the way.
 
         [(mean, cov) of (time, x, y[, z]) or None where a point missed it] for the landing,
-        the height and the wall (:data:`PLANE_COLUMNS`).
+        the height and the wall (:data:`PLANE_COLUMNS`). Points still aloft at ``horizon`` are
+        flown on to :data:`LONGEST`: a component is one hypothesis of the mixture, and the
+        mixture's covariance is honest only with every component's moments in it. Dropping
+        the odd one (and renormalising) would make it silently narrower by the share of a
+        hypothesis the fixes have not ruled out (a gusty filter held 42 % of a mono throw's
+        weight when one of its points stayed up past 15 s); letting the fit stand for it, the
+        same; and voiding the whole prediction for it left throws with seconds of fixes and
+        a landed fit without any. Flown on, its far point widens the covariance, as it should.
         """
         s = self.settings
         pts, wm, wc = sigma_points(x, P, s.spread)
         flown = fly_to_planes(pts, self.params, s.landing_step, height, s.ground, s.horizon, wall)
+        aloft = flown[:, 3] != 1.0
+        if np.any(aloft) and s.horizon < LONGEST:  # flown on: the honest moments (module doc)
+            flown[aloft] = fly_to_planes(pts[aloft], self.params, s.landing_step, height,
+                                         s.ground, LONGEST, wall)
         out = []
         for cols in PLANE_COLUMNS:
             found = flown[:, cols]
