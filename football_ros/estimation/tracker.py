@@ -993,8 +993,11 @@ class FlightTracker:
             x, P, ok = self._predict(hyp.x, hyp.P, t - tr.t, hyp.gusty)
             new = hyp.copy()
             if ok:
-                folded = with_timing(meas, x[:3], x[X_V:X_V + 3], jitter)
-                up = unscented_update(x, P, folded, s.spread)
+                try:
+                    folded = with_timing(meas, x[:3], x[X_V:X_V + 3], jitter)
+                except ValueError:  # a diverged filter's speed: no finite noise along it
+                    folded = None
+                up = None if folded is None else unscented_update(x, P, folded, s.spread)
                 if up is not None:
                     # A filter that refuses a fix another takes is scored on it all the same
                     # (predicted, not updated): the fix counts against the model that missed.
@@ -1331,17 +1334,21 @@ class FlightTracker:
 
         ``x0`` (6,) position [m] and velocity [m/s] in ``field`` at the arc's last fix, ``cov``
         (6, 6) the filter's start covariance of it (:data:`ARC_INFLATION`); the reason (str)
-        where the arc is refused. The prior: each velocity component N(0, (``max_speed`` /
-        2)^2), a weak one that fixes of a few centimetres do not notice (a 0.5 m/s sigma moves
-        by 0.03 %), but that bounds a start seen along a camera's ray, whose range from the
-        apparent size leaves the speed tens of m/s uncertain (mono starts at 111 and 147 m/s,
-        metres off along the ray, got through; the filters' axis and spin, guessed from that
-        velocity, were then unknown all flight): the arc is updated by the pseudo-fix v = 0 of
-        that noise (Kalman, so the position along the ray moves with the speed). An arc still
-        faster than ``max_speed`` is no throw (a physical limit of releases,
-        :data:`football_ros.physics.release.LIMITS`).
+        where the arc is refused. An arc faster than ``max_speed`` (a physical limit of
+        releases, :data:`football_ros.physics.release.LIMITS`) is clipped: taken under the
+        prior of each velocity component N(0, (``max_speed`` / 2)^2), updated by the
+        pseudo-fix v = 0 of that noise (Kalman, so the position along the ray moves with the
+        speed). A start seen along a camera's ray, whose range from the apparent size leaves
+        the speed tens of m/s uncertain, got through at 111 and 147 m/s, metres off along the
+        ray; the filters' axis and spin, guessed from that velocity, were then unknown all
+        flight. An arc still faster is no throw. Slower arcs are left alone: applied to every
+        arc, the prior drew a triangulated stereo start (metres of noise per fix) to a few m/s,
+        and the axis guessed along that velocity, and the spin with it, were so uncertain
+        that a filter's sigma points overflowed.
         """
         s = self.settings
+        if float(np.linalg.norm(x0[3:6])) <= s.max_speed:
+            return x0, cov
         prior = (0.5 * s.max_speed) ** 2 * np.eye(3)
         gain = np.linalg.solve(cov[3:6, 3:6] + prior, cov[3:6, :]).T  # (6, 3)
         x1 = x0 - gain @ x0[3:6]
