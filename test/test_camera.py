@@ -444,3 +444,30 @@ def test_the_fit_says_whether_it_converged():
     full = refine(times, zs, start, prior, 0.02, tracker.params, 0.005, 25)
     assert not short.converged and short.cost > 1.0  # one step from 1 m/s off: far from it
     assert full.converged and full.cost < 1e-6 and full.iterations < 25
+
+
+def test_a_mono_throw_is_judged_at_its_own_release_speed_not_the_start_arc_s():
+    """
+    One camera: S_g (the tumbling allowance) is judged at the filters' release speed.
+
+    The start arc's speed along the ray was 147 m/s for this 22 m/s spiral, S_g judged there
+    called it a tumbling kick, and the prediction took the filters' covariance (sigmas 1.0
+    and 3.8 m, NEES 0.005: 0.27 m off); the filters' spin, unknown in one view, no longer
+    decides either.
+    """
+    from football_ros.estimation import FlightTracker
+    from football_ros.estimation.motion import X_H
+    from football_ros.estimation.tracker import _spin_known
+
+    ball, truth, _ = _flight()
+    tracker = _fed_mono(FlightTracker())
+    assert tracker.track.release_speed == pytest.approx(22.0, abs=1.5)
+    vague = tracker.track.best.copy()
+    assert _spin_known(vague)
+    vague.P[X_H:X_H + 3, X_H:X_H + 3] = 50.0**2 * np.eye(3)  # as one camera's start left it
+    assert not _spin_known(vague)
+    assert tracker._stability(tracker._fits()[0][1].x) > 2.0  # a spiral
+    pred = tracker.predict_landing()
+    err = pred.position[:2] - truth.positions[-1, :2]
+    assert np.sqrt(np.linalg.eigvalsh(pred.covariance)).max() < 0.8  # was 3.8 m
+    assert np.linalg.norm(err) < 0.5 and err @ np.linalg.solve(pred.covariance, err) < 5.991

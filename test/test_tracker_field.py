@@ -279,3 +279,45 @@ def test_fixes_that_start_no_throw_give_one_event_saying_why():
     events = [e for e in multi.events if e.kind == 'no_start']
     assert len(events) == 1 and 'do not move like a throw' in events[0].reason
     assert events[0].time == pytest.approx(1.0, abs=0.02) and 'every 17 ms' in events[0].reason
+
+
+def test_a_start_faster_than_a_throw_is_refused_and_one_along_a_ray_is_drawn_in():
+    """
+    max_speed: an arc faster than any release starts no throw, saying why.
+
+    A start seen along a camera's ray (its speed tens of m/s uncertain) is taken under the weak
+    physical prior of a throw's velocity: its speed and its covariance stay physical.
+    """
+    assert TrackerSettings().max_speed == 60.0  # the fastest release (physics.release.LIMITS)
+    g = np.array([0.0, 0.0, -9.81])
+    v0 = np.array([100.0, 30.0, 40.0])  # 111 m/s
+    results, trackers = {}, {}
+    for top in (60.0, 150.0):
+        trackers[top] = tracker = FlightTracker(TrackerSettings(max_speed=top))
+        for k in range(8):
+            t = k / 120.0
+            results[top] = tracker.update(t, np.array([0.0, 0.0, 1.8]) + v0 * t + 0.5 * g * t * t)
+    assert results[60.0].status == 'candidate' and trackers[60.0].track is None
+    assert 'faster than a throw' in results[60.0].reason and '111.' in results[60.0].reason
+    assert results[150.0].used and trackers[150.0].track is not None
+    with pytest.raises(ValueError, match='min_speed'):
+        TrackerSettings(min_speed=10.0, max_speed=5.0)
+    # The prior's pseudo-fix v = 0 of sigma max_speed / 2: a ray along y, 80 m/s of sigma
+    tracker = FlightTracker()
+    x0 = np.array([20.0, 5.0, 6.0, 15.0, 100.0, 8.0])
+    cov = np.diag([0.01, 64.0, 0.01, 0.25, 6400.0, 0.25])
+    cov[1, 4] = cov[4, 1] = 0.9 * 8.0 * 80.0  # the range and the speed along the ray
+    x1, cov1 = tracker._physical(x0, cov)
+    shrink = 6400.0 / (6400.0 + 900.0)
+    assert x1[4] == pytest.approx(100.0 * (1.0 - shrink))  # 12.3 m/s
+    assert x1[1] == pytest.approx(5.0 - 0.9 * 8.0 * 80.0 / 7300.0 * 100.0)  # moved with it
+    assert cov1[4, 4] == pytest.approx(6400.0 * 900.0 / 7300.0) and cov1[4, 4] < 900.0
+    assert x1[3] == pytest.approx(15.0 * 900.0 / 900.25)  # a precise axis: 0.03 %
+    assert np.linalg.norm(x1[3:]) < 25.0
+    # End to end: a mono camera's 8 m along y from the start
+    fixes, _, _ = seen(RELEASE, rate=120.0, depth=8.0, seed=2)
+    tracker = FlightTracker()
+    for t, z, c in fixes[:20]:
+        tracker.update(t, z, covariance=c)
+    start = tracker.track.history[0].hyps[0]
+    assert np.linalg.norm(start.x[3:6]) < 60.0 and start.P[4, 4] < 1.01 * 900.0

@@ -14,6 +14,7 @@
 
 """The tracker and the camera under hostile and busy inputs (issue 23)."""
 
+from dataclasses import replace
 import math
 
 from football_ros.estimation import Camera, CameraSettings, FlightTracker, TrackerSettings
@@ -680,3 +681,35 @@ def test_a_gusty_filter_that_misses_the_ground_leaves_the_fit_s_prediction():
     assert alone < 0.3 and abs(alone - whole) < 0.2, (alone, whole)
     d = pred.position[:2] - xy
     assert float(d @ np.linalg.solve(pred.covariance, d)) < 13.8  # inside its 99.9 % ellipse
+
+
+def test_sigma_points_still_aloft_at_the_horizon_are_flown_on_not_voiding_the_prediction():
+    """
+    A component whose sigma points do not all land within ``horizon`` is flown on.
+
+    It voided the whole mixture (no prediction at all, though the fit landed); dropped, the
+    covariance would have been narrower. Flown on to LONGEST, the moments are the same as with a
+    horizon that covers the flight: here half the points of every filter and fit land after a
+    1 s horizon at 1 s lead.
+    """
+    kept, t_land, xy = fixes(RELEASE, seed=5)
+    preds = {}
+    for horizon in (15.0, 1.0):
+        tracker = FlightTracker(TrackerSettings(horizon=horizon, gust_rate=0.0))
+        for t, z in kept:
+            if t <= t_land - 1.0:
+                tracker.update(t, z)
+        preds[horizon] = tracker.predict_landing()
+        assert tracker._mixture(tracker.track, -math.inf, NO_PLANE)[0] is not None  # filters'
+    short, full = preds[1.0], preds[15.0]
+    assert full.time - full.made_at > 1.0  # the mean lands after the short horizon
+    assert short is not None and tracker.no_prediction == ''
+    assert np.allclose(short.position, full.position, atol=1e-9)
+    assert np.allclose(short.covariance, full.covariance, rtol=1e-9, atol=1e-12)
+    assert np.linalg.norm(short.position[:2] - xy) < 0.3
+    tracker.track.best.x[3:6] = np.nan  # a hypothesis that cannot be flown: none, saying why
+    tracker.track.fits.clear()
+    tracker.settings = replace(tracker.settings, refine_iterations=0)
+    assert tracker.predict_landing() is None and 'cannot be flown' in tracker.no_prediction
+    tracker.track = None
+    assert tracker.predict_landing() is None and tracker.no_prediction == 'no throw'

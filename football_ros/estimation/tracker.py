@@ -50,16 +50,16 @@ tell, overconfident). The predictions mix them by likelihood; a filter is droppe
 outweighs it by ``hand_odds`` (the lateral drift tells the hands apart within a few tenths of a
 second).
 
-Track management: a throw starts when ``min_points`` unassociated fixes within
-``init_window`` of the newest fit a ballistic arc (known gravity) to within the noise and move
-faster than ``min_speed``; the arc is found by consensus (the arcs through the new fix and each
-buffered one, at most one fix per stamp), so clutter, a second ball or wild stamps among the
-buffered fixes neither hide it nor empty the buffer. Fixes whose innovation is beyond the
-Mahalanobis gate are rejected (and, after ``reinit_after`` in a row that form a new arc, start
-a new throw); a late fix (older than the newest) rolls the filter back to the checkpoint before
-it and re-applies the later fixes; a fix from the future or non-finite is refused, and one
-older than ``max_lag`` too, unless such old fixes form an arc of their own: the clock of the
-fixes jumped back (a restart), the time base is reset and the throw starts
+Track management: a throw starts when ``min_points`` unassociated fixes within ``init_window``
+of the newest fit a ballistic arc (known gravity) to within the noise and move faster than
+``min_speed`` but not than ``max_speed``; the arc is found by consensus (the arcs through the
+new fix and each buffered one, at most one fix per stamp), so clutter, a second ball or wild
+stamps among the buffered fixes neither hide it nor empty the buffer. Fixes whose innovation is
+beyond the Mahalanobis gate are rejected (and, after ``reinit_after`` in a row that form a new
+arc, start a new throw); a late fix (older than the newest) rolls the filter back to the
+checkpoint before it and re-applies the later fixes; a fix from the future or non-finite is
+refused, and one older than ``max_lag`` too, unless such old fixes form an arc of their own: the
+clock of the fixes jumped back (a restart), the time base is reset and the throw starts
 (:meth:`FlightTracker.reset_time_base`). The throw ends (landed) when the estimate reaches the
 ground, or will before the fix after next is due (the last frames before the ground may be
 lost). Several balls: :mod:`.multi`. Times [s] are on the observations' clock.
@@ -113,7 +113,7 @@ from ..physics import dynamics as dyn
 from ..physics.aero import AeroModel, resolve
 from ..physics.modes import gyroscopic_stability
 from ..physics.presets import get_preset
-from ..physics.release import RPM
+from ..physics.release import LIMITS, RPM
 
 CHI2_3_9999 = 21.11  # chi-square 3 dof, 99.99 %
 CHI2_Z95 = 1.645
@@ -127,6 +127,12 @@ far such a basin's objective lies above a right one's [standard deviations of ch
 (:func:`_wrong_basin`)."""
 MAX_FIXES = 1000
 """Fixes of a throw kept for the batch fit (beyond, every other one is dropped: bounded cost)."""
+LONGEST = 120.0
+"""Flight [s] to which the sigma points still aloft at ``horizon`` are flown on (the most
+``horizon`` accepts): only a point that cannot be flown, or stays up 2 min, leaves a plane
+without a prediction (:meth:`FlightTracker._plane_moments`)."""
+ARC_INFLATION = 4.0
+"""Factor on the start arc's covariance for the filter's start (the arc ignores drag and lift)."""
 PLANE_COLUMNS = (slice(0, 4), slice(4, 8), slice(8, 13))
 """Columns of :func:`.motion.fly_to_planes`'s rows: landing, height, wall (each ends in a flag)."""
 CARRY_VARIANCE = {X_KD: 0.05**2, X_KL: 0.05**2, X_W: 1.0, X_W + 1: 1.0}
@@ -169,7 +175,9 @@ class TrackerSettings:
     another filter (a hand, a spin component); ``gate`` squared Mahalanobis distance; ``max_lag``
     [s] oldest fix accepted behind the newest; ``max_future`` [s] newest fix ahead of ``now``;
     ``max_gap`` [s] silence that ends a track; ``min_points``, ``init_window`` [s], ``min_speed``
-    [m/s] for a new throw (the window grows to ``min_points`` + 1 fix intervals of a slow
+    and ``max_speed`` [m/s] (by default the fastest release, :data:`.release.LIMITS`; the
+    arc's velocity is taken under a weak prior of that size, :meth:`FlightTracker._physical`)
+    for a new throw (the window grows to ``min_points`` + 1 fix intervals of a slow
     camera, the interval measured from the fixes' stamps); ``stamp_jitter`` [s, 1 sigma] of the
     fixes' stamps, folded into each fix's noise along the velocity (the larger of it and the
     jitter measured from the stamps' spacing, :func:`measured_jitter`); ``spread`` the
@@ -234,6 +242,7 @@ class TrackerSettings:
     min_points: int = 5
     init_window: float = 0.25
     min_speed: float = 3.0
+    max_speed: float = LIMITS['speed'][1]
     stamp_jitter: float = 0.0
     reinit_after: int = 6
     step: float = 0.005
@@ -274,11 +283,12 @@ class TrackerSettings:
         'min_points': (3, 100),
         'init_window': (0.01, 10.0),
         'min_speed': (0.0, 100.0),
+        'max_speed': (1.0, 300.0),
         'stamp_jitter': (0.0, 0.1),
         'reinit_after': (1, 1000),
         'step': (1e-4, 0.02),
         'landing_step': (1e-4, 0.05),
-        'horizon': (0.1, 120.0),
+        'horizon': (0.1, LONGEST),
         'ground': (-100.0, 100.0),
         'wind_sigma': (0.0, 30.0),
         'wind_rate': (0.0, 10.0),
@@ -297,6 +307,11 @@ class TrackerSettings:
             count = SPIN_COMPONENTS.get(self.ball, 2) if isinstance(self.ball, str) else 2
             object.__setattr__(self, 'spin_components', count)
         check_numbers('tracker', self, self.LIMITS)  # the counts' int limits: ints
+        if self.min_speed >= self.max_speed:
+            raise ValueError(
+                f"tracker 'min_speed' ({self.min_speed:g}) must be below 'max_speed' "
+                f'({self.max_speed:g})'
+            )
         if self.spin_rpm is not None and (
             isinstance(self.spin_rpm, bool)
             or not isinstance(self.spin_rpm, (int, float))
@@ -421,6 +436,7 @@ class _Track:
     prior: tuple = ()  # (index, mean, sigma) of the scales (and wind) at the start
     fits: dict = field(default_factory=dict)  # hand -> (key, Refined or None), its last fit
     release_speed: float = 0.0  # [m/s] at the arc's first fix: where S_g is the lowest
+    release_at: int = 0  # fixes when release_speed was last estimated
     pixels: bool = False  # a fix other than a 3D position (a camera's pixels) was taken
     spread_at: dict = field(default_factory=dict)  # hand -> fixes at its last multi-start fit
 
@@ -467,6 +483,9 @@ class FlightTracker:
         """Stamps [s] of the latest fixes seen (any track's): the camera's measured rate."""
         self.time_resets = 0
         self.counts: collections.Counter = collections.Counter()
+        self.no_prediction = 'no throw'
+        """Why the last :meth:`predict_planes` (or :meth:`predict_landing`) gave no landing
+        ('' if it gave one)."""
         self.learned: dict | None = None
         """Prior of the next throw's drag and lift scales (and wind): {state index: (mean,
         variance)} from a throw of the same ball in the same air (:meth:`learn_from`)."""
@@ -595,6 +614,7 @@ class FlightTracker:
         wall = _plane_or_none(plane)
         tr = self.track
         if tr is None:
+            self.no_prediction = 'no throw'
             return None, None, None
         fits = self._fits()
         gusty = self._gusty_weight(tr)
@@ -603,8 +623,10 @@ class FlightTracker:
         else:  # the batch fit of every fix (one a hand while both are alive), mixed
             planes = _mix_planes([(w, self._plane_moments(f.x, f.P, h, wall)) for w, f in fits])
             top = max(fits, key=lambda wf: wf[0])[1]
-            # whichever is less stable sets the tumbling allowance
-            model = min((top.x, tr.best.x), key=self._stability)
+            # whichever is less stable sets the tumbling allowance (the filter's only where it
+            # knows its spin: a single camera's leaves it unknown, its mean meaningless)
+            judged = [top.x] + ([tr.best.x] if _spin_known(tr.best) else [])
+            model = min(judged, key=self._stability)
             if self._stability(model) < 1.0:  # a kick that may tumble: the fit's mean
                 wrong = _wrong_basin(fits) if self._tumbling(tr) else None
                 planes = [
@@ -635,8 +657,12 @@ class FlightTracker:
         gust = self._gust_variance(tr)
         if gust is not None:  # the gusts to come, for the gusty filters' share
             gust = gusty * gust
+        landing = self._prediction(planes[0], q, (0.0, 0.0, 1.0), s.ground, gust)
+        self.no_prediction = '' if landing is not None else (
+            f'a sigma point of a hypothesis with weight cannot be flown or stays aloft beyond '
+            f'{LONGEST:g} s' if planes[0] is None else 'the landing moments are not finite')
         return (
-            self._prediction(planes[0], q, (0.0, 0.0, 1.0), s.ground, gust),
+            landing,
             self._prediction(planes[1], q, (0.0, 0.0, 1.0), h, gust),
             self._prediction(planes[2], q, (wall[2], wall[3], 0.0), gust=gust),
         )
@@ -698,11 +724,22 @@ class FlightTracker:
         Fly the sigma points of (``x``, ``P``) to the ground, noting the planes on the way.
 
         [(mean, cov) of (time, x, y[, z]) or None where a point missed it] for the landing,
-        the height and the wall (:data:`PLANE_COLUMNS`).
+        the height and the wall (:data:`PLANE_COLUMNS`). Points still aloft at ``horizon`` are
+        flown on to :data:`LONGEST`: a component is one hypothesis of the mixture, and the
+        mixture's covariance is honest only with every component's moments in it. Dropping
+        the odd one (and renormalising) would make it silently narrower by the share of a
+        hypothesis the fixes have not ruled out (a gusty filter held 42 % of a mono throw's
+        weight when one of its points stayed up past 15 s); letting the fit stand for it, the
+        same; and voiding the whole prediction for it left throws with seconds of fixes and
+        a landed fit without any. Flown on, its far point widens the covariance, as it should.
         """
         s = self.settings
         pts, wm, wc = sigma_points(x, P, s.spread)
         flown = fly_to_planes(pts, self.params, s.landing_step, height, s.ground, s.horizon, wall)
+        aloft = flown[:, 3] != 1.0
+        if np.any(aloft) and s.horizon < LONGEST:  # flown on: the honest moments (module doc)
+            flown[aloft] = fly_to_planes(pts[aloft], self.params, s.landing_step, height,
+                                         s.ground, LONGEST, wall)
         out = []
         for cols in PLANE_COLUMNS:
             found = flown[:, cols]
@@ -981,8 +1018,11 @@ class FlightTracker:
             x, P, ok = self._predict(hyp.x, hyp.P, t - tr.t, hyp.gusty)
             new = hyp.copy()
             if ok:
-                folded = with_timing(meas, x[:3], x[X_V:X_V + 3], jitter)
-                up = unscented_update(x, P, folded, s.spread)
+                try:
+                    folded = with_timing(meas, x[:3], x[X_V:X_V + 3], jitter)
+                except ValueError:  # a diverged filter's speed: no finite noise along it
+                    folded = None
+                up = None if folded is None else unscented_update(x, P, folded, s.spread)
                 if up is not None:
                     # A filter that refuses a fix another takes is scored on it all the same
                     # (predicted, not updated): the fix counts against the model that missed.
@@ -1003,6 +1043,7 @@ class FlightTracker:
             tr.rejected_in_row = 0
             self._candidates.clear()
             self._prune(tr)
+            self._release_speed(tr)
             result = UpdateResult('accepted')
         else:
             tr.rejected_in_row += 1
@@ -1040,6 +1081,25 @@ class FlightTracker:
         if len(tr.hyps) > 1:
             floor = tr.best.loglik - math.log(self.settings.hand_odds)
             tr.hyps = [h for h in tr.hyps if h.loglik >= floor]
+
+    def _release_speed(self, tr: _Track) -> None:
+        """
+        Re-estimate ``tr.release_speed`` [m/s]: the likeliest filter flown back to the first fix.
+
+        The arc's speed at the start is a guess from a few fixes: a single camera's range along
+        its ray makes it tens of m/s off (measured: 41.8 m/s for a 16.7 m/s pass), and S_g,
+        which falls with the square of the speed, judged there would call a spiral a tumbling
+        kick all flight (the tumbling allowance, the filter's covariance for the fit's). Each
+        time the throw's fixes have grown by a quarter (a few dozen flights back a throw).
+        """
+        n = len(tr.fixes)
+        if n < 1.25 * tr.release_at:
+            return
+        tr.release_at = n
+        x = fly_state(tr.best.x, [min(tr.fixes) - tr.t], self.params, self.settings.step)[0]
+        speed = float(np.linalg.norm(x[X_V:X_V + 3]))
+        if math.isfinite(speed) and speed > 0.0:
+            tr.release_speed = speed
 
     def _below_ground_soon(self, tr: _Track) -> bool:
         """
@@ -1283,11 +1343,50 @@ class FlightTracker:
             if bad[worst] <= 1.0:
                 if np.linalg.norm(x0[3:6]) < s.min_speed:
                     return 'the fixes do not move like a throw'
+                start = self._physical(x0, ARC_INFLATION * cov)  # the filter's start
+                if isinstance(start, str):
+                    return start
+                x0, cov = start[0], start[1] / ARC_INFLATION
                 return times[keep], [fixes[k] for k in keep], x0, cov, {idx[k] for k in keep}
             if len(keep) - 1 < s.min_points:
                 break
             del keep[worst]
         return 'the recent fixes do not fit a ballistic arc yet'
+
+    def _physical(self, x0: np.ndarray, cov: np.ndarray):
+        """
+        Return an arc's (x0, cov) under the physical prior of a throw's velocity, or why not.
+
+        ``x0`` (6,) position [m] and velocity [m/s] in ``field`` at the arc's last fix, ``cov``
+        (6, 6) the filter's start covariance of it (:data:`ARC_INFLATION`); the reason (str)
+        where the arc is refused. An arc faster than ``max_speed`` (a physical limit of
+        releases, :data:`football_ros.physics.release.LIMITS`) is clipped: taken under the
+        prior of each velocity component N(0, (``max_speed`` / 2)^2), updated by the
+        pseudo-fix v = 0 of that noise (Kalman, so the position along the ray moves with the
+        speed). A start seen along a camera's ray, whose range from the apparent size leaves
+        the speed tens of m/s uncertain, got through at 111 and 147 m/s, metres off along the
+        ray; the filters' axis and spin, guessed from that velocity, were then unknown all
+        flight. An arc still faster is no throw. Slower arcs are left alone: applied to every
+        arc, the prior drew a triangulated stereo start (metres of noise per fix) to a few m/s,
+        and the axis guessed along that velocity, and the spin with it, were so uncertain
+        that a filter's sigma points overflowed.
+        """
+        s = self.settings
+        if float(np.linalg.norm(x0[3:6])) <= s.max_speed:
+            return x0, cov
+        prior = (0.5 * s.max_speed) ** 2 * np.eye(3)
+        gain = np.linalg.solve(cov[3:6, 3:6] + prior, cov[3:6, :]).T  # (6, 3)
+        x1 = x0 - gain @ x0[3:6]
+        cov1 = cov - gain @ cov[3:6, :]
+        speed = float(np.linalg.norm(x1[3:6]))
+        if not (np.all(np.isfinite(x1)) and np.all(np.isfinite(cov1))):
+            return 'the fixes give no finite arc'
+        if speed > s.max_speed:
+            return (
+                f'the fixes move at {speed:.1f} m/s, faster than a throw (max_speed '
+                f'{s.max_speed:g} m/s)'
+            )
+        return x1, 0.5 * (cov1 + cov1.T)
 
     def _ballistic_fit(self, times, zs, covs, jit2: float):
         """
@@ -1351,7 +1450,7 @@ class FlightTracker:
         perp = np.eye(3) - np.outer(axis, axis)
         n_x = N_X_WIND if s.wind_sigma > 0.0 else N_X  # the still-air filters'
         P = np.zeros((n_x, n_x))
-        P[:6, :6] = 4.0 * cov6  # the arc ignores drag and lift over the window
+        P[:6, :6] = ARC_INFLATION * cov6
         speed = float(np.linalg.norm(v))
         for i in range(3):
             P[3 + i, 3 + i] += (0.01 * speed) ** 2
@@ -1465,6 +1564,19 @@ def warm_up(settings: TrackerSettings | None = None):
 def _sound(fit: Refined, hand: float) -> bool:
     """Whether ``fit`` converged with a spin momentum h.s [rad/s] of ``hand``'s sign."""
     return fit.converged and hand * float(fit.x0[X_H:X_H + 3] @ fit.x0[X_S:X_S + 3]) > 0.0
+
+
+def _spin_known(hyp: _Hypothesis) -> bool:
+    """
+    Whether a filter knows its spin momentum h.s [rad/s] to within its mean (1 sigma).
+
+    Its S_g, judged at the mean, means nothing otherwise: seen by one camera, whose range
+    along the ray leaves the start's axis (and so h) uncertain, a spiral's filters carried h
+    with sigmas of 40-110 rad/s against a nominal 38, their means near 0 (S_g 0.1).
+    """
+    axis = hyp.x[X_S:X_S + 3]
+    spin = float(hyp.x[X_H:X_H + 3] @ axis)
+    return float(axis @ hyp.P[X_H:X_H + 3, X_H:X_H + 3] @ axis) < spin**2
 
 
 def _hand_filters(tr: _Track, hand: float) -> list:
