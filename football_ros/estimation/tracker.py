@@ -211,9 +211,9 @@ class TrackerSettings:
     covariance where the fit passes a chi-square check, the filters' mixture keeping the
     chance that it sits in a wrong basin, else the filters' tumbling covariance
     (:func:`_wrong_basin`); False: the filters' tumbling covariance always, and no multi-start.
-    Off by default: on end-over-end punts 81-88 % of landings fall inside the 95 % ellipse (16
-    flights, bench/RESULTS.md), and a mono camera's spiral, whose filters' spin is near 0 early
-    (S_g < 1), would be treated as a tumbling kick.
+    Off by default: on end-over-end punts fewer than 90 % of the landings fell inside the 95 %
+    ellipse (bench/RESULTS.md, "prediction, tumbling kicks, unstable_fits on"); on a day of
+    kicks, on (screw kicks come far closer to the bound, their covariance honest).
 
     The noise and prior defaults make the covariance honest (landing NEES 2 or below) on the
     prediction benchmark's still-air flights; the gusty twins (``gust_rate``, on by default)
