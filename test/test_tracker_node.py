@@ -440,3 +440,20 @@ def test_two_balls_get_a_stream_each(start_node, collector):
     assert abs(stamp_s(last) - (base + t_w)) < 0.02
     cov = np.array(last.pose.covariance).reshape(6, 6)
     assert cov[0, 0] == pytest.approx(0.0, abs=1e-9) and cov[1, 1] > 0.0 and cov[2, 2] > 0.0
+
+
+def test_a_max_speed_below_min_speed_or_a_non_bool_unstable_fits_is_one_clear_line():
+    import subprocess
+    import sys
+
+    def run(*params):
+        args = [a for p in params for a in ('-p', p)]
+        return subprocess.run(
+            [sys.executable, '-m', 'football_ros.cli', 'tracker', '--ros-args', *args],
+            capture_output=True, text=True, timeout=120)
+
+    refused = run('max_speed:=2.0')  # below the filter's min_speed, 3 m/s
+    assert refused.returncode == 2 and 'Traceback' not in refused.stderr
+    assert "'max_speed' (2)" in refused.stderr and 'min_speed' in refused.stderr
+    bad = run('unstable_fits:=maybe')  # a string for a bool: the parameter's type refused
+    assert bad.returncode == 2 and 'unstable_fits' in bad.stderr + bad.stdout

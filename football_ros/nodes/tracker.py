@@ -118,6 +118,12 @@ PARAMETERS = (
             TrackerSettings.LIMITS['stamp_jitter'],
         ),
         (
+            'max_speed',
+            TrackerSettings.max_speed,
+            'Fastest start arc taken for a throw [m/s] (faster: drawn in, else refused)',
+            TrackerSettings.LIMITS['max_speed'],
+        ),
+        (
             'min_points',
             TrackerSettings.min_points,
             'Fixes on a ballistic arc that start a throw',
@@ -189,6 +195,12 @@ PARAMETERS = (
             TrackerSettings.LIMITS['gust_prior'],
         ),
         (
+            'unstable_fits',
+            TrackerSettings.unstable_fits,
+            'Kicks that may tumble (S_g < 1): multi-start fits with their own covariance, far '
+            'nearer the bound on screw kicks; off: end-over-end punts under-covered with it',
+        ),
+        (
             'carry_over',
             False,
             'Start each throw from the drag/lift scales (and wind) the last landed throw learnt',
@@ -232,6 +244,8 @@ class TrackerNode(Node):
                 wind_sigma=self.wind_sigma,
                 gust_rate=self.gust_rate,
                 gust_prior=self.gust_prior,
+                max_speed=self.max_speed,
+                unstable_fits=bool(self.unstable_fits),
             ),
             max_tracks=int(self.max_tracks),
             carry_over=bool(self.carry_over),
