@@ -66,6 +66,7 @@ sys.path.insert(0, str(REPO))
 
 import entities_benchmark as eb  # noqa: E402
 from football_ros.nodes import qos  # noqa: E402
+from football_ros.nodes.runner import EXECUTOR_TYPES  # noqa: E402
 from football_ros.physics import Flight  # noqa: E402
 from football_ros.requests import FlightOrder  # noqa: E402
 from football_ros.simulation import core  # noqa: E402
@@ -79,7 +80,7 @@ REPEATS = 7
 ROUNDS = 5  # batches of REPEATS calls, each from a fresh throw
 ALL_BALLS = 100  # balls of the every-topic-subscribed row and of its publishing floor
 SOAK_BALLS = 100
-EXECUTORS = ('events', 'single_threaded')  # the simulator's executor_type: default first
+EXECUTORS = EXECUTOR_TYPES  # the simulator's executor_type: its default first
 
 
 def bare_core(balls: int, default: bool = False) -> float:
@@ -484,10 +485,10 @@ def report(draws: list[dict], args) -> None:
     print('|---|---|---|---|---|---|---|---|---|---|---|')
     for kind, key in (('StepSimulation', 'step'), ('SimulateSteps', 'action')):
         for n in args.balls:
+            core_ms = [d['core'][n] * 1e3 for d in draws]
+            classic_ms = [d['floor single_threaded'][key] * 1e3 for d in draws]
             for executor in EXECUTORS:
-                core_ms = [d['core'][n] * 1e3 for d in draws]
                 floor_ms = [d[f'floor {executor}'][key] * 1e3 for d in draws]
-                classic_ms = [d['floor single_threaded'][key] * 1e3 for d in draws]
                 sim = [d[f'sim {executor}'] for d in draws]
                 sim_ms = [x[f'{key} {n}'] * 1e3 for x in sim]
                 one_ms = [x[f'{key} {n} one'] * 1e3 for x in sim]

@@ -57,6 +57,8 @@ from .._early_signals import ignore_further_signals
 from ..command_line import plain
 
 EXIT_USAGE = 2
+EXECUTOR_TYPES = ('events', 'single_threaded')
+"""The executors a node's ``executor_type`` may ask for (:func:`make_executor`)."""
 SPIN_WAIT_S = 0.1
 """Longest wait of the executor: the main thread runs Python signal handlers between waits."""
 
@@ -253,7 +255,7 @@ def _start_and_spin(factory, argv, program: str, made: list, signals: _Signals) 
 
 def make_executor(kind: str, node: Node | None = None) -> Executor:
     """
-    Return a new executor of ``kind`` ('events' or 'single_threaded').
+    Return a new executor of ``kind`` (one of :data:`EXECUTOR_TYPES`).
 
     'events' falls back to a SingleThreadedExecutor where rclpy has no EventsExecutor, with a
     warning on ``node``'s logger.

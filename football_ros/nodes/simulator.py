@@ -69,7 +69,7 @@ from .logs import throttled
 from .observation_hook import ObservationHook, PARAMETERS as OBSERVATION_PARAMETERS
 from .params import declare_all, ParamSpec
 from .quiet import QuietNode
-from .runner import run_node
+from .runner import EXECUTOR_TYPES, run_node
 
 try:  # the system package on a Jazzy install; pip_ros/simulation_interfaces on the pip ROS
     from .simulation_services import SimulationServices
@@ -196,7 +196,7 @@ PARAMETERS = (
         "Executor of the services, the action and the parameters: 'events' "
         '(rclpy.experimental.EventsExecutor: C++ dispatch, the cheaper per call; the other where '
         "rclpy lacks it) or 'single_threaded' (rclpy's SingleThreadedExecutor)",
-        choices=('events', 'single_threaded'),
+        choices=EXECUTOR_TYPES,
         read_only=True,
     ),
     ParamSpec(
