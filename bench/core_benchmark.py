@@ -25,9 +25,10 @@ Every figure is a ratio to a baseline measured in the same run, ``--draws`` time
   (1000 steps) and per SimulateSteps goal (1000 steps) with N balls in the air, over the bare
   core's CPU for the same steps in this process (``Simulation.step_n(1000)``). Two floors: a
   do-nothing rclpy server offering StepSimulation and SimulateSteps (it answers at once),
-  measured the same way ("less floor": (simulator - floor) / core); and the simulator's own
-  call of one step (its executor with all its services, publishers and action; "less its
-  1 step": what the 999 further steps cost it, over the core's 1000). The default ball's
+  running beside the simulator and called in the same rounds, in turn with it ("less floor":
+  (simulator - floor) / core); and the simulator's own call of one step (its executor with
+  all its services, publishers and action; "less its 1 step": what the 999 further steps cost
+  it, over the core's 1000). The default ball's
   lock-step (flown by a flight order) beside a spawned ball's. The simulator and the floor on
   each executor (``executor_type``: events, the default, and single_threaded, the baseline).
 - Real time at 100 Hz: the simulator's CPU (cores) with ``--rt-balls`` balls in the air and a
@@ -77,9 +78,10 @@ from std_msgs.msg import String  # noqa: E402
 
 STEPS = 1000
 REPEATS = 7
-ROUNDS = 5  # batches of REPEATS calls, each from a fresh throw
+ROUNDS = 15  # batches of REPEATS calls, each from a fresh throw
 ALL_BALLS = 100  # balls of the every-topic-subscribed row and of its publishing floor
 SOAK_BALLS = 100
+FLOOR_NODE = '/football_floor'  # the do-nothing server, beside the simulator (eb.NODE)
 EXECUTORS = EXECUTOR_TYPES  # the simulator's executor_type: its default first
 
 
@@ -126,39 +128,43 @@ def idle_rate(pid: int, seconds: float = 2.0) -> float:
     return (eb.cpu_ns(pid) - cpu) * 1e-9 / seconds
 
 
-def per_call(pid: int, idle: float, measures: dict, rounds: int = ROUNDS) -> dict:
+def per_call(measures: dict, rounds: int = ROUNDS) -> dict:
     """
-    Mean CPU seconds of process ``pid`` per call of each measure, its idle CPU removed.
+    CPU seconds per call of each measure, of its process less that process's idle CPU.
 
-    ``measures``: {key: (prepare, call)}. In each of ``rounds`` rounds, the measures in turn
-    (so that they share the load's drift): ``prepare()`` (a fresh throw), one ``call()``
-    outside the figure, then REPEATS calls measured.
+    ``measures``: {key: (pid, idle, prepare, call)}, ``idle`` the process's CPU seconds per
+    second at rest. In each of ``rounds`` rounds, the measures in turn (so that they share the
+    load's drift): ``prepare()`` (a fresh throw), one ``call()`` outside the figure, then
+    REPEATS calls measured; the figure is the median over the rounds (a round that met a burst
+    of other work on the machine does not move it).
     """
-    totals = dict.fromkeys(measures, 0.0)
+    per_round = {key: [] for key in measures}
     for _ in range(rounds):
-        for key, (prepare, call) in measures.items():
+        for key, (pid, idle, prepare, call) in measures.items():
             prepare()
             call()
             cpu, wall = eb.cpu_ns(pid), time.monotonic()
             for _ in range(REPEATS):
                 call()
-            totals[key] += (eb.cpu_ns(pid) - cpu) * 1e-9 - idle * (time.monotonic() - wall)
-    return {key: total / (rounds * REPEATS) for key, total in totals.items()}
+            used = (eb.cpu_ns(pid) - cpu) * 1e-9 - idle * (time.monotonic() - wall)
+            per_round[key].append(used / REPEATS)
+    return {key: statistics.median(values) for key, values in per_round.items()}
 
 
-def lock_step_phase(pid: int, balls: list[int]) -> dict:
-    """Measure the simulator's (the floor server's: balls [0]) CPU per call, fresh client."""
+def lock_step_phase(pid: int, balls: list[int], floor_pid: int) -> dict:
+    """
+    Measure the simulator's CPU per call beside the floor server's ('floor ...'), new client.
+
+    The floor's calls are interleaved with the simulator's in the same rounds, so that a ratio
+    to the floor compares calls made under the same load.
+    """
     bench = eb.Bench()
-    idle = idle_rate(pid)
+    floor = eb.Bench(FLOOR_NODE, share=bench)
+    idle, floor_idle = idle_rate(pid), idle_rate(floor_pid)
 
     def nothing() -> None:
         pass
 
-    if balls == [0]:  # the floor: a server that answers at once
-        return per_call(pid, idle, {
-            'step': (nothing, functools.partial(bench.step, STEPS)),
-            'action': (nothing, functools.partial(bench.simulate_steps, STEPS)),
-        })
     out = {}
     for n in balls:
         bench.set_state(SimulationState.STATE_PAUSED)
@@ -168,11 +174,15 @@ def lock_step_phase(pid: int, balls: list[int]) -> dict:
         # fly 12 s, so no ball lands inside one. The same calls of one step: the simulator's
         # own floor (its executor, services, publishers and action).
         throw = functools.partial(bench.throw, n, eb.LOCK_STEP_LOB)
-        out.update(per_call(pid, idle, {
-            f'step {n}': (throw, functools.partial(bench.step, STEPS)),
-            f'action {n}': (throw, functools.partial(bench.simulate_steps, STEPS)),
-            f'step {n} one': (throw, functools.partial(bench.step, 1)),
-            f'action {n} one': (throw, functools.partial(bench.simulate_steps, 1)),
+        out.update(per_call({
+            f'floor step {n}': (floor_pid, floor_idle, nothing,
+                                functools.partial(floor.step, STEPS)),
+            f'floor action {n}': (floor_pid, floor_idle, nothing,
+                                  functools.partial(floor.simulate_steps, STEPS)),
+            f'step {n}': (pid, idle, throw, functools.partial(bench.step, STEPS)),
+            f'action {n}': (pid, idle, throw, functools.partial(bench.simulate_steps, STEPS)),
+            f'step {n} one': (pid, idle, throw, functools.partial(bench.step, 1)),
+            f'action {n} one': (pid, idle, throw, functools.partial(bench.simulate_steps, 1)),
         }))
         bench.reset()
     # The default ball (a flight order, as the release node sends) stepped the same way.
@@ -184,7 +194,7 @@ def lock_step_phase(pid: int, balls: list[int]) -> dict:
         bench.spin(0.5)
 
     step = functools.partial(bench.step, STEPS)
-    out.update(per_call(pid, idle, {'step default': (order, step)}))
+    out.update(per_call({'step default': (pid, idle, order, step)}))
     bench.reset()
     bench.set_state(SimulationState.STATE_PLAYING)
     return out
@@ -272,7 +282,7 @@ def floor_server(executor: str = 'single_threaded') -> None:
         return response
 
     rclpy.init()
-    node = rclpy.create_node('football_simulator')
+    node = rclpy.create_node(FLOOR_NODE.lstrip('/'))
     depth = qos.service_qos()
     for srv_type in (StepSimulation, SetSimulationState, ResetSimulation, GetSimulationState):
         name = {StepSimulation: 'step_simulation', SetSimulationState: 'set_simulation_state',
@@ -351,6 +361,18 @@ def simulator(tmp: Path, tag: str, priority: int, executor: str = 'events') -> s
                  tmp / f'simulator-{tag}.log')
 
 
+def lock_step(tmp: Path, draw: int, executor: str, sim: subprocess.Popen,
+              balls: list[int]) -> dict:
+    """Run the lock-step phase of ``sim`` beside a floor server on the same ``executor``."""
+    floor = start([sys.executable, __file__, '--no-record', '--phase', 'floor_server',
+                   '--options', json.dumps({'executor': executor})],
+                  tmp / f'floor-{draw}-{executor}.log')
+    try:
+        return run_phase('lockstep', pid=sim.pid, balls=balls, floor_pid=floor.pid)
+    finally:
+        stop(floor)
+
+
 def pace_phase(seconds: float, priority: int, work_ms: float = 0.0) -> dict:
     """Run the bare pacing loop at 100 Hz, each tick busy for ``work_ms`` of this thread's CPU."""
     def work(_t: float) -> None:
@@ -407,25 +429,17 @@ def main(argv=None) -> int:
                 row = {'core': {n: bare_core(n) for n in args.balls},
                        'core default': bare_core(1, default=True),
                        'physics': bare_tick(args.rt_balls)}
-                for executor in EXECUTORS:  # the do-nothing floor, on each executor
-                    floor = start([sys.executable, __file__, '--no-record', '--phase',
-                                   'floor_server', '--options',
-                                   json.dumps({'executor': executor})],
-                                  tmp / f'floor-{draw}-{executor}.log')
-                    try:
-                        row[f'floor {executor}'] = run_phase('lockstep', pid=floor.pid, balls=[0])
-                    finally:
-                        stop(floor)
-                # The simulator on its classic executor: the lock-step baseline of the same run.
+                # The simulator on its classic executor (the lock-step baseline of the same
+                # run), then on its default; each beside the do-nothing floor on its executor.
                 sim = simulator(tmp, f'{draw}-single', args.thread_priority, 'single_threaded')
                 try:
-                    row['sim single_threaded'] = run_phase('lockstep', pid=sim.pid,
-                                                           balls=args.balls)
+                    row['sim single_threaded'] = lock_step(tmp, draw, 'single_threaded', sim,
+                                                           args.balls)
                 finally:
                     stop(sim)
                 sim = simulator(tmp, str(draw), args.thread_priority)
                 try:
-                    row['sim events'] = run_phase('lockstep', pid=sim.pid, balls=args.balls)
+                    row['sim events'] = lock_step(tmp, draw, 'events', sim, args.balls)
                     row['rt'] = {
                         case: run_phase('realtime', pid=sim.pid, balls=n,
                                         seconds=args.seconds, subscribed=case.split()[1])
@@ -473,8 +487,9 @@ def report(draws: list[dict], args) -> None:
           + (f'SCHED_FIFO {args.thread_priority}.' if args.thread_priority
              else 'the normal scheduler.'))
     print()
-    print(f'Lock-step, {STEPS} steps of 1 ms per call (CPU ms per call; ratios to the bare core '
-          'measured in the same draw)')
+    print(f'Lock-step, {STEPS} steps of 1 ms per call (CPU ms per call: the median over '
+          f'{ROUNDS} rounds of {REPEATS} calls, the floor server called in the same rounds as '
+          'the simulator; ratios to the bare core measured in the same draw)')
     print("executor: the simulator's executor_type (events: its default; single_threaded: "
           "the classic, the baseline) and the do-nothing floor server's; (simulator - floor) "
           '/ core subtracts the floor on the same executor, (... - classic floor) the '
@@ -486,9 +501,9 @@ def report(draws: list[dict], args) -> None:
     for kind, key in (('StepSimulation', 'step'), ('SimulateSteps', 'action')):
         for n in args.balls:
             core_ms = [d['core'][n] * 1e3 for d in draws]
-            classic_ms = [d['floor single_threaded'][key] * 1e3 for d in draws]
+            classic_ms = [d['sim single_threaded'][f'floor {key} {n}'] * 1e3 for d in draws]
             for executor in EXECUTORS:
-                floor_ms = [d[f'floor {executor}'][key] * 1e3 for d in draws]
+                floor_ms = [d[f'sim {executor}'][f'floor {key} {n}'] * 1e3 for d in draws]
                 sim = [d[f'sim {executor}'] for d in draws]
                 sim_ms = [x[f'{key} {n}'] * 1e3 for x in sim]
                 one_ms = [x[f'{key} {n} one'] * 1e3 for x in sim]

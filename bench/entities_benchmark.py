@@ -148,13 +148,19 @@ def cpu_seconds(pid: int) -> float:
 class Bench:
     """Service clients and a /diagnostics subscription in this process."""
 
-    def __init__(self) -> None:
-        rclpy.init()
-        self.node = rclpy.create_node('entities_benchmark')
-        # One executor, waited on with spin_once: rclpy's spin_until_future_complete leaves a
-        # task per call in a long-lived executor, and every later call walks them (docs/envs.md).
-        self.executor = SingleThreadedExecutor()
-        self.executor.add_node(self.node)
+    def __init__(self, server: str = NODE, share: Bench | None = None) -> None:
+        """Clients of the node named ``server``; ``share``: another Bench's node and executor."""
+        self.server = server
+        if share is None:
+            rclpy.init()
+            self.node = rclpy.create_node('entities_benchmark')
+            # One executor, waited on with spin_once: rclpy's spin_until_future_complete leaves
+            # a task per call in a long-lived executor, and every later call walks them
+            # (docs/envs.md).
+            self.executor = SingleThreadedExecutor()
+            self.executor.add_node(self.node)
+        else:
+            self.node, self.executor = share.node, share.executor
         self.clients = {}
         self.action = None  # the SimulateSteps client, made at the first goal
         self.status = {}
@@ -172,7 +178,7 @@ class Bench:
         client = self.clients.get(name)
         if client is None:
             client = self.clients[name] = self.node.create_client(
-                srv_type, f'{NODE}/{name}', qos_profile=qos.service_qos())
+                srv_type, f'{self.server}/{name}', qos_profile=qos.service_qos())
             if not client.wait_for_service(timeout_sec=30.0):
                 raise SystemExit(f'no {name}')
         return client
@@ -282,7 +288,8 @@ class Bench:
         more than the goal (and more with every entity's publishers to match against).
         """
         if self.action is None:
-            self.action = ActionClient(self.node, SimulateSteps, f'{NODE}/simulate_steps')
+            self.action = ActionClient(self.node, SimulateSteps,
+                                       f'{self.server}/simulate_steps')
             if not self.action.wait_for_server(timeout_sec=30.0):
                 raise SystemExit('simulate_steps: no action server in 30 s')
         start = time.perf_counter()
