@@ -247,3 +247,35 @@ def test_found_by_type_and_at_root_names_with_entity_frames(start_node, collecto
     v = got.twist.linear
     if got.pose.position.z > 0.0:  # still in the air (not landed and held at rest)
         assert abs(v.x) < 1.0 and v.y > 5.0
+
+
+def test_a_handler_due_beside_a_tick_waits_for_it_and_no_longer():
+    """TickGate: a handler inside the guard waits for the pacer's next deadline; else not."""
+    import threading
+    import time
+
+    from football_ros.nodes.simulator import TickGate
+
+    gate = TickGate(guard_s=30.0)  # a guard and a period far longer than any scheduling delay
+    period = int(60e9)
+    gate.wait_clear()  # not armed (not pacing, or paused): no wait
+    gate.announce(time.monotonic_ns() + int(120e9), period)
+    gate.wait_clear()  # the tick is beyond the guard: no wait
+
+    def handler(order: list) -> threading.Thread:
+        thread = threading.Thread(target=lambda: (gate.wait_clear(), order.append('handler')))
+        thread.start()
+        return thread
+
+    for release in ('next deadline', None):  # the pacer moves on, or disarms (paused, stopped)
+        order = []
+        gate.announce(time.monotonic_ns() + int(1e9), period)  # within the guard
+        waiting = handler(order)
+        waiting.join(timeout=0.5)
+        assert waiting.is_alive() and order == []  # it waits (for up to a period: a minute)
+        order.append('tick')
+        gate.announce(None if release is None else time.monotonic_ns() + int(120e9), period)
+        waiting.join(timeout=30.0)
+        assert not waiting.is_alive() and order == ['tick', 'handler']
+    gate.announce(time.monotonic_ns() - 2 * period, period)  # a stuck pacer: nobody waits on it
+    gate.wait_clear()

@@ -213,9 +213,16 @@ class SimulationServices:
         ]
 
     def _answering(self, handler):
-        """Wrap a handler: a Refusal or any error becomes the response's Result, once."""
+        """
+        Wrap a handler: a Refusal or any error becomes the response's Result, once.
+
+        Each but StepSimulation's lets a tick due now go first (:class:`.simulator.TickGate`).
+        """
+        gate = self._node.tick_gate if handler != self._step else None
 
         def serve(request, response):
+            if gate is not None:
+                gate.wait_clear()
             try:
                 handler(request, response)
                 if not hasattr(response, 'result'):

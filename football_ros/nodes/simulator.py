@@ -97,6 +97,8 @@ NODE_NAME = 'football_simulator'
 MODEL_CHOICES = ('release', 'paper', 'full')
 MAX_CATCH_UP_S = 1.0
 """A stall longer than this is not replayed: its ticks are skipped (and counted)."""
+TICK_GUARD_S = 0.002
+"""A handler that would start within this of the next tick waits for the tick (TickGate)."""
 MAX_STEPS_PER_SECOND = 2.0e5
 """Largest real_time_factor / integration_step [RK4 steps per wall second] (about 0.2 s of CPU
 per wall second at 0.85 us a step); larger combinations are refused (parameter callback)."""
@@ -253,6 +255,45 @@ def fifo_priority(priority: int) -> str | None:
     return None
 
 
+class TickGate:
+    """
+    The pacing thread's right of way over the executor's handlers, in one process.
+
+    A handler holds the GIL (and often the simulation's lock) while it runs; if the OS preempts
+    it then, for other work of the machine, the pacer that wakes for its tick waits for the
+    preempted handler: a late tick that a loop alone in its process would not have. A handler
+    that would start within ``guard_s`` of the next tick waits instead (GIL released) until
+    the pacer announces its next deadline (at most one period), so at a tick's deadline the
+    executor holds nothing the tick needs unless a handler outruns the guard. A handler waits
+    at most the guard and one tick; lock-step calls (StepSimulation, SimulateSteps) never wait
+    (their ticks, paused, have nothing to be late for).
+    """
+
+    def __init__(self, guard_s: float) -> None:
+        self._cond = threading.Condition()
+        self._due_ns: int | None = None  # monotonic ns of the next tick; None: not pacing
+        self._period_ns = 0
+        self._guard_ns = int(guard_s * 1e9)
+
+    def announce(self, due_ns: int | None, period_ns: int = 0) -> None:
+        """Pacer: the next tick is due at ``due_ns`` (monotonic ns; None: pacing stopped)."""
+        with self._cond:
+            self._due_ns, self._period_ns = due_ns, period_ns
+            self._cond.notify_all()
+
+    def wait_clear(self) -> None:
+        """Executor: return at once unless a tick is due within the guard, else after it."""
+        with self._cond:
+            due = self._due_ns
+            if due is None:
+                return
+            ahead = due - time.monotonic_ns()
+            if ahead > self._guard_ns or ahead < -self._period_ns:
+                return  # no tick due soon (or the pacer is stuck: never wait on it)
+            self._cond.wait_for(lambda: self._due_ns != due,
+                                (ahead + self._period_ns) * 1e-9)
+
+
 def check_parameters(values: dict, flight_step: float | None = None) -> str | None:
     """
     Return the reason a combination of parameter values is refused, or None.
@@ -333,6 +374,7 @@ class SimulatorNode(QuietNode):
         self._clock_msg = Clock()
 
         self.sim = Simulation(self.max_entities, self.integration_step)
+        self.tick_gate = TickGate(TICK_GUARD_S)  # the pacer's right of way over the handlers
         self._tf = mb.TransformBatch()
         # name -> pose and odom publishers, EntityMessages, [spare, pose wanted, odom wanted]
         self._entity_pubs: dict[str, tuple] = {}
@@ -396,6 +438,7 @@ class SimulatorNode(QuietNode):
         Every order gets exactly one acknowledgement on football/flight/ack, named by the
         order's ``order`` id (else its ``id``): the release node answers its client from it.
         """
+        self.tick_gate.wait_clear()
         name = 'unknown'
         try:
             order = FlightOrder.from_json(msg.data)  # one parse; a refusal names the order
@@ -570,6 +613,7 @@ class SimulatorNode(QuietNode):
                 while next_due <= now:
                     self._guarded_tick(wall0 + (next_due - mono0), period_ns)
                     next_due += period_ns
+                self.tick_gate.announce(next_due, period_ns)
                 self.sim.integrate_ahead()  # the next tick's pass, now that this one is out
                 events, dropped = self.sim.drain_events()
                 if events or dropped:
@@ -937,6 +981,7 @@ class SimulatorNode(QuietNode):
         """Stop the pacing and stepping threads (called before the node is destroyed)."""
         self._stop.set()
         self._thread.join(timeout=5.0)
+        self.tick_gate.announce(None)  # no handler waits for a tick that will not come
         if self._sim_services is not None:
             self._sim_services.close()
 
