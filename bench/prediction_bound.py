@@ -510,8 +510,10 @@ def global_error(modes: list, local_cov: np.ndarray):
     The Laplace mixture over its ``modes``, each weighted by its evidence (those below
     :data:`MODE_WEIGHT` left out), the truth's own mode (least ``d2``) with the local bound's
     covariance ``local_cov`` (the posterior at the truth); so a flight of one mode has the
-    local bound's error exactly.
+    local bound's error exactly (and one whose fits all failed).
     """
+    if not modes:
+        return mixture_error([1.0], np.zeros((1, 2)), [local_cov])
     ev = np.array([m.evidence for m in modes])
     wts = np.exp(ev - ev.max())
     wts /= wts.sum()
@@ -522,14 +524,15 @@ def global_error(modes: list, local_cov: np.ndarray):
 
 
 def global_rows(spec, jacs: list, modes: list, t_lands: np.ndarray, masks: list,
-                draws: int) -> np.ndarray:
+                draws: int, trk: list) -> np.ndarray:
     """
     Print the global bound beside the local one (benchmark prior, neither known), and the modes.
 
     Per flight: the modes of weight 1e-4 or more, or within 30 of chi-square of the truth's
     own mode (their hand, spin and tumble [rev/min], objective and -2 log evidence over the
-    own mode's, landing distance from it [cm], weight). Returns the global bound's median
-    per flight [m].
+    own mode's, landing distance from it [cm], weight), and the tracker's error [cm] and NEES
+    per row of ``trk`` (:func:`tracker_errors`, if replayed). Returns the global bound's
+    median per flight [m].
     """
     local = np.array([posterior(j, prior_sigmas(spec, 'benchmark'), spec.noise)[0] for j in jacs])
     errors = [global_error(md, c) for md, c in zip(modes, local)]
@@ -550,6 +553,9 @@ def global_rows(spec, jacs: list, modes: list, t_lands: np.ndarray, masks: list,
           'evidence over its; d: landing distance from it)')
     second = 0
     for i, (md, c, e) in enumerate(zip(modes, local, errors)):
+        if not md:
+            print(f'{i:>3} {t_lands[i]:.2f} s: no fit landed')
+            continue
         own = min(md, key=lambda mo: mo.d2)
         ev = np.array([mo.evidence for mo in md])
         wts = np.exp(ev - ev.max())
@@ -565,8 +571,10 @@ def global_rows(spec, jacs: list, modes: list, t_lands: np.ndarray, masks: list,
             parts.append(f'{mo.theta[spin_at] / RPM:+.0f}{tumble} rpm dchi2 '
                          f'{mo.cost - own.cost:+.1f} dev {dev:+.1f} '
                          f'd {np.linalg.norm(mo.xy - own.xy) * 100:.0f} w {wt:.3f}')
+        replay = ''.join(f' [{name}: {t[0] * 100:.1f} cm, NEES {t[3]:.2f}]'
+                         for name, t in (trk[i].items() if trk else ()))
         print(f'{i:>3} {t_lands[i]:.2f} s: local {radial_median(c) * 100:.1f} cm, global '
-              f'{mixture_radial_median(e) * 100:.1f} cm; ' + '; '.join(parts))
+              f'{mixture_radial_median(e) * 100:.1f} cm;{replay} ' + '; '.join(parts))
     print(f'flights with a second mode of weight >= 0.01: {second}/{len(modes)}')
     return gmeds
 
@@ -701,7 +709,7 @@ def main() -> None:
         row('axis offsets known', prior_sigmas(spec, 'benchmark', ('alpha0', 'beta0')))
         gmeds = None
         if args.modes:
-            gmeds = global_rows(spec, jacs, modes, t_lands, masks, args.draws)
+            gmeds = global_rows(spec, jacs, modes, t_lands, masks, args.draws, trk)
         if args.map:
             print(f'{"batch MAP on the same fixes [cm]":>40}'
                   + f'{"median  (x bound)":>26}' * len(masks))

@@ -14,10 +14,7 @@
 
 """The landing prediction's information limit, against closed forms and Monte Carlo."""
 
-import importlib
 import math
-from pathlib import Path
-import sys
 
 from football_ros.estimation.bound import (
     central_jacobian,
@@ -49,7 +46,6 @@ NOISE = 0.02
 PERIOD = 1.0 / 60.0
 FIRST = 0.007
 COUNT = 90  # fixes over 1.5 s
-BENCH = Path(__file__).resolve().parents[1] / 'bench'
 
 
 def ballistic(theta, times):
@@ -209,7 +205,7 @@ def test_the_global_bound_of_two_modes_is_the_error_of_their_mixtures_mean():
     assert np.mean(med > 0.5 * far) == pytest.approx(tail, abs=0.005)
 
 
-def test_the_global_bound_of_one_mode_is_the_local_bound_draw_for_draw():
+def test_the_global_bound_of_one_mode_is_the_local_bound_draw_for_draw(prediction_bound):
     """
     A spiral of the prediction benchmark (defaults: 400-800 rpm): one mode that holds weight.
 
@@ -217,11 +213,7 @@ def test_the_global_bound_of_one_mode_is_the_local_bound_draw_for_draw():
     hand's fit too, far out of reach; the global bound's error is then the local bound's,
     per flight and pooled (the same draws), and its one mode is the truth's own.
     """
-    sys.path.insert(0, str(BENCH))
-    try:
-        bench = importlib.import_module('prediction_bound')
-    finally:
-        sys.path.remove(str(BENCH))
+    bench = prediction_bound
     case = bench.CASES['defaults']
     release = bench.random_releases(np.random.default_rng(1000), 1, case)[0]
     t_land, xy, obs, model = bench.flight_setup(release, 100000, 1.0, case)
