@@ -39,17 +39,45 @@ known): an estimator that reaches the bound shows that the bound is tight. ``--t
 replays the same fixes into the tracker (told nothing / the spin / the coefficients / both, as
 the benchmark's oracle, and told nothing without its batch fit, 'filter alone'; ``--set``
 changes TrackerSettings: NAME=VALUE, VALUE an int, a float or true / false, e.g.
-``--set unstable_fits=false``) and prints its median error and the
-median over flights of its error over the bound's per-flight median (1 = at the limit), its
-|spin| error and how often it picked the right hand.
+``--set unstable_fits=false``) and prints its median error and the median over flights of
+its error over the bound's per-flight median (1 = at the limit; with ``--modes`` over the
+global bound's too), its landing NEES (mean) and the share inside the 95 % ellipse, its |spin|
+error and how often it picked the right hand; ``--tracker-rows`` replays only some variants,
+``--compare`` adds one told nothing with further changes on top of ``--set``'s.
+
+The bound above is local: the posterior linearised at the true throw. Where the posterior
+over theta has several modes that explain the fixes about equally well (a tumbling kick's
+other spin, hand or tumble), it is optimistic: no estimator knows which mode is the truth's,
+and none can reach it. ``--modes`` finds the modes on the same fixes (:func:`find_modes`:
+batch MAP fits from the benchmark prior's starts, both hands, as the tracker's multi-start)
+and prints, per flight, their objectives and evidence against the truth's own mode and
+their landings' distance from it, and the global bound (:func:`global_error`): the
+posterior as the Laplace mixture over the modes, each weighted by its evidence exp(-cost /
+2) det(Sigma)^(1/2) (cost: chi-square of the fixes plus the prior's terms, so the prior's
+density is in it; Sigma the Gauss-Newton posterior at the mode), the truth's own mode with
+the local bound's covariance. The mixture's mean is the estimate of least mean square
+error under that posterior; its error under the mixture, averaged over the flights the
+prior draws, is the least any estimator can reach on average under that prior (the Bayes
+risk: given the fixes, E|x - a|^2 = E|x - m|^2 + |m - a|^2 for any a). Its median (per
+flight, exact for one mode; pooled over flights as the local bound's, the same draws) is
+reported beside the local bound's. With one mode it is the local bound, draw for draw. It
+assumes: each mode Gaussian (Laplace) and the modes found are all that hold weight (a mode
+no start reaches is missing: one off to the side of those found would widen it); the spin
+prior the two hands' Gaussians (the uniform range's variance each, equal odds) and the axis
+rates flat (the tracker's prior is symmetric; the benchmark's tumbles have one sign); the
+release point and velocity started at the truth (the fixes hold them
+tightly); the median of |e|, like the local bound's, is what a benchmark reports, the mean
+square what the mixture's mean minimises.
 
     .venv/bin/python bench/prediction_bound.py [--flights 60] [--seed 1] [--lead 1.0]
-        [--all-cases] [--map] [--tracker [--set NAME=VALUE ...]]
+        [--all-cases] [--map] [--modes] [--tracker [--set NAME=VALUE ...]
+        [--tracker-rows ROW ...] [--compare NAME=VALUE ...]]
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import importlib
 import math
 import os
@@ -60,6 +88,9 @@ from football_ros.estimation import FlightTracker, TrackerSettings
 from football_ros.estimation.bound import (
     central_jacobian,
     FD_STEPS,
+    mixture_error,
+    mixture_pooled_medians,
+    mixture_radial_median,
     pooled_median,
     pooled_medians,
     posterior_covariance,
@@ -80,6 +111,8 @@ CASES, LATENCY, NOISE, RATE = (_benchmark.CASES, _benchmark.LATENCY, _benchmark.
                                _benchmark.RATE)
 random_releases = _benchmark.random_releases
 
+CHI2_2_95 = 5.991
+"""Chi-square 2 dof, 95 %: a landing inside the 95 % ellipse."""
 CLASSES = (('< 2.2 s', 0.0, 2.2), ('2.2-2.8 s', 2.2, 2.8), ('> 2.8 s', 2.8, math.inf))
 PRIOR_NAMES = ('benchmark', 'tracker')
 
@@ -108,7 +141,9 @@ KNOWN = {
     'both known': ('spin', 'kd', 'kl'),
 }
 TRACKER_ROWS = ('neither known', 'spin known', 'coefs known', 'both known', 'filter alone')
-BOUND_ROW = {'filter alone': 'neither known'}
+COMPARED = 'neither known, compared'
+"""The tracker row told nothing with ``--compare``'s changes on top of ``--set``'s."""
+BOUND_ROW = {'filter alone': 'neither known', COMPARED: 'neither known'}
 """The bound row a tracker row is held against, where they are not named alike."""
 
 
@@ -169,18 +204,29 @@ def flight_setup(release, seed: int, lead: float, case, wind_sigma: float = 0.0)
 
 def jacobians(release, model: ThrowModel, xy_land) -> dict:
     """Return theta's names and the Jacobians of the fixes (3 count, n) and landing (2, n)."""
+    jac = jacobians_at(model, model.theta_of(release))
+    if np.linalg.norm(jac['xy'] - xy_land) > 1e-6:
+        raise RuntimeError(f'the model misses the true landing by {jac["xy"] - xy_land}')
+    return jac
+
+
+def jacobians_at(model: ThrowModel, theta: np.ndarray) -> dict:
+    """
+    Return :func:`jacobians` at ``theta``, and its landing 'xy' [m] (NaN if it does not land).
+
+    The fixes' rows whitened by each fix's covariance where the model has one (a field case),
+    scaled back by the noise :func:`posterior` takes.
+    """
     count = model.times.size
-    theta = model.theta_of(release)
     steps = [FD_STEPS[n] for n in model.names]
     f0, jac = central_jacobian(model.evaluate, theta, steps)
-    if np.linalg.norm(f0[-3:-1] - xy_land) > 1e-6:
-        raise RuntimeError(f'the model misses the true landing by {f0[-3:-1] - xy_land}')
     fixes = jac[: 3 * count]
     whiten = getattr(model, 'whiten', None)
     if whiten is not None:  # each fix's own covariance, scaled by the noise posterior() takes
         fixes = np.einsum('kab,kbn->kan', whiten, fixes.reshape(count, 3, -1))
         fixes = fixes.reshape(3 * count, -1) * model.noise_unit
-    return {'names': model.names, 'fixes': fixes, 'landing': jac[3 * count: 3 * count + 2]}
+    return {'names': model.names, 'fixes': fixes, 'landing': jac[3 * count: 3 * count + 2],
+            'xy': f0[-3:-1]}
 
 
 def posterior(jac: dict, sigmas: dict, noise: float) -> tuple[np.ndarray, np.ndarray, list]:
@@ -250,14 +296,17 @@ def prior_sigmas(case, prior: str, known=(), **changes) -> dict:
     return sig
 
 
-def tracker_errors(release, obs: list, xy_land, case, changes: dict, told_covs=None) -> dict:
+def tracker_errors(release, obs: list, xy_land, case, changes: dict, told_covs=None,
+                   rows=TRACKER_ROWS, compare: dict | None = None) -> dict:
     """
     Replay the fixes ``obs`` (:func:`camera_fixes`) into the tracker.
 
     Told nothing / the spin / the coefficients / both (the benchmark's oracle settings), with
     ``changes`` to every TrackerSettings; and told nothing without the batch fit ('filter
-    alone': refine_iterations 0); ``told_covs`` each fix's covariance told (None: not).
-    Per variant: (landing error [m], |spin| error [rpm], hand right).
+    alone': refine_iterations 0); ``told_covs`` each fix's covariance told (None: not); only
+    the variants in ``rows``, and told nothing with ``compare`` on top of ``changes``
+    (:data:`COMPARED`) if given. Per variant: (landing error [m], |spin| error [rpm], hand
+    right, landing NEES (x, y)).
     """
     spin = {'spin_rpm': max(abs(release.spin_rpm), 10.0), 'spin_sigma': 0.01}
     coefs = {'scale_sigma': 0.01, 'aero': release.aero_model()}
@@ -268,6 +317,9 @@ def tracker_errors(release, obs: list, xy_land, case, changes: dict, told_covs=N
         'both known': {**spin, **coefs},
         'filter alone': {},  # told nothing, and no batch fit: the unscented filter's own
     }
+    settings = {name: kw for name, kw in settings.items() if name in rows}
+    if compare:
+        settings[COMPARED] = compare
     told = {'noise': case.noise, 'ball': case.ball}  # as the benchmark tells it
     out = {}
     for name, kw in settings.items():
@@ -278,15 +330,17 @@ def tracker_errors(release, obs: list, xy_land, case, changes: dict, told_covs=N
         pred = tracker.predict_landing()
         est = tracker.estimate
         if pred is None or est is None:
-            out[name] = (math.nan, math.nan, False)
+            out[name] = (math.nan, math.nan, False, math.nan)
             continue
         x = est[1]
         h1 = float(x[X_H:X_H + 3] @ x[X_S:X_S + 3])
         spin_rpm = h1 / tracker.ball.inertia_ratio / RPM
+        e = pred.position[:2] - xy_land
         out[name] = (
-            float(np.linalg.norm(pred.position[:2] - xy_land)),
+            float(np.linalg.norm(e)),
             abs(abs(spin_rpm) - abs(release.spin_rpm)),
             bool(np.sign(spin_rpm) == np.sign(release.spin_rpm)),
+            float(e @ np.linalg.solve(pred.covariance[:2, :2], e)),
         )
     return out
 
@@ -329,6 +383,202 @@ def map_errors(release, obs: list, model: ThrowModel, xy_land, case) -> dict:
     return out
 
 
+MODE_SAME = 25.0
+"""Two fits of one flight and hand are one mode within this Mahalanobis distance^2 of theta
+(under the posterior of the lower objective's)."""
+MODE_WEIGHT = 1e-9
+"""A mode of less evidence (normalised) is left out of the global bound's mixture."""
+
+
+@dataclasses.dataclass
+class Mode:
+    """
+    One mode of a flight's posterior over theta: the batch MAP fit from one start.
+
+    ``hand`` +1 / -1: the spin prior's component it was fitted under; ``cost`` the objective
+    (chi-square of the fixes plus the prior's terms); ``evidence`` its log Laplace evidence,
+    -cost / 2 + log det(Sigma) / 2 (the same constant for every mode of a flight: the hands'
+    prior components have equal odds and one normalisation); ``xy`` its landing [m], ``cov``
+    the landing's Laplace covariance at the mode (2, 2); ``d2`` the truth's Mahalanobis
+    distance^2 from it (under its posterior).
+    """
+
+    theta: np.ndarray
+    hand: float
+    cost: float
+    evidence: float
+    xy: np.ndarray
+    cov: np.ndarray
+    d2: float
+
+
+def mode_starts(truth: np.ndarray, names: tuple, case) -> list:
+    """
+    Return [(hand, theta)]: the multi-start fit's starts, drawn from the benchmark's prior.
+
+    As the tracker's (:meth:`FlightTracker._prior_starts`): the release point and velocity
+    at the truth (the fixes hold them tightly; flat priors), the axis offsets and scales at
+    their prior means, for each hand the spin at the middle of each third of the case's range
+    (the middle alone with the axis rates unknown), and with the rates unknown, a tumble
+    end over end either way at the low end, middle and high end of the case's range (none:
+    20-120 rpm); and the truth itself (its hand), so that its own mode is among them.
+    """
+    at = {n: i for i, n in enumerate(names)}
+    lo, hi = case.spin
+    thirds = [lo + (i + 0.5) * (hi - lo) / 3.0 for i in range(3)]
+    spins = [0.5 * (lo + hi)] if 'alpha_rate' in at else thirds
+    tlo, thi = case.tumble or (20.0, 120.0)
+    rates = ([6.0 * r * sign for r in (tlo, 0.5 * (tlo + thi), thi) for sign in (1.0, -1.0)]
+             if 'alpha_rate' in at else [None])  # rev/min -> deg/s
+    out = [(math.copysign(1.0, truth[at['spin']]), truth.copy())]
+    for hand in (1.0, -1.0):
+        for spin in spins:
+            for rate in rates:
+                th = truth.copy()
+                th[at['alpha0']] = th[at['beta0']] = 0.0
+                th[at['kd']] = th[at['kl']] = 1.0
+                th[at['spin']] = hand * spin * RPM
+                if rate is not None:
+                    th[at['alpha_rate']], th[at['beta_rate']] = math.radians(rate), 0.0
+                out.append((hand, th))
+    return out
+
+
+def find_modes(release, obs: list, model: ThrowModel, case) -> list:
+    """
+    Return the distinct modes (:class:`Mode`) of a flight's posterior, lowest objective first.
+
+    The batch MAP fit (Levenberg-Marquardt, forward differences) of the fixes ``obs`` (each
+    whitened by its covariance where the model has one, else by the case's noise) under the
+    benchmark prior (:func:`prior_sigmas`, neither known; the spin's Gaussian centred on
+    the start's hand: the prior is the two hands' mixture, equal odds), from each of
+    :func:`mode_starts`. Fits of one hand within :data:`MODE_SAME` of a lower one are one
+    mode; a fit that does not land is left out.
+    """
+    z = np.concatenate([o.position for o in obs])
+    whiten = getattr(model, 'whiten', None)
+    sig = prior_sigmas(case, 'benchmark')
+    names = model.names
+    w = np.array([1.0 / sig[n] if n in sig else 0.0 for n in names])
+    steps = np.array([FD_STEPS[n] for n in names])
+    mid = 0.5 * (case.spin[0] + case.spin[1]) * RPM
+    truth = model.theta_of(release)
+
+    def fixes_residuals(th):
+        d = model.fixes(th) - z
+        if whiten is None:
+            return d / case.noise
+        return np.einsum('kab,kb->ka', whiten, d.reshape(-1, 3)).reshape(-1)
+
+    fits = []
+    for hand, x0 in mode_starts(truth, names, case):
+        mu = np.array([{'kd': 1.0, 'kl': 1.0, 'spin': hand * mid}.get(n, 0.0) for n in names])
+
+        def resid(th, mu=mu):
+            return np.concatenate([fixes_residuals(th), w * (th - mu)])
+
+        def jac(th, resid=resid):
+            r0 = resid(th)
+            return np.stack([(resid(th + h * e) - r0) / h
+                             for h, e in zip(steps, np.eye(th.size))], axis=1)
+
+        try:
+            fit = least_squares(resid, x0, jac=jac, method='lm', x_scale='jac', max_nfev=100)
+        except (ValueError, np.linalg.LinAlgError):
+            continue
+        if np.all(np.isfinite(fit.fun)):
+            fits.append((float(fit.fun @ fit.fun), hand, fit.x, fit.jac))
+    modes = []
+    for cost, hand, theta, jac in sorted(fits, key=lambda f: f[0]):
+        if any(m.hand == hand and float(np.sum((jl @ (theta - m.theta)) ** 2)) < MODE_SAME
+               for m, jl in modes):
+            continue
+        at = jacobians_at(model, theta)
+        if not np.all(np.isfinite(at['xy'])):
+            continue
+        c, cov, _ = posterior(at, sig, case.noise)
+        logdet = float(np.linalg.slogdet(cov)[1])
+        d2 = float(np.sum((jac @ (truth - theta)) ** 2))
+        modes.append((Mode(theta, hand, cost, 0.5 * (logdet - cost), at['xy'], c, d2), jac))
+    return [m for m, _ in modes]
+
+
+def global_error(modes: list, local_cov: np.ndarray):
+    """
+    Return the global bound's error mixture of a flight (:func:`.bound.mixture_error`).
+
+    The Laplace mixture over its ``modes``, each weighted by its evidence (those below
+    :data:`MODE_WEIGHT` left out), the truth's own mode (least ``d2``) with the local bound's
+    covariance ``local_cov`` (the posterior at the truth); so a flight of one mode has the
+    local bound's error exactly (and one whose fits all failed).
+    """
+    if not modes:
+        return mixture_error([1.0], np.zeros((1, 2)), [local_cov])
+    ev = np.array([m.evidence for m in modes])
+    wts = np.exp(ev - ev.max())
+    wts /= wts.sum()
+    own = int(np.argmin([m.d2 for m in modes]))
+    keep = [i for i in range(len(modes)) if wts[i] >= MODE_WEIGHT or i == own]
+    covs = [local_cov if i == own else modes[i].cov for i in keep]
+    return mixture_error(wts[keep], [modes[i].xy for i in keep], covs)
+
+
+def global_rows(spec, jacs: list, modes: list, t_lands: np.ndarray, masks: list,
+                draws: int, trk: list) -> np.ndarray:
+    """
+    Print the global bound beside the local one (benchmark prior, neither known), and the modes.
+
+    Per flight: the modes of weight 1e-4 or more, or within 30 of chi-square of the truth's
+    own mode (their hand, spin and tumble [rev/min], objective and -2 log evidence over the
+    own mode's, landing distance from it [cm], weight), and the tracker's error [cm] and NEES
+    per row of ``trk`` (:func:`tracker_errors`, if replayed). Returns the global bound's
+    median per flight [m].
+    """
+    local = np.array([posterior(j, prior_sigmas(spec, 'benchmark'), spec.noise)[0] for j in jacs])
+    errors = [global_error(md, c) for md, c in zip(modes, local)]
+    gmeds = np.array([mixture_radial_median(e) for e in errors])
+    cells = ''
+    for _, m in masks:
+        if not m.any():
+            cells += f'{"-":>26}'
+            continue
+        med = mixture_pooled_medians([e for e, keep in zip(errors, m) if keep], draws, seed=1)
+        cells += (f'{np.median(gmeds[m]) * 100:>10.2f}{med.mean() * 100:>9.2f} '
+                  f'+/-{med.std() * 100:>4.1f}')
+    print(f'{"global bound (modes, Laplace mixture)":>40}{cells}')
+    names = jacs[0]['names']
+    spin_at = names.index('spin')
+    rate_at = names.index('alpha_rate') if 'alpha_rate' in names else None
+    print("modes per flight (the truth's own mode first; dchi2 and dev: objective and -2 log "
+          'evidence over its; d: landing distance from it)')
+    second = 0
+    for i, (md, c, e) in enumerate(zip(modes, local, errors)):
+        if not md:
+            print(f'{i:>3} {t_lands[i]:.2f} s: no fit landed')
+            continue
+        own = min(md, key=lambda mo: mo.d2)
+        ev = np.array([mo.evidence for mo in md])
+        wts = np.exp(ev - ev.max())
+        wts /= wts.sum()
+        second += int(np.sum(wts >= 0.01) > 1)
+        parts = []
+        for mo, wt in sorted(zip(md, wts), key=lambda p: p[0] is not own):
+            if wt < 1e-4 and mo.cost - own.cost > 30.0:
+                continue
+            tumble = (f'/{math.degrees(mo.theta[rate_at]) / 6.0:+.0f}' if rate_at is not None
+                      else '')
+            dev = 2.0 * (own.evidence - mo.evidence)
+            parts.append(f'{mo.theta[spin_at] / RPM:+.0f}{tumble} rpm dchi2 '
+                         f'{mo.cost - own.cost:+.1f} dev {dev:+.1f} '
+                         f'd {np.linalg.norm(mo.xy - own.xy) * 100:.0f} w {wt:.3f}')
+        replay = ''.join(f' [{name}: {t[0] * 100:.1f} cm, NEES {t[3]:.2f}]'
+                         for name, t in (trk[i].items() if trk else ()))
+        print(f'{i:>3} {t_lands[i]:.2f} s: local {radial_median(c) * 100:.1f} cm, global '
+              f'{mixture_radial_median(e) * 100:.1f} cm;{replay} ' + '; '.join(parts))
+    print(f'flights with a second mode of weight >= 0.01: {second}/{len(modes)}')
+    return gmeds
+
+
 def _value(text: str):
     """Parse a --set value: true / false (any case), else an int or a float."""
     if text.lower() in ('true', 'false'):
@@ -349,7 +599,13 @@ def main() -> None:
     ap.add_argument('--tracker', action='store_true', help='replay the fixes into the tracker')
     ap.add_argument('--set', nargs='*', default=[], metavar='NAME=VALUE',
                     help='TrackerSettings changes for the replay, e.g. accel_noise=0')
+    ap.add_argument('--tracker-rows', nargs='*', default=list(TRACKER_ROWS),
+                    choices=TRACKER_ROWS, help='the tracker variants replayed')
+    ap.add_argument('--compare', nargs='*', default=[], metavar='NAME=VALUE',
+                    help="a tracker row told nothing with these changes on top of --set's")
     ap.add_argument('--map', action='store_true', help='batch MAP fit on the same fixes')
+    ap.add_argument('--modes', action='store_true',
+                    help="the posterior's modes on the same fixes and the global bound")
     ap.add_argument('--draws', type=int, default=4000)
     ap.add_argument('--seeds', type=int, default=1,
                     help="the flights of this many of the benchmark's draws (seeds seed..)")
@@ -360,9 +616,13 @@ def main() -> None:
         ap.error('--seeds must be 1-100 and --wind-sigma 0-30 m/s')
     WIND_SIGMA[0] = args.wind_sigma
     changes = {k: _value(v) for k, v in (item.split('=', 1) for item in args.set)}
+    compare = {k: _value(v) for k, v in (item.split('=', 1) for item in args.compare)}
     if args.wind_sigma > 0.0:
         changes.setdefault('wind_sigma', args.wind_sigma)
     TrackerSettings(**changes)  # validate before the long loop
+    TrackerSettings(**{**changes, **compare})
+    if args.modes and args.wind_sigma > 0.0:
+        ap.error('--modes flies the true wind (no --wind-sigma)')
     cases = list(CASES) if args.all_cases else args.cases
     unknown = sorted(set(cases) - set(CASES))
     if unknown:
@@ -374,6 +634,7 @@ def main() -> None:
         f'{args.seed}..{args.seed + args.seeds - 1}; wind '
         + (f'unknown (prior sigma {args.wind_sigma:g} m/s)' if args.wind_sigma else 'known')
         + (f'; tracker settings changed: {changes}' if changes else '')
+        + (f'; compared: {compare} on top' if compare else '')
     )
     for case in cases:
         ci, spec = list(CASES).index(case), CASES[case]
@@ -382,7 +643,7 @@ def main() -> None:
                   'known the bound is the still-air one, with it unknown it is not defined)')
             continue
         t0 = time.perf_counter()
-        t_lands, jacs, trk, fixes, maps = [], [], [], [], []
+        t_lands, jacs, trk, fixes, maps, modes = [], [], [], [], [], []
         for draw in range(args.seed, args.seed + args.seeds):  # the benchmark's seeding
             releases = random_releases(np.random.default_rng(draw * 1000 + ci), args.flights,
                                        CASES[case])
@@ -396,7 +657,10 @@ def main() -> None:
                 jacs.append(jacobians(release, model, xy_land))
                 if args.tracker:
                     trk.append(tracker_errors(release, obs, xy_land, spec, changes,
-                                              getattr(model, 'told', None)))
+                                              getattr(model, 'told', None), args.tracker_rows,
+                                              compare))
+                if args.modes:
+                    modes.append(find_modes(release, obs, model, spec))
                 if args.map:
                     maps.append(map_errors(release, obs, model, xy_land, spec))
         t_lands = np.array(t_lands)
@@ -443,6 +707,9 @@ def main() -> None:
         row('release point known (0, 0, 1.8)',
             prior_sigmas(spec, 'benchmark', ('x0', 'y0', 'z0')))
         row('axis offsets known', prior_sigmas(spec, 'benchmark', ('alpha0', 'beta0')))
+        gmeds = None
+        if args.modes:
+            gmeds = global_rows(spec, jacs, modes, t_lands, masks, args.draws, trk)
         if args.map:
             print(f'{"batch MAP on the same fixes [cm]":>40}'
                   + f'{"median  (x bound)":>26}' * len(masks))
@@ -457,7 +724,7 @@ def main() -> None:
         if not args.tracker:
             continue
         print(f'{"tracker replay [cm]":>40}' + f'{"median  (x bound)":>26}' * len(masks))
-        for kname in TRACKER_ROWS:
+        for kname in trk[0]:
             err = np.array([t[kname][0] for t in trk])
             ratio = err / meds[('benchmark', BOUND_ROW.get(kname, kname))]  # 1 at the limit
             cells = ''
@@ -467,6 +734,16 @@ def main() -> None:
                     continue
                 cells += f'{np.nanmedian(err[m]) * 100:>16.2f}  (x {np.nanmedian(ratio[m]):.2f})'
             print(f'{"tracker, " + kname:>40}{cells}')
+            nees = np.array([t[kname][3] for t in trk])
+            if BOUND_ROW.get(kname, kname) == 'neither known' and gmeds is not None:
+                print(f'{"x global bound":>40}' + ''.join(
+                    f'{f"x {np.nanmedian(err[m] / gmeds[m]):.2f}":>26}' if m.any()
+                    else f'{"-":>26}' for _, m in masks))
+            print(f'{"NEES mean, in 95 % ellipse":>40}' + ''.join(
+                f'{f"{np.nanmean(nees[m]):.2f}  {np.mean(nees[m] <= CHI2_2_95):.2f}":>26}'
+                if m.any() else f'{"-":>26}' for _, m in masks))
+        if 'neither known' not in trk[0]:
+            continue
         # The spin: the tracker's |spin| error against the bound's (median of |N(0, var)|).
         spin_err = np.array([t['neither known'][1] for t in trk])
         spin_bound = []

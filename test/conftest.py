@@ -173,3 +173,16 @@ def collector():
     c = Collector()
     yield c
     c.close()
+
+
+@pytest.fixture(scope='session')
+def prediction_bound():
+    """Return bench/prediction_bound.py as a module (its flights, priors and global bound)."""
+    import importlib
+
+    bench = str(REPO / 'bench')
+    sys.path.insert(0, bench)  # it imports prediction_benchmark and results from its folder
+    try:
+        return importlib.import_module('prediction_bound')
+    finally:
+        sys.path.remove(bench)

@@ -19,7 +19,11 @@ import math
 from football_ros.estimation.bound import (
     central_jacobian,
     FD_STEPS,
+    mixture_error,
+    mixture_pooled_medians,
+    mixture_radial_median,
     pooled_median,
+    pooled_medians,
     posterior_covariance,
     radial_median,
     ThrowModel,
@@ -179,3 +183,51 @@ def test_pooled_median_of_identical_flights_is_their_median():
     mean, sd = pooled_median(np.tile(s**2 * np.eye(2), (401, 1, 1)), draws=400, seed=2)
     assert mean == pytest.approx(s * math.sqrt(2 * math.log(2)), rel=0.01)
     assert 0.0 < sd < 0.1 * mean
+
+
+def test_the_global_bound_of_two_modes_is_the_error_of_their_mixtures_mean():
+    """
+    A bimodal toy: modes 1 m apart, weights 0.8 / 0.2, each 0.1 mm wide.
+
+    The mixture's mean lies 0.2 m from the likelier mode, so its error is 0.2 m (odds 4 in 5)
+    or 0.8 m: median 0.2 m, where the likelier mode alone (the local bound) says 0.1 mm. Over
+    nine such flights the pooled median is 0.8 m when five or more draw the far mode.
+    """
+    s, far = 1e-4, 1.0
+    err = mixture_error([4.0, 1.0], [[0.0, 0.0], [far, 0.0]], [s**2 * np.eye(2)] * 2)
+    np.testing.assert_allclose(err[0], [0.8, 0.2])
+    np.testing.assert_allclose(err[1], [[-0.2 * far, 0.0], [0.8 * far, 0.0]], atol=1e-15)
+    assert mixture_radial_median(err) == pytest.approx(0.2 * far, rel=1e-3)
+    assert radial_median(s**2 * np.eye(2)) < 1e-3 * mixture_radial_median(err)
+    tail = sum(math.comb(9, k) * 0.2**k * 0.8 ** (9 - k) for k in range(5, 10))
+    med = mixture_pooled_medians([err] * 9, draws=20000, seed=3)
+    assert med.mean() == pytest.approx(0.2 * far + 0.6 * far * tail, abs=3e-3)
+    assert np.mean(med > 0.5 * far) == pytest.approx(tail, abs=0.005)
+
+
+def test_the_global_bound_of_one_mode_is_the_local_bound_draw_for_draw(prediction_bound):
+    """
+    A spiral of the prediction benchmark (defaults: 400-800 rpm): one mode that holds weight.
+
+    The multi-start from both hands' priors (bench/prediction_bound.py) finds the other
+    hand's fit too, far out of reach; the global bound's error is then the local bound's,
+    per flight and pooled (the same draws), and its one mode is the truth's own.
+    """
+    bench = prediction_bound
+    case = bench.CASES['defaults']
+    release = bench.random_releases(np.random.default_rng(1000), 1, case)[0]
+    t_land, xy, obs, model = bench.flight_setup(release, 100000, 1.0, case)
+    modes = bench.find_modes(release, obs, model, case)
+    assert {m.hand for m in modes} == {1.0, -1.0}
+    local = bench.posterior(bench.jacobians(release, model, xy),
+                            bench.prior_sigmas(case, 'benchmark'), case.noise)[0]
+    err = bench.global_error(modes, local)
+    assert err[0].tolist() == [1.0] and np.all(err[1] == 0.0) and np.all(err[2][0] == local)
+    # the truth within its mode (d2 ~ chi-square, 11 unknowns), the other hand far off
+    assert modes[0].d2 < 30.0 and all(m.d2 > 1000.0 for m in modes[1:])
+    assert mixture_radial_median(err) == radial_median(local)
+    others = np.array([0.2**2 * np.eye(2), 0.05**2 * np.eye(2)])
+    np.testing.assert_array_equal(
+        mixture_pooled_medians([err] + [mixture_error([1.0], [[3.0, 4.0]], [c]) for c in others],
+                               draws=500, seed=1),
+        pooled_medians(np.concatenate([[local], others]), draws=500, seed=1))

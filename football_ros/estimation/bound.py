@@ -139,6 +139,11 @@ class ThrowModel:
         )
         return Flight(self.ball, initial, 'full', 'linear', self.step, aero)
 
+    def fixes(self, theta: np.ndarray, flight: Flight | None = None) -> np.ndarray:
+        """Return the fixes' true positions (3 count,), x, y, z of each capture [m]."""
+        flight = flight or self.flight(theta)
+        return np.array([flight.state_at(t)[:3] for t in self.times]).reshape(-1)
+
     def evaluate(self, theta: np.ndarray) -> np.ndarray:
         """
         Return the fixes' true positions and the landing, flattened.
@@ -147,7 +152,7 @@ class ThrowModel:
         (NaN if it does not land within ``horizon``).
         """
         flight = self.flight(theta)
-        fixes = np.array([flight.state_at(t)[:3] for t in self.times]).reshape(-1)
+        fixes = self.fixes(theta, flight)
         traj = flight.simulate(rate=100.0, duration=self.horizon)
         if not traj.landed:
             return np.concatenate([fixes, np.full(3, np.nan)])
@@ -220,11 +225,63 @@ def pooled_medians(covs: np.ndarray, draws: int = 2000, seed: int = 0) -> np.nda
     ``covs`` (n, 2, 2): what a benchmark of these n flights would report as the median error
     of an estimator at the bound, once per noise draw.
     """
-    covs = np.asarray(covs, dtype=float)
+    return mixture_pooled_medians([mixture_error([1.0], np.zeros((1, 2)), [c]) for c in covs],
+                                  draws, seed)
+
+
+def mixture_error(weights, means, covs) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """
+    Return the error of a Gaussian mixture's mean under the mixture: (weights, offsets, covs).
+
+    ``weights`` (k,) any scale, ``means`` (k, 2) [m], ``covs`` (k, 2, 2): the mixture
+    sum_i w_i N(mean_i, cov_i) of the landing. Its mean m = sum_i w_i mean_i is the estimate
+    of least mean square error under it, and m's error is the mixture sum_i w_i N(mean_i - m,
+    cov_i): returned as the normalised weights, the offsets mean_i - m and the covs. One
+    component: (1, 0, cov).
+    """
+    w = np.asarray(weights, dtype=float)
+    w = w / w.sum()
+    means = np.asarray(means, dtype=float).reshape(-1, 2)
+    offsets = means - w @ means
+    if w.size == 1:
+        offsets = np.zeros((1, 2))
+    return w, offsets, np.asarray(covs, dtype=float).reshape(-1, 2, 2)
+
+
+def mixture_radial_median(error, samples: int = 20000, seed: int = 0) -> float:
+    """
+    Return the median of |e| [m] for e under the mixture ``error`` (:func:`mixture_error`).
+
+    One component without offset: :func:`radial_median` (exact); else by ``samples`` draws.
+    """
+    w, offsets, covs = error
+    if w.size == 1:
+        return radial_median(covs[0])
     rng = np.random.default_rng(seed)
+    pick = rng.choice(w.size, size=samples, p=w)
     chol = np.array([np.linalg.cholesky(c + 1e-18 * np.eye(2)) for c in covs])
-    z = rng.standard_normal((draws, covs.shape[0], 2))
-    e = np.einsum('fij,dfj->dfi', chol, z)
+    z = rng.standard_normal((samples, 2))
+    e = np.einsum('sij,sj->si', chol[pick], z) + offsets[pick]
+    return float(np.median(np.linalg.norm(e, axis=1)))
+
+
+def mixture_pooled_medians(errors: list, draws: int = 2000, seed: int = 0) -> np.ndarray:
+    """
+    Return (draws,) medians over flights of |e_i|, one e_i per flight from ``errors[i]``.
+
+    ``errors``: per flight the mixture of :func:`mixture_error`. The draws of the standard
+    normals come first, so flights of one component without offset draw what
+    :func:`pooled_medians` draws for their covs (the component picks come after).
+    """
+    rng = np.random.default_rng(seed)
+    n = len(errors)
+    z = rng.standard_normal((draws, n, 2))
+    u = rng.random((draws, n))
+    e = np.empty((draws, n, 2))
+    for f, (w, offsets, covs) in enumerate(errors):
+        chol = np.array([np.linalg.cholesky(c + 1e-18 * np.eye(2)) for c in covs])
+        pick = np.minimum(np.searchsorted(np.cumsum(w), u[:, f]), w.size - 1)
+        e[:, f] = np.einsum('dij,dj->di', chol[pick], z[:, f]) + offsets[pick]
     return np.median(np.linalg.norm(e, axis=-1), axis=1)
 
 

@@ -102,6 +102,7 @@ from .motion import (
     X_H,
     X_KD,
     X_KL,
+    X_R,
     X_S,
     X_V,
     X_W,
@@ -125,6 +126,16 @@ the chi-square check (one in twenty on the prediction benchmark's tumbling cases
 off by 4-20 of its sigmas), and how
 far such a basin's objective lies above a right one's [standard deviations of chi-square]
 (:func:`_wrong_basin`)."""
+MAX_BASINS = 3
+"""Other basins of an unstable kick's fit kept beside it at most (:func:`_basins`)."""
+TUMBLE_PHASES = (-0.5, 0.5)
+"""The axis of a tumble start also tilted by these angles [rad] about the pitch axis (with
+``basin_reach`` > 0, :meth:`FlightTracker._prior_starts`): where a tumble is in its turn at
+the first fix is unknown."""
+LADDER = (10, 2.0, 6)
+"""An unstable kick's multi-start fit on a part of its fixes (:meth:`FlightTracker._spread_fits`):
+the fewest fixes of the first quarter, the reach (x ``basin_reach``) and the most basins kept
+from one part to the next."""
 MAX_FIXES = 1000
 """Fixes of a throw kept for the batch fit (beyond, every other one is dropped: bounded cost)."""
 LONGEST = 120.0
@@ -211,6 +222,12 @@ class TrackerSettings:
     covariance where the fit passes a chi-square check, the filters' mixture keeping the
     chance that it sits in a wrong basin, else the filters' tumbling covariance
     (:func:`_wrong_basin`); False: the filters' tumbling covariance always, and no multi-start.
+    ``basin_reach`` (with ``unstable_fits``): the other basins the multi-start finds within this
+    much -2 log evidence of the best fit's (13.8: a thousandth of its weight) are kept beside it
+    and refitted as the fixes come, and the prediction mixes them all by their Laplace evidence
+    (:func:`_basins`); to find them the starts are also fitted to the first quarter and half of
+    the fixes and the tumble starts' axis tilted (:meth:`FlightTracker._spread_fits`). 0: one
+    basin, the lowest objective alone.
     Off by default: on end-over-end punts fewer than 90 % of the landings fell inside the 95 %
     ellipse (bench/RESULTS.md, "prediction, tumbling kicks, unstable_fits on"); on a day of
     kicks, on (screw kicks come far closer to the bound, their covariance honest).
@@ -261,6 +278,7 @@ class TrackerSettings:
     unstable_fits: bool = False
     tumble_rate_sigma: float = 15.0
     tumble_starts: int = 8
+    basin_reach: float = 13.8
 
     LIMITS = {
         'noise': (1e-4, 10.0),
@@ -297,6 +315,7 @@ class TrackerSettings:
         'refine_iterations': (0, 100),
         'tumble_rate_sigma': (1e-4, 100.0),
         'tumble_starts': (0, 32),
+        'basin_reach': (0.0, 100.0),
     }
 
     def __post_init__(self) -> None:
@@ -439,6 +458,8 @@ class _Track:
     release_at: int = 0  # fixes when release_speed was last estimated
     pixels: bool = False  # a fix other than a 3D position (a camera's pixels) was taken
     spread_at: dict = field(default_factory=dict)  # hand -> fixes at its last multi-start fit
+    basins: dict = field(default_factory=dict)  # hand -> [Refined]: its fit's other basins
+    # within ``basin_reach`` (unstable_fits)
 
     def keep(self, t: float, meas: Measurement) -> None:
         """Record a fix the filter took; past MAX_FIXES every other older one is dropped."""
@@ -631,8 +652,9 @@ class FlightTracker:
                 wrong = _wrong_basin(fits) if self._tumbling(tr) else None
                 planes = [
                     None if f is None or m is None
-                    # a multi-start fit that passes the chi-square check: its own moments,
-                    # the filters' mixture keeping the chance that it is in a wrong basin
+                    # a multi-start fit that passes the chi-square check: its own moments
+                    # (with ``basin_reach``, the mixture of the basins within reach by their
+                    # evidence), the filters' mixture keeping the chance that none is right
                     else _mix([(1.0 - wrong, f), (wrong, m)]) if wrong is not None
                     # else the filters' covariance (it carries the tumbling all flight),
                     # widened by how far the fit lies from them
@@ -775,7 +797,7 @@ class FlightTracker:
         s, tr = self.settings, self.track
         if self.hand is not None:
             fit = self._fit()
-            return None if fit is None else [(1.0, fit)]
+            return None if fit is None else _by_evidence([fit] + tr.basins.get(self.hand, []))
         if s.refine_iterations == 0 or tr is None or self._gusty_weight(tr) > 0.5 or not (
             s.hand_fits == 'always' or s.hand_fits == 'pixels' and (
                 tr.pixels or s.unstable_fits and self._stability(tr.best.x) < 1.0)
@@ -792,9 +814,7 @@ class FlightTracker:
             if retry is not None and math.isfinite(retry.logdet) and retry.cost < fits[lose].cost:
                 fits[lose] = retry
                 tr.fits[hand] = (tr.fits[hand][0], retry)
-                evidence[lose] = 0.5 * (retry.logdet - retry.cost)
-        weights = np.exp(evidence - evidence.max())
-        return [(float(w), f) for w, f in zip(weights / weights.sum(), fits) if w >= 1e-6]
+        return _by_evidence(fits + [b for hand in (1.0, -1.0) for b in tr.basins.get(hand, [])])
 
     def _hand_fit(self, tr: _Track, hand: float) -> Refined | None:
         """Return the fit of ``tr`` for ``hand`` (:meth:`_refit`), cached per newest fix."""
@@ -815,8 +835,10 @@ class FlightTracker:
         ``unstable_fits``, a kick the filters find gyroscopically unstable has a likelihood with
         several optima (the spin, the hand and a tumble trade off against the attitude), so at
         its first fit and whenever its fixes have doubled since, its fit also starts from each
-        of the hand's filters and from its prior (:meth:`_prior_starts`, :meth:`_spread_fit`).
-        The lowest objective is kept.
+        of the hand's filters and from its prior (:meth:`_prior_starts`, :meth:`_spread_fits`).
+        The lowest objective is kept; the other basins those starts found within
+        ``basin_reach`` of its evidence are kept beside it in ``tr.basins``, each refitted from
+        its own last fit at every refit until it falls out of reach or into another's basin.
         """
         times = np.array(sorted(tr.fixes))
         if times[-1] != tr.t:
@@ -831,13 +853,17 @@ class FlightTracker:
             if other is not None and other[1] is not None:
                 starts.append(_reversed(other[1].x0))
             fit = _least(fit, self._fit_from(tr, hand, [x0 for x0 in starts if x0 is not None]))
+        others = [self._fit_from(tr, hand, [b.x0]) for b in tr.basins.get(hand, [])]
         if self._tumbling(tr) and times.size >= 2 * tr.spread_at.get(hand, 0):
             tr.spread_at[hand] = times.size
             back = [fly_state(h.x, [times[0] - tr.t], self.params, self.settings.step)[0]
                     for h in _hand_filters(tr, hand)]
             if back:
-                fit = _least(fit, self._spread_fit(
-                    tr, hand, back + self._prior_starts(back[0], hand)))
+                found = self._spread_fits(tr, hand, back + self._prior_starts(back[0], hand))
+                others += found
+        for other in others:
+            fit = _least(fit, other)
+        tr.basins[hand] = _basins(fit, others, self.settings.basin_reach)
         return fit
 
     def _tumbling(self, tr: _Track) -> bool:
@@ -860,30 +886,63 @@ class FlightTracker:
         ``refine_iterations``); the transverse rate's prior is ``tumble_rate_sigma`` for a
         kick :meth:`_tumbling` treats as unstable. None if none fits.
         """
+        best = None
+        for fit in self._fits_from(tr, hand, starts, iterations):
+            best = _least(best, fit)
+        return best
+
+    def _fits_from(self, tr: _Track, hand: float, starts: list,
+                   iterations: int | None = None, count: int | None = None) -> list[Refined]:
+        """
+        Return the fits of :meth:`_fit_from`, one a start that fits, in the starts' order.
+
+        Of the first ``count`` fixes (None: all).
+        """
         s = self.settings
-        times = np.array(sorted(tr.fixes))
+        times = np.array(sorted(tr.fixes))[:count]
         prior = Prior((hand * self.nominal_h1, self.nominal_h1 * s.spin_sigma), s.axis_sigma,
                       s.tumble_rate_sigma if self._tumbling(tr) else s.rate_sigma, tr.prior)
         fixes = [tr.fixes[t] for t in times]
-        best = None
+        out = []
         for x0 in starts:
             if np.all(np.isfinite(x0)):
-                best = _least(best, refine(times, fixes, x0, prior, s.noise, self.params, s.step,
-                                           iterations or s.refine_iterations))
-        return best
+                fit = refine(times, fixes, x0, prior, s.noise, self.params, s.step,
+                             iterations or s.refine_iterations)
+                if fit is not None:
+                    out.append(fit)
+        return out
 
-    def _spread_fit(self, tr: _Track, hand: float, starts: list) -> Refined | None:
+    def _spread_fits(self, tr: _Track, hand: float, starts: list) -> list[Refined]:
         """
-        Return the lowest-objective fit of ``tr`` for ``hand`` from many ``starts``.
+        Return the fits of ``tr`` for ``hand`` from many ``starts``, lowest objective first.
 
         Each start takes ``refine_iterations`` steps; the lowest is polished with three times
-        as many (cold starts take more steps than a warm one).
+        as many (cold starts take more steps than a warm one), and so are the other basins
+        within ``basin_reach`` of its evidence (:func:`_basins`; 0: the lowest alone). With
+        ``basin_reach`` > 0 the starts are also fitted to the first quarter of the fixes, then
+        the basins kept (:data:`LADDER`) to the first half, and these join the starts: a
+        tumbling flight's objective is rugged over seconds of fixes and smooth over a fraction
+        of one, and the basins are followed as the fixes grow (as a tracker predicting at
+        every fix does).
         """
-        top = self._fit_from(tr, hand, starts)
-        if top is None:
-            return None
-        return _least(top, self._fit_from(tr, hand, [top.x0],
-                                          3 * self.settings.refine_iterations))
+        reach = self.settings.basin_reach
+        climbed = starts
+        for part in (4, 2) if reach > 0.0 and len(tr.fixes) >= 4 * LADDER[0] else ():
+            fits = self._fits_from(tr, hand, climbed, count=len(tr.fixes) // part)
+            if not fits:
+                break
+            top = min(fits, key=lambda f: f.cost)
+            climbed = [f.x0 for f in [top] + _basins(top, fits, LADDER[1] * reach, LADDER[2])]
+        fits = self._fits_from(tr, hand, starts + (climbed if climbed is not starts else []))
+        if not fits:
+            return []
+        top = fits[0]
+        for fit in fits[1:]:
+            top = _least(top, fit)
+        polish = [top] + _basins(top, fits, self.settings.basin_reach)
+        out = [_least(f, self._fit_from(tr, hand, [f.x0], 3 * self.settings.refine_iterations))
+               for f in polish]
+        return sorted(out, key=lambda f: f.cost)
 
     def _prior_starts(self, x: np.ndarray, hand: float) -> list[np.ndarray]:
         """
@@ -892,7 +951,8 @@ class FlightTracker:
         The axis along the velocity (the prior's mean), spinning at each of ``hand``'s spin
         prior slices (:meth:`_spin_prior`) and at a tenth of the nominal; then at that slow
         spin, ``tumble_starts`` tumbles: the transverse momentum h - (h.s) s [rad/s] along
-        s x z (end over end, either way), of sizes spread evenly up to ``tumble_rate_sigma``.
+        s x z (end over end, either way), of sizes spread evenly up to ``tumble_rate_sigma``,
+        each also with its axis tilted by :data:`TUMBLE_PHASES` (``basin_reach`` > 0).
         """
         s = self.settings
         axis = x[X_V:X_V + 3] / np.linalg.norm(x[X_V:X_V + 3])
@@ -914,6 +974,12 @@ class FlightTracker:
             y = x.copy()
             y[X_H:X_H + 3] = h1 * axis + rate * pitch
             out.append(y)
+            for phase in TUMBLE_PHASES if s.basin_reach > 0.0 else ():
+                y = x.copy()
+                tilted = math.cos(phase) * axis + math.sin(phase) * np.cross(pitch, axis)
+                y[X_S:X_S + 3] = tilted
+                y[X_H:X_H + 3] = h1 * tilted + rate * pitch
+                out.append(y)
         return out
 
     def _prediction(self, moments_, q: float, normal, height: float = math.nan, gust=None):
@@ -1610,6 +1676,56 @@ def _wrong_basin(fits: list) -> float | None:
         worst = max(worst, (fit.cost - fit.dof) / math.sqrt(2.0 * fit.dof))
     ratio = odds / (1.0 - odds) * math.exp(shift * worst - 0.5 * shift**2)
     return ratio / (1.0 + ratio)
+
+
+def _evidence(fit: Refined) -> float:
+    """Return the log Laplace evidence of a fit, (logdet - cost) / 2 (+ a shared constant)."""
+    return 0.5 * (fit.logdet - fit.cost)
+
+
+def _by_evidence(fits: list) -> list[tuple[float, Refined]]:
+    """
+    Return [(weight, fit)]: ``fits`` of the same fixes weighted by their Laplace evidence.
+
+    The weights sum to one; a fit of weight below 1e-6 is left out; a lone fit weighs 1.
+    """
+    if len(fits) == 1:
+        return [(1.0, fits[0])]
+    evidence = np.array([_evidence(f) for f in fits])
+    weights = np.exp(evidence - evidence.max())
+    return [(float(w), f) for w, f in zip(weights / weights.sum(), fits) if w >= 1e-6]
+
+
+def _basins(fit: Refined | None, others: list, reach: float,
+            most: int = MAX_BASINS) -> list[Refined]:
+    """
+    Return the fits of ``others`` in basins of their own within ``reach`` of ``fit``'s evidence.
+
+    Within reach: -2 log evidence at most ``reach`` above ``fit``'s (13.8: weight 1/1000 of
+    its). Two fits share a basin when their states at the last fix (position, velocity, spin
+    momentum h) lie within one sigma of each other (Mahalanobis under the sum of their
+    covariances; a fit converges to a tenth of its sigma, :data:`.refine.CONVERGED`). One fit
+    a basin, the most evident; at most ``most``, the most evident first.
+    """
+    if fit is None or reach <= 0.0 or not math.isfinite(fit.logdet):
+        return []
+    top = _evidence(fit)
+    out = []
+    for other in sorted((o for o in others if o is not None and math.isfinite(o.logdet)),
+                        key=lambda o: -_evidence(o)):
+        if 2.0 * (top - _evidence(other)) > reach or len(out) >= most:
+            break
+        if not any(_same_basin(other, kept) for kept in [fit] + out):
+            out.append(other)
+    return out
+
+
+def _same_basin(a: Refined, b: Refined) -> bool:
+    """Whether fits ``a`` and ``b`` sit in one basin (:func:`_basins`)."""
+    idx = np.r_[X_R:X_V + 3, X_H:X_H + 3]
+    d = a.x[idx] - b.x[idx]
+    cov = a.P[np.ix_(idx, idx)] + b.P[np.ix_(idx, idx)]
+    return float(d @ np.linalg.lstsq(cov, d, rcond=1e-12)[0]) < 1.0
 
 
 def _least(a: Refined | None, b: Refined | None) -> Refined | None:
