@@ -74,6 +74,7 @@ from football_ros.simulation import core  # noqa: E402
 from football_ros.simulation.world import DEFAULT_ENTITY, FlightRun  # noqa: E402
 from results import recorded  # noqa: E402
 from simulation_interfaces.msg import SimulationState  # noqa: E402
+from simulation_interfaces.srv import ResetSimulation  # noqa: E402
 from std_msgs.msg import String  # noqa: E402
 
 STEPS = 1000
@@ -185,16 +186,24 @@ def lock_step_phase(pid: int, balls: list[int], floor_pid: int) -> dict:
             f'action {n} one': (pid, idle, throw, functools.partial(bench.simulate_steps, 1)),
         }))
         bench.reset()
-    # The default ball (a flight order, as the release node sends) stepped the same way.
+    # The default ball (a flight order, as the release node sends) and one spawned ball,
+    # stepped the same way in the same rounds, each alone in the air.
     bench.set_state(SimulationState.STATE_PAUSED)
+    bench.spawn_and_throw(1, eb.LOCK_STEP_LOB)
 
     def order() -> None:
+        bench.reset(ResetSimulation.Request.SCOPE_STATE)  # every ball back at rest
         bench.orders.publish(String(data=FlightOrder.from_release(
             'bench', eb.LOCK_STEP_LOB).to_json()))
         bench.spin(0.5)
 
+    def throw() -> None:
+        bench.reset(ResetSimulation.Request.SCOPE_STATE)
+        bench.throw(1, eb.LOCK_STEP_LOB)
+
     step = functools.partial(bench.step, STEPS)
-    out.update(per_call({'step default': (pid, idle, order, step)}))
+    out.update(per_call({'step default': (pid, idle, order, step),
+                         'step spawned': (pid, idle, throw, step)}))
     bench.reset()
     bench.set_state(SimulationState.STATE_PLAYING)
     return out
@@ -517,8 +526,8 @@ def report(draws: list[dict], args) -> None:
     if 1 in args.balls:
         core_ratio = [d['core default'] / d['core'][1] for d in draws]
         for executor in EXECUTORS:
-            sim_ratio = [d[f'sim {executor}']['step default'] / d[f'sim {executor}']['step 1']
-                         for d in draws]
+            sim_ratio = [d[f'sim {executor}']['step default']
+                         / d[f'sim {executor}']['step spawned'] for d in draws]
             print(f'| StepSimulation, the default ball (a flight order) / a spawned ball (ratios)'
                   f' | 1 | {executor} | {_cells(core_ratio)} | | {_cells(sim_ratio)} '
                   '| | | | | |')

@@ -247,9 +247,8 @@ class Bench:
         request = SetSimulationState.Request(state=SimulationState(state=state))
         self.call(SetSimulationState, 'set_simulation_state', request, ok=False)
 
-    def reset(self) -> None:
-        request = ResetSimulation.Request(scope=ResetSimulation.Request.SCOPE_ALL)
-        self.call(ResetSimulation, 'reset_simulation', request)
+    def reset(self, scope: int = ResetSimulation.Request.SCOPE_ALL) -> None:
+        self.call(ResetSimulation, 'reset_simulation', ResetSimulation.Request(scope=scope))
 
     def spawn_and_throw(self, n: int, release: Release = LOB) -> None:
         spawns = [
