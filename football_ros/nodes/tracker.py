@@ -197,8 +197,8 @@ PARAMETERS = (
         (
             'unstable_fits',
             TrackerSettings.unstable_fits,
-            'Kicks that may tumble (S_g < 1): multi-start fits with their own covariance, far '
-            'nearer the bound on screw kicks; off: end-over-end punts under-covered with it',
+            'Kicks that may tumble (S_g < 1): multi-start fits mixing the basins they find, '
+            'far nearer the bound on screw kicks and punts (more CPU a kick)',
         ),
         (
             'carry_over',
