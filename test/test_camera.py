@@ -471,3 +471,45 @@ def test_a_mono_throw_is_judged_at_its_own_release_speed_not_the_start_arc_s():
     err = pred.position[:2] - truth.positions[-1, :2]
     assert np.sqrt(np.linalg.eigvalsh(pred.covariance)).max() < 0.8  # was 3.8 m
     assert np.linalg.norm(err) < 0.5 and err @ np.linalg.solve(pred.covariance, err) < 5.991
+
+
+def test_a_throw_that_lost_the_ball_starts_again_from_the_camera_s_range_fixes():
+    """
+    A track whose start was wrong rejects the pixels in a row; their range fixes restart it.
+
+    The start: fixes of the ball 4 m nearer the mono camera than it was (an arc off along the
+    ray). Without the restart every later pixel fix was rejected (27 in a row on a mono flight
+    of the benchmark) and the throw never predicted from them.
+    """
+    from football_ros.estimation import FlightTracker
+    from football_ros.estimation.camera_fusion import CameraFusion
+    from football_ros.estimation.multi import MultiTracker
+
+    rig = load_rig(CONFIG / 'rig_mono.yaml')
+    ball, truth, balls_at = _flight()
+    frames = simulate(rig, balls_at, 0.0, truth.times[-1], ball.length, ball.diameter)
+    cams = {c.name: c.camera for c in rig}
+    t_eval = truth.times[-1] - 1.0
+    for tracker in (FlightTracker(), MultiTracker()):
+        fusion = CameraFusion(tracker, 1.0, ball.diameter)
+        wrong = 0
+        for f in frames:
+            if f.delivery > t_eval:
+                break
+            if f.stamp < 0.1:  # the wrong start: positions of the ball moved towards the camera
+                tracker.update(f.stamp, balls_at(f.exposure)[0][0] + (0.0, 4.0, 0.0))
+                wrong = f.stamp
+                continue
+            for d in f.detections:
+                fusion.observe(f.stamp, cams[f.camera], d.center, d.width)
+        if isinstance(tracker, MultiTracker):
+            ended = [e.reason for e in tracker.events if e.kind == 'ended']
+            assert ended and 'in a row beyond the gate' in ended[0], tracker.events
+            tracker = tracker.taken_by
+        tr = tracker.track
+        assert 'in a row beyond the gate' in tracker.restart_reason
+        assert min(tr.fixes) > wrong and tr.rejected_in_row == 0  # the new throw's own fixes
+        assert len(tr.fixes) > 50  # the pixels after the restart, taken
+        err = tracker.predict_landing().position[:2] - truth.positions[-1, :2]
+        assert err @ np.linalg.solve(tracker.predict_landing().covariance, err) < 13.8  # 99.9 %
+

@@ -56,7 +56,9 @@ of the newest fit a ballistic arc (known gravity) to within the noise and move f
 new fix and each buffered one, at most one fix per stamp), so clutter, a second ball or wild
 stamps among the buffered fixes neither hide it nor empty the buffer. Fixes whose innovation is
 beyond the Mahalanobis gate are rejected (and, after ``reinit_after`` in a row that form a new
-arc, start a new throw); a late fix (older than the newest) rolls the filter back to the
+arc, start a new throw, :attr:`FlightTracker.restart_reason` saying why; a rejected fix without
+a position, a camera's pixels, then answers 'candidate', asking for its position: a camera's
+range, :mod:`.camera_fusion`); a late fix (older than the newest) rolls the filter back to the
 checkpoint before it and re-applies the later fixes; a fix from the future or non-finite is
 refused, and one older than ``max_lag`` too, unless such old fixes form an arc of their own: the
 clock of the fixes jumped back (a restart), the time base is reset and the throw starts
@@ -486,6 +488,9 @@ class FlightTracker:
         self.no_prediction = 'no throw'
         """Why the last :meth:`predict_planes` (or :meth:`predict_landing`) gave no landing
         ('' if it gave one)."""
+        self.restart_reason = ''
+        """Why the current throw was started again in flight ('' if it was not): its filters
+        rejected ``reinit_after`` fixes or more in a row and these formed an arc."""
         self.learned: dict | None = None
         """Prior of the next throw's drag and lift scales (and wind): {state index: (mean,
         variance)} from a throw of the same ball in the same air (:meth:`learn_from`)."""
@@ -1003,6 +1008,8 @@ class FlightTracker:
             result = self._late(tr, t, meas)
         elif tr.history and _same(tr.history[-1], t, meas):
             result = UpdateResult('duplicate', 'this fix was already processed')
+        elif _offered(tr, t, meas, s.reinit_after):
+            result = self._restart(tr, t, meas)
         else:
             result = self._filter(tr, t, meas, record=True)
         if result.used:  # only fixes the filter took move the "newest" (no wild stamp can)
@@ -1054,7 +1061,12 @@ class FlightTracker:
             )
         if not accepted:
             if record and tr.rejected_in_row >= s.reinit_after:
-                restart = self._candidate(t, meas)
+                if meas.position_guess() is None:  # pixels cannot start a throw: ask for a
+                    # position of this fix (a camera's range), which may (:meth:`_update`)
+                    return UpdateResult('candidate', f'{tr.rejected_in_row} fixes in a row '
+                                        'beyond the gate: a position of this one may start '
+                                        'the throw again')
+                restart = self._restart(tr, t, meas)
                 if restart.status == 'started':
                     return restart
             elif record and meas.position_guess() is not None:
@@ -1063,6 +1075,24 @@ class FlightTracker:
         if tr.best.x[2] <= s.ground or self._below_ground_soon(tr):
             tr.landed = True
             return UpdateResult(result.status, landed=True)
+        return result
+
+    def _restart(self, tr: _Track, t: float, meas: Measurement) -> UpdateResult:
+        """
+        Take a fix that ``tr`` rejected, ``reinit_after`` or more in a row, as a new throw's.
+
+        Kept for a new arc (:meth:`_candidate`); when the rejected fixes form one, the throw
+        starts again from it (its filters had lost the ball: an absurd start seen along a
+        camera's ray rejected 27 fixes in a row and predicted nothing) and
+        :attr:`restart_reason` says why.
+        """
+        rejected = tr.rejected_in_row
+        result = self._candidate(t, meas)
+        if result.status == 'started':
+            self.restart_reason = (
+                f'{rejected} fixes in a row beyond the gate of the throw started at '
+                f'{min(tr.fixes):.3f} s: started again from their arc at {t:.3f} s'
+            )
         return result
 
     def _prune(self, tr: _Track) -> None:
@@ -1090,7 +1120,8 @@ class FlightTracker:
         its ray makes it tens of m/s off (measured: 41.8 m/s for a 16.7 m/s pass), and S_g,
         which falls with the square of the speed, judged there would call a spiral a tumbling
         kick all flight (the tumbling allowance, the filter's covariance for the fit's). Each
-        time the throw's fixes have grown by a quarter (a few dozen flights back a throw).
+        time the throw's fixes have grown by a quarter (a few dozen flights back a throw). At
+        most ``max_speed``: no throw is faster (a filter that diverged flew back at 116.7 m/s).
         """
         n = len(tr.fixes)
         if n < 1.25 * tr.release_at:
@@ -1099,7 +1130,7 @@ class FlightTracker:
         x = fly_state(tr.best.x, [min(tr.fixes) - tr.t], self.params, self.settings.step)[0]
         speed = float(np.linalg.norm(x[X_V:X_V + 3]))
         if math.isfinite(speed) and speed > 0.0:
-            tr.release_speed = speed
+            tr.release_speed = min(speed, self.settings.max_speed)
 
     def _below_ground_soon(self, tr: _Track) -> bool:
         """
@@ -1511,7 +1542,9 @@ class FlightTracker:
                     xg[i] = mean[i]
                     Pg[i, i] = gust_var[i]
             hyps.append(_Hypothesis(xg, Pg, math.log(s.gust_prior), hand, True, k))
-        self.track = _Track(hyps, float(t), release_speed=float(np.linalg.norm(v_first)))
+        self.restart_reason = ''
+        self.track = _Track(hyps, float(t),
+                            release_speed=min(float(np.linalg.norm(v_first)), s.max_speed))
         self.track.prior = tuple(
             (i, float(x[i]), math.sqrt(P[i, i])) for i in (X_KD, X_KL, X_W, X_W + 1) if i < n_x
         )
@@ -1577,6 +1610,19 @@ def _spin_known(hyp: _Hypothesis) -> bool:
     axis = hyp.x[X_S:X_S + 3]
     spin = float(hyp.x[X_H:X_H + 3] @ axis)
     return float(axis @ hyp.P[X_H:X_H + 3, X_H:X_H + 3] @ axis) < spin**2
+
+
+def _offered(tr: _Track, t: float, meas: Measurement, after: int) -> bool:
+    """
+    Whether ``meas`` is a position offered for the pixels ``tr`` has just rejected at ``t``.
+
+    Rejected ``after`` or more in a row (:meth:`FlightTracker._filter` asked for it: the same
+    detection as a camera's range fix, which only a new throw may take).
+    """
+    if tr.rejected_in_row < after or not tr.history or meas.position_guess() is None:
+        return False
+    last = tr.history[-1]
+    return abs(last.stamp - t) < 1e-9 and last.meas.position_guess() is None
 
 
 def _hand_filters(tr: _Track, hand: float) -> list:
