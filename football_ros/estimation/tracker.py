@@ -622,7 +622,7 @@ class FlightTracker:
             self.no_prediction = 'no throw'
             return None, None, None
         fits = self._fits()
-        gusty = self._gusty_weight(tr)
+        gusty = self._gust_share(tr, fits)
         if fits is None:  # the filters, mixed by likelihood
             planes, model = self._mixture(tr, h, wall), tr.best.x
         else:  # the batch fit of every fix (one a hand while both are alive), mixed
@@ -705,6 +705,24 @@ class FlightTracker:
         w = np.exp(lls - lls.max())
         return float(sum(wk for wk, h in zip(w, tr.hyps) if h.gusty) / w.sum())
 
+    def _gust_share(self, tr: _Track, fits: list | None) -> float:
+        """
+        Return the gusty air's share of the predictions: the filters', or the fit's verdict.
+
+        The filters' (:meth:`_gusty_weight`), but where the throw has a camera's pixels and
+        every steady-air fit that counts (``fits``, weight 1 % or more) passes the chi-square
+        check (:func:`_passes`), at most ``gust_prior``: the fixes show no gust, and the
+        filters' odds are no evidence of one. One camera's still-air filters, linearised along
+        a ray whose range they know to metres, lose to their gusty twins, whose two more
+        states take in that misfit: on the one-camera rig in still air the twins held over
+        half the likelihood in 5 of 20 flights, and the predictions were then the filters'
+        mixture, metres off along the ray, for a fit that explained the fixes.
+        """
+        gusty = self._gusty_weight(tr)
+        if fits is not None and tr.pixels and all(_passes(f) for w, f in fits if w >= 0.01):
+            return min(gusty, self.settings.gust_prior)
+        return gusty
+
     def _mixture(self, tr: _Track, height: float, wall: np.ndarray,
                  gusty_only: bool = False) -> list:
         """
@@ -757,16 +775,32 @@ class FlightTracker:
         Return the batch MAP fit (:mod:`.refine`) of the throw's one hand left, or None.
 
         None with ``refine_iterations`` 0, while both hands are alive, while the gusty filters
-        hold more than 5 % of the likelihood (the fit flies a steady wind), or when it fails.
+        hold more than half the likelihood (the fit flies a steady wind) unless, with a
+        camera's pixels, the fit passes its chi-square check (:meth:`_gust_share`), or when it
+        fails.
         The prior is the filter's at the first fix, its spin the hand's whole spread (one
         Gaussian: a fit from the filter's estimate needs no slices). Cached per newest fix;
         warm-started from the last fit of the throw, else from the filter's estimate flown back
         to the first fix.
         """
         s, tr, hand = self.settings, self.track, self.hand
-        if s.refine_iterations == 0 or tr is None or hand is None or self._gusty_weight(tr) > 0.5:
+        if s.refine_iterations == 0 or tr is None or hand is None or self._gusty(tr):
             return None
-        return self._hand_fit(tr, hand)
+        fit = self._hand_fit(tr, hand)
+        return fit if fit is None or self._steady(tr, [fit]) else None
+
+    def _gusty(self, tr: _Track) -> bool:
+        """
+        Whether the gusty filters' share rules the batch fit out before it is made.
+
+        Over half the likelihood, without a camera's pixels: with them the fit is made and
+        judged by its chi-square (:meth:`_steady`, :meth:`_gust_share`).
+        """
+        return self._gusty_weight(tr) > 0.5 and not tr.pixels
+
+    def _steady(self, tr: _Track, fits: list) -> bool:
+        """Whether the steady-air ``fits`` may stand for ``tr`` (:meth:`_gust_share` <= 0.5)."""
+        return self._gusty_weight(tr) <= 0.5 or all(_passes(f) for f in fits)
 
     def _fits(self) -> list[tuple[float, Refined]] | None:
         """
@@ -775,13 +809,14 @@ class FlightTracker:
         Once one hand is left, its fit (:meth:`_fit`). While both are alive and ``hand_fits``
         asks for it (:class:`TrackerSettings`): a fit for each hand, weighted by its Laplace
         evidence exp(-cost / 2) |posterior covariance|^(1/2) (equal odds a priori; the priors
-        differ in the sign of the spin alone). None: the filters' mixture (a fit failed).
+        differ in the sign of the spin alone). None: the filters' mixture (a fit failed, or
+        gusty air rules them out: :meth:`_fit`).
         """
         s, tr = self.settings, self.track
         if self.hand is not None:
             fit = self._fit()
             return None if fit is None else [(1.0, fit)]
-        if s.refine_iterations == 0 or tr is None or self._gusty_weight(tr) > 0.5 or not (
+        if s.refine_iterations == 0 or tr is None or self._gusty(tr) or not (
             s.hand_fits == 'always' or s.hand_fits == 'pixels' and (
                 tr.pixels or s.unstable_fits and self._stability(tr.best.x) < 1.0)
         ):
@@ -799,7 +834,8 @@ class FlightTracker:
                 tr.fits[hand] = (tr.fits[hand][0], retry)
                 evidence[lose] = 0.5 * (retry.logdet - retry.cost)
         weights = np.exp(evidence - evidence.max())
-        return [(float(w), f) for w, f in zip(weights / weights.sum(), fits) if w >= 1e-6]
+        weighted = [(float(w), f) for w, f in zip(weights / weights.sum(), fits) if w >= 1e-6]
+        return weighted if self._steady(tr, [f for w, f in weighted if w >= 0.01]) else None
 
     def _hand_fit(self, tr: _Track, hand: float) -> Refined | None:
         """Return the fit of ``tr`` for ``hand`` (:meth:`_refit`), cached per newest fix."""
@@ -850,11 +886,21 @@ class FlightTracker:
         return self.settings.unstable_fits and self._stability(tr.best.x) < 1.0
 
     def _filter_start(self, tr: _Track, hand: float, times: np.ndarray) -> np.ndarray | None:
-        """Return that hand's likeliest still-air filter (else any's) flown to ``times[0]``."""
-        mine = _hand_filters(tr, hand)
-        if not mine:
-            return None
-        return fly_state(mine[0].x, [times[0] - tr.t], self.params, self.settings.step)[0]
+        """
+        Return the likeliest filter that can be flown back to ``times[0]``, flown there.
+
+        That hand's still-air filters (else any's), then the gusty ones, that hand's first,
+        without their wind (the fit flies a steady wind): one camera's still-air filters can
+        diverge along the ray while their twins take over (a mono flight's fit had no start
+        and its prediction was the filters', 1.2 m off against the fit's 0.2 m). None if none.
+        """
+        n = N_X_WIND if self.settings.wind_sigma > 0.0 else N_X
+        gusty = sorted((h for h in tr.hyps if h.gusty), key=lambda h: (h.hand != hand, -h.loglik))
+        for hyp in _hand_filters(tr, hand) + gusty:
+            x = fly_state(hyp.x[:n], [times[0] - tr.t], self.params, self.settings.step)[0]
+            if np.all(np.isfinite(x)):
+                return x
+        return None
 
     def _fit_from(self, tr: _Track, hand: float, starts: list,
                   iterations: int | None = None) -> Refined | None:
@@ -1648,14 +1694,23 @@ def _wrong_basin(fits: list) -> float | None:
     for w, fit in fits:
         if w < 0.01:
             continue
-        if fit.dof < 1:
-            return None
-        k = 2.0 / (9.0 * fit.dof)
-        if fit.cost > fit.dof * (1.0 - k + CHI2_Z95 * math.sqrt(k)) ** 3:
+        if not _passes(fit):
             return None
         worst = max(worst, (fit.cost - fit.dof) / math.sqrt(2.0 * fit.dof))
     ratio = odds / (1.0 - odds) * math.exp(shift * worst - 0.5 * shift**2)
     return ratio / (1.0 + ratio)
+
+
+def _passes(fit: Refined) -> bool:
+    """
+    Whether ``fit`` passes the chi-square check: its objective at most the 95 % point.
+
+    Of chi-square with ``dof`` degrees of freedom (Wilson-Hilferty); False without any.
+    """
+    if fit.dof < 1:
+        return False
+    k = 2.0 / (9.0 * fit.dof)
+    return fit.cost <= fit.dof * (1.0 - k + CHI2_Z95 * math.sqrt(k)) ** 3
 
 
 def _least(a: Refined | None, b: Refined | None) -> Refined | None:
