@@ -45,6 +45,7 @@ Information limit of the same flights and fixes: bench/prediction_bound.py. The 
 are in bench/RESULTS.md.
 
     .venv/bin/python bench/prediction_benchmark.py [--flights 60] [--draws 5] [--cases ...]
+    .venv/bin/python bench/prediction_benchmark.py --cameras [--rigs mono ...]  # config/rig_*
 """
 
 from __future__ import annotations
@@ -473,6 +474,11 @@ CAMERA_BASELINE = '1 m stereo pair, 120 Hz'
 """The rig whose synchronised pairs the baseline triangulates."""
 
 
+def rig_key(file: str) -> str:
+    """Return a rig file's short name for ``--rigs``: rig_mono.yaml -> 'mono'."""
+    return file.removeprefix('rig_').removesuffix('.yaml')
+
+
 def triangulate(cam_a, uv_a, cam_b, uv_b) -> np.ndarray:
     """Midpoint of the closest points of two pixels' rays [m] in ``field``."""
     rays = []
@@ -586,6 +592,8 @@ def camera_main(args) -> None:
     print(f'{"rig":>28} {"lead":>5} {"method":>13} {"n":>4} {"median":>7} {"rms":>7} '
           f'{"bound":>7} {"ratio":>6} {"NEES":>6} {"in 95%":>7}')
     for ri, (rig_name, file) in enumerate(CAMERA_RIGS.items()):
+        if args.rigs and rig_key(file) not in args.rigs:
+            continue  # the others' seeds stay as in the whole set (ri is the rig's place)
         rig = load_rig(config / file)
         per, bnd = [], []
         for seed in range(args.seed, args.seed + args.draws):
@@ -704,6 +712,10 @@ def main() -> None:
     )
     ap.add_argument('--cameras', action='store_true',
                     help='the cameras case set (config/rig_*.yaml) instead of the cases')
+    ap.add_argument('--rigs', nargs='*', default=[],
+                    choices=[rig_key(f) for f in CAMERA_RIGS.values()],
+                    help='with --cameras: only these rigs (each on the seeds it has in the '
+                         'whole set)')
     args = ap.parse_args()
     GUSTS.update({name: value for name, value in (('gust_rate', args.gust_rate),
                                                   ('gust_prior', args.gust_prior))
@@ -805,6 +817,7 @@ if __name__ == '__main__':
     pre.add_argument('--two-balls', action='store_true')
     pre.add_argument('--cameras', action='store_true')
     pre.add_argument('--cases', nargs='*', default=[])
+    pre.add_argument('--rigs', nargs='*', default=[])
     flags, _ = pre.parse_known_args()
     field_only = bool(flags.cases) and all(c in FIELD_CASES for c in flags.cases)
     section = 'prediction' + (', field cases' if field_only else '') + ''.join(
@@ -812,5 +825,6 @@ if __name__ == '__main__':
         (('wind_sigma', flags.wind_sigma), ('gust_rate', flags.gust_rate),
          ('gust_prior', flags.gust_prior), ('clutter Hz', flags.clutter))
         if value > 0.0 or (name == 'gust_rate' and value == 0.0)
-    ) + (', two balls' if flags.two_balls else '') + (', cameras' if flags.cameras else '')
+    ) + (', two balls' if flags.two_balls else '') + (', cameras' if flags.cameras else '') + (
+        f' ({", ".join(flags.rigs)})' if flags.cameras and flags.rigs else '')
     raise SystemExit(results.recorded(section, main))

@@ -662,6 +662,20 @@ def test_the_tumbling_allowance_judges_s_g_at_the_release_speed():
     assert tracker._accel_variance(x) > 2.0 * s.accel_noise**2
 
 
+def test_the_release_speed_is_no_faster_than_a_throw():
+    """A filter that diverged (flown back at 116.7 m/s on a mono flight) gives max_speed."""
+    tracker = FlightTracker()
+    obs, _, _ = fixes(RELEASE, seed=5)
+    for t, z in obs[:12]:
+        tracker.update(t, z)
+    tr = tracker.track
+    assert tr.release_speed == pytest.approx(RELEASE.speed, abs=1.0)
+    tr.best.x[3:6] *= 120.0 / np.linalg.norm(tr.best.x[3:6])  # diverged: 120 m/s
+    tr.release_at = 1  # due for a new estimate
+    tracker._release_speed(tr)
+    assert tr.release_speed == tracker.settings.max_speed == 60.0
+
+
 def test_the_defaults_take_in_an_unmodelled_crosswind_and_stay_sharp_in_still_air():
     """
     Gusty twins at the defaults: a 5 m/s crosswind nobody told is taken in, honestly.

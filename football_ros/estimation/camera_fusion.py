@@ -147,7 +147,8 @@ class CameraFusion:
         cameras' (None: the ``camera`` object's identity).
 
         As pixels; when no live throw can take them (a 'candidate': pixels cannot start a
-        throw), as a range fix instead, which can. A refused detection gives (None, reason)
+        throw, nor start a lost one again), as a range fix instead, which can. A refused
+        detection gives (None, reason)
         and counts 'refused'.
         """
         why = check_detection(camera, center, width)

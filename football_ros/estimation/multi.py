@@ -147,7 +147,8 @@ class MultiTracker:
                 self._newest = max(self._newest, t)
                 self._end_silent(self._newest)
             if result.status == 'started':  # the track's own restart: a new throw in it
-                self._end(track_id, 'replaced by a new throw', t)
+                why = tracker.restart_reason
+                self._end(track_id, 'replaced by a new throw' + (f': {why}' if why else ''), t)
                 track_id = self._adopt(tracker, t)
             elif result.landed:
                 self._end(track_id, 'landed', t)

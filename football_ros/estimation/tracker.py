@@ -56,7 +56,9 @@ of the newest fit a ballistic arc (known gravity) to within the noise and move f
 new fix and each buffered one, at most one fix per stamp), so clutter, a second ball or wild
 stamps among the buffered fixes neither hide it nor empty the buffer. Fixes whose innovation is
 beyond the Mahalanobis gate are rejected (and, after ``reinit_after`` in a row that form a new
-arc, start a new throw); a late fix (older than the newest) rolls the filter back to the
+arc, start a new throw, :attr:`FlightTracker.restart_reason` saying why; a rejected fix without
+a position, a camera's pixels, then answers 'candidate', asking for its position: a camera's
+range, :mod:`.camera_fusion`); a late fix (older than the newest) rolls the filter back to the
 checkpoint before it and re-applies the later fixes; a fix from the future or non-finite is
 refused, and one older than ``max_lag`` too, unless such old fixes form an arc of their own: the
 clock of the fixes jumped back (a restart), the time base is reset and the throw starts
@@ -508,6 +510,9 @@ class FlightTracker:
         self.no_prediction = 'no throw'
         """Why the last :meth:`predict_planes` (or :meth:`predict_landing`) gave no landing
         ('' if it gave one)."""
+        self.restart_reason = ''
+        """Why the current throw was started again in flight ('' if it was not): its filters
+        rejected ``reinit_after`` fixes or more in a row and these formed an arc."""
         self.learned: dict | None = None
         """Prior of the next throw's drag and lift scales (and wind): {state index: (mean,
         variance)} from a throw of the same ball in the same air (:meth:`learn_from`)."""
@@ -639,7 +644,7 @@ class FlightTracker:
             self.no_prediction = 'no throw'
             return None, None, None
         fits = self._fits()
-        gusty = self._gusty_weight(tr)
+        gusty = self._gust_share(tr, fits)
         if fits is None:  # the filters, mixed by likelihood
             planes, model = self._mixture(tr, h, wall), tr.best.x
         else:  # the batch fit of every fix (one a hand while both are alive), mixed
@@ -723,6 +728,24 @@ class FlightTracker:
         w = np.exp(lls - lls.max())
         return float(sum(wk for wk, h in zip(w, tr.hyps) if h.gusty) / w.sum())
 
+    def _gust_share(self, tr: _Track, fits: list | None) -> float:
+        """
+        Return the gusty air's share of the predictions: the filters', or the fit's verdict.
+
+        The filters' (:meth:`_gusty_weight`), but where the throw has a camera's pixels and
+        every steady-air fit that counts (``fits``, weight 1 % or more) passes the chi-square
+        check (:func:`_passes`), at most ``gust_prior``: the fixes show no gust, and the
+        filters' odds are no evidence of one. One camera's still-air filters, linearised along
+        a ray whose range they know to metres, lose to their gusty twins, whose two more
+        states take in that misfit: on the one-camera rig in still air the twins held over
+        half the likelihood in 5 of 20 flights, and the predictions were then the filters'
+        mixture, metres off along the ray, for a fit that explained the fixes.
+        """
+        gusty = self._gusty_weight(tr)
+        if fits is not None and tr.pixels and all(_passes(f) for w, f in fits if w >= 0.01):
+            return min(gusty, self.settings.gust_prior)
+        return gusty
+
     def _mixture(self, tr: _Track, height: float, wall: np.ndarray,
                  gusty_only: bool = False) -> list:
         """
@@ -775,16 +798,32 @@ class FlightTracker:
         Return the batch MAP fit (:mod:`.refine`) of the throw's one hand left, or None.
 
         None with ``refine_iterations`` 0, while both hands are alive, while the gusty filters
-        hold more than 5 % of the likelihood (the fit flies a steady wind), or when it fails.
+        hold more than half the likelihood (the fit flies a steady wind) unless, with a
+        camera's pixels, the fit passes its chi-square check (:meth:`_gust_share`), or when it
+        fails.
         The prior is the filter's at the first fix, its spin the hand's whole spread (one
         Gaussian: a fit from the filter's estimate needs no slices). Cached per newest fix;
         warm-started from the last fit of the throw, else from the filter's estimate flown back
         to the first fix.
         """
         s, tr, hand = self.settings, self.track, self.hand
-        if s.refine_iterations == 0 or tr is None or hand is None or self._gusty_weight(tr) > 0.5:
+        if s.refine_iterations == 0 or tr is None or hand is None or self._gusty(tr):
             return None
-        return self._hand_fit(tr, hand)
+        fit = self._hand_fit(tr, hand)
+        return fit if fit is None or self._steady(tr, [fit]) else None
+
+    def _gusty(self, tr: _Track) -> bool:
+        """
+        Whether the gusty filters' share rules the batch fit out before it is made.
+
+        Over half the likelihood, without a camera's pixels: with them the fit is made and
+        judged by its chi-square (:meth:`_steady`, :meth:`_gust_share`).
+        """
+        return self._gusty_weight(tr) > 0.5 and not tr.pixels
+
+    def _steady(self, tr: _Track, fits: list) -> bool:
+        """Whether the steady-air ``fits`` may stand for ``tr`` (:meth:`_gust_share` <= 0.5)."""
+        return self._gusty_weight(tr) <= 0.5 or all(_passes(f) for f in fits)
 
     def _fits(self) -> list[tuple[float, Refined]] | None:
         """
@@ -793,13 +832,14 @@ class FlightTracker:
         Once one hand is left, its fit (:meth:`_fit`). While both are alive and ``hand_fits``
         asks for it (:class:`TrackerSettings`): a fit for each hand, weighted by its Laplace
         evidence exp(-cost / 2) |posterior covariance|^(1/2) (equal odds a priori; the priors
-        differ in the sign of the spin alone). None: the filters' mixture (a fit failed).
+        differ in the sign of the spin alone). None: the filters' mixture (a fit failed, or
+        gusty air rules them out: :meth:`_fit`).
         """
         s, tr = self.settings, self.track
         if self.hand is not None:
             fit = self._fit()
             return None if fit is None else _by_evidence([fit] + tr.basins.get(self.hand, []))
-        if s.refine_iterations == 0 or tr is None or self._gusty_weight(tr) > 0.5 or not (
+        if s.refine_iterations == 0 or tr is None or self._gusty(tr) or not (
             s.hand_fits == 'always' or s.hand_fits == 'pixels' and (
                 tr.pixels or s.unstable_fits and self._stability(tr.best.x) < 1.0)
         ):
@@ -815,7 +855,8 @@ class FlightTracker:
             if retry is not None and math.isfinite(retry.logdet) and retry.cost < fits[lose].cost:
                 fits[lose] = retry
                 tr.fits[hand] = (tr.fits[hand][0], retry)
-        return _by_evidence(fits + [b for hand in (1.0, -1.0) for b in tr.basins.get(hand, [])])
+        weighted = _by_evidence(fits + [b for h in (1.0, -1.0) for b in tr.basins.get(h, [])])
+        return weighted if self._steady(tr, [f for w, f in weighted if w >= 0.01]) else None
 
     def _hand_fit(self, tr: _Track, hand: float) -> Refined | None:
         """Return the fit of ``tr`` for ``hand`` (:meth:`_refit`), cached per newest fix."""
@@ -872,11 +913,21 @@ class FlightTracker:
         return self.settings.unstable_fits and self._stability(tr.best.x) < 1.0
 
     def _filter_start(self, tr: _Track, hand: float, times: np.ndarray) -> np.ndarray | None:
-        """Return that hand's likeliest still-air filter (else any's) flown to ``times[0]``."""
-        mine = _hand_filters(tr, hand)
-        if not mine:
-            return None
-        return fly_state(mine[0].x, [times[0] - tr.t], self.params, self.settings.step)[0]
+        """
+        Return the likeliest filter that can be flown back to ``times[0]``, flown there.
+
+        That hand's still-air filters (else any's), then the gusty ones, that hand's first,
+        without their wind (the fit flies a steady wind): one camera's still-air filters can
+        diverge along the ray while their twins take over (a mono flight's fit had no start
+        and its prediction was the filters', 1.2 m off against the fit's 0.2 m). None if none.
+        """
+        n = N_X_WIND if self.settings.wind_sigma > 0.0 else N_X
+        gusty = sorted((h for h in tr.hyps if h.gusty), key=lambda h: (h.hand != hand, -h.loglik))
+        for hyp in _hand_filters(tr, hand) + gusty:
+            x = fly_state(hyp.x[:n], [times[0] - tr.t], self.params, self.settings.step)[0]
+            if np.all(np.isfinite(x)):
+                return x
+        return None
 
     def _fit_from(self, tr: _Track, hand: float, starts: list,
                   iterations: int | None = None) -> Refined | None:
@@ -1070,6 +1121,8 @@ class FlightTracker:
             result = self._late(tr, t, meas)
         elif tr.history and _same(tr.history[-1], t, meas):
             result = UpdateResult('duplicate', 'this fix was already processed')
+        elif _offered(tr, t, meas, s.reinit_after):
+            result = self._restart(tr, t, meas)
         else:
             result = self._filter(tr, t, meas, record=True)
         if result.used:  # only fixes the filter took move the "newest" (no wild stamp can)
@@ -1121,7 +1174,12 @@ class FlightTracker:
             )
         if not accepted:
             if record and tr.rejected_in_row >= s.reinit_after:
-                restart = self._candidate(t, meas)
+                if meas.position_guess() is None:  # pixels cannot start a throw: ask for a
+                    # position of this fix (a camera's range), which may (:meth:`_update`)
+                    return UpdateResult('candidate', f'{tr.rejected_in_row} fixes in a row '
+                                        'beyond the gate: a position of this one may start '
+                                        'the throw again')
+                restart = self._restart(tr, t, meas)
                 if restart.status == 'started':
                     return restart
             elif record and meas.position_guess() is not None:
@@ -1130,6 +1188,24 @@ class FlightTracker:
         if tr.best.x[2] <= s.ground or self._below_ground_soon(tr):
             tr.landed = True
             return UpdateResult(result.status, landed=True)
+        return result
+
+    def _restart(self, tr: _Track, t: float, meas: Measurement) -> UpdateResult:
+        """
+        Take a fix that ``tr`` rejected, ``reinit_after`` or more in a row, as a new throw's.
+
+        Kept for a new arc (:meth:`_candidate`); when the rejected fixes form one, the throw
+        starts again from it (its filters had lost the ball: an absurd start seen along a
+        camera's ray rejected 27 fixes in a row and predicted nothing) and
+        :attr:`restart_reason` says why.
+        """
+        rejected = tr.rejected_in_row
+        result = self._candidate(t, meas)
+        if result.status == 'started':
+            self.restart_reason = (
+                f'{rejected} fixes in a row beyond the gate of the throw started at '
+                f'{min(tr.fixes):.3f} s: started again from their arc at {t:.3f} s'
+            )
         return result
 
     def _prune(self, tr: _Track) -> None:
@@ -1157,7 +1233,8 @@ class FlightTracker:
         its ray makes it tens of m/s off (measured: 41.8 m/s for a 16.7 m/s pass), and S_g,
         which falls with the square of the speed, judged there would call a spiral a tumbling
         kick all flight (the tumbling allowance, the filter's covariance for the fit's). Each
-        time the throw's fixes have grown by a quarter (a few dozen flights back a throw).
+        time the throw's fixes have grown by a quarter (a few dozen flights back a throw). At
+        most ``max_speed``: no throw is faster (a filter that diverged flew back at 116.7 m/s).
         """
         n = len(tr.fixes)
         if n < 1.25 * tr.release_at:
@@ -1166,7 +1243,7 @@ class FlightTracker:
         x = fly_state(tr.best.x, [min(tr.fixes) - tr.t], self.params, self.settings.step)[0]
         speed = float(np.linalg.norm(x[X_V:X_V + 3]))
         if math.isfinite(speed) and speed > 0.0:
-            tr.release_speed = speed
+            tr.release_speed = min(speed, self.settings.max_speed)
 
     def _below_ground_soon(self, tr: _Track) -> bool:
         """
@@ -1578,7 +1655,9 @@ class FlightTracker:
                     xg[i] = mean[i]
                     Pg[i, i] = gust_var[i]
             hyps.append(_Hypothesis(xg, Pg, math.log(s.gust_prior), hand, True, k))
-        self.track = _Track(hyps, float(t), release_speed=float(np.linalg.norm(v_first)))
+        self.restart_reason = ''
+        self.track = _Track(hyps, float(t),
+                            release_speed=min(float(np.linalg.norm(v_first)), s.max_speed))
         self.track.prior = tuple(
             (i, float(x[i]), math.sqrt(P[i, i])) for i in (X_KD, X_KL, X_W, X_W + 1) if i < n_x
         )
@@ -1646,6 +1725,19 @@ def _spin_known(hyp: _Hypothesis) -> bool:
     return float(axis @ hyp.P[X_H:X_H + 3, X_H:X_H + 3] @ axis) < spin**2
 
 
+def _offered(tr: _Track, t: float, meas: Measurement, after: int) -> bool:
+    """
+    Whether ``meas`` is a position offered for the pixels ``tr`` has just rejected at ``t``.
+
+    Rejected ``after`` or more in a row (:meth:`FlightTracker._filter` asked for it: the same
+    detection as a camera's range fix, which only a new throw may take).
+    """
+    if tr.rejected_in_row < after or not tr.history or meas.position_guess() is None:
+        return False
+    last = tr.history[-1]
+    return abs(last.stamp - t) < 1e-9 and last.meas.position_guess() is None
+
+
 def _hand_filters(tr: _Track, hand: float) -> list:
     """Return ``hand``'s still-air filters (else every still-air one), likeliest first."""
     still = [h for h in tr.hyps if not h.gusty]  # the fit flies a steady wind
@@ -1669,14 +1761,23 @@ def _wrong_basin(fits: list) -> float | None:
     for w, fit in fits:
         if w < 0.01:
             continue
-        if fit.dof < 1:
-            return None
-        k = 2.0 / (9.0 * fit.dof)
-        if fit.cost > fit.dof * (1.0 - k + CHI2_Z95 * math.sqrt(k)) ** 3:
+        if not _passes(fit):
             return None
         worst = max(worst, (fit.cost - fit.dof) / math.sqrt(2.0 * fit.dof))
     ratio = odds / (1.0 - odds) * math.exp(shift * worst - 0.5 * shift**2)
     return ratio / (1.0 + ratio)
+
+
+def _passes(fit: Refined) -> bool:
+    """
+    Whether ``fit`` passes the chi-square check: its objective at most the 95 % point.
+
+    Of chi-square with ``dof`` degrees of freedom (Wilson-Hilferty); False without any.
+    """
+    if fit.dof < 1:
+        return False
+    k = 2.0 / (9.0 * fit.dof)
+    return fit.cost <= fit.dof * (1.0 - k + CHI2_Z95 * math.sqrt(k)) ** 3
 
 
 def _evidence(fit: Refined) -> float:
