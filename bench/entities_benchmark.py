@@ -151,19 +151,18 @@ class Bench:
     def __init__(self, server: str = NODE, share: Bench | None = None) -> None:
         """Clients of the node named ``server``; ``share``: another Bench's node and executor."""
         self.server = server
-        if share is None:
-            rclpy.init()
-            self.node = rclpy.create_node('entities_benchmark')
-            # One executor, waited on with spin_once: rclpy's spin_until_future_complete leaves
-            # a task per call in a long-lived executor, and every later call walks them
-            # (docs/envs.md).
-            self.executor = SingleThreadedExecutor()
-            self.executor.add_node(self.node)
-        else:
-            self.node, self.executor = share.node, share.executor
         self.clients = {}
         self.action = None  # the SimulateSteps client, made at the first goal
         self.status = {}
+        if share is not None:  # the owner's node, executor, /diagnostics and flight orders
+            self.node, self.executor, self.orders = share.node, share.executor, share.orders
+            return
+        rclpy.init()
+        self.node = rclpy.create_node('entities_benchmark')
+        # One executor, waited on with spin_once: rclpy's spin_until_future_complete leaves a
+        # task per call in a long-lived executor, and every later call walks them (docs/envs.md).
+        self.executor = SingleThreadedExecutor()
+        self.executor.add_node(self.node)
         self.node.create_subscription(
             DiagnosticArray, qos.DIAGNOSTICS, self._on_diag, qos.DIAGNOSTICS_QOS
         )

@@ -91,7 +91,6 @@ from football_ros.estimation.bound import (
     mixture_error,
     mixture_pooled_medians,
     mixture_radial_median,
-    pooled_median,
     pooled_medians,
     posterior_covariance,
     QUARTILE,
@@ -523,6 +522,24 @@ def global_error(modes: list, local_cov: np.ndarray):
     return mixture_error(wts[keep], [modes[i].xy for i in keep], covs)
 
 
+def bound_cells(masks: list, meds: np.ndarray, pooled) -> str:
+    """
+    Return a bound row's cells: per class, med(med) and pooled mean +/- sd [cm].
+
+    ``meds``: each flight's median error [m]; ``pooled(mask)``: the pooled medians over the
+    draws (an array [m]) of the flights in ``mask``; '-' for a class without flights.
+    """
+    cells = ''
+    for _, m in masks:
+        if not m.any():
+            cells += f'{"-":>26}'
+            continue
+        med = pooled(m)
+        cells += (f'{np.median(meds[m]) * 100:>10.2f}{med.mean() * 100:>9.2f} '
+                  f'+/-{med.std() * 100:>4.1f}')
+    return cells
+
+
 def global_rows(spec, jacs: list, modes: list, t_lands: np.ndarray, masks: list,
                 draws: int, trk: list) -> np.ndarray:
     """
@@ -537,14 +554,8 @@ def global_rows(spec, jacs: list, modes: list, t_lands: np.ndarray, masks: list,
     local = np.array([posterior(j, prior_sigmas(spec, 'benchmark'), spec.noise)[0] for j in jacs])
     errors = [global_error(md, c) for md, c in zip(modes, local)]
     gmeds = np.array([mixture_radial_median(e) for e in errors])
-    cells = ''
-    for _, m in masks:
-        if not m.any():
-            cells += f'{"-":>26}'
-            continue
-        med = mixture_pooled_medians([e for e, keep in zip(errors, m) if keep], draws, seed=1)
-        cells += (f'{np.median(gmeds[m]) * 100:>10.2f}{med.mean() * 100:>9.2f} '
-                  f'+/-{med.std() * 100:>4.1f}')
+    cells = bound_cells(masks, gmeds, lambda m: mixture_pooled_medians(
+        [e for e, keep in zip(errors, m) if keep], draws, seed=1))
     print(f'{"global bound (modes, Laplace mixture)":>40}{cells}')
     names = jacs[0]['names']
     spin_at = names.index('spin')
@@ -677,13 +688,8 @@ def main() -> None:
         def row(label: str, sigmas: dict) -> np.ndarray:
             c = np.array([posterior(j, sigmas, spec.noise)[0] for j in jacs])
             meds = np.array([radial_median(x) for x in c])
-            cells = ''
-            for _, m in masks:
-                if not m.any():
-                    cells += f'{"-":>26}'
-                    continue
-                mean, sd = pooled_median(c[m], args.draws, seed=1)
-                cells += f'{np.median(meds[m]) * 100:>10.2f}{mean * 100:>9.2f} +/-{sd * 100:>4.1f}'
+            cells = bound_cells(masks, meds,
+                                lambda m: pooled_medians(c[m], args.draws, seed=1))
             print(f'{label:>40}{cells}')
             return meds
 

@@ -847,7 +847,7 @@ class FlightTracker:
         fits = [self._hand_fit(tr, hand) for hand in (1.0, -1.0)]
         if any(f is None or not math.isfinite(f.logdet) for f in fits):
             return None
-        evidence = np.array([0.5 * (f.logdet - f.cost) for f in fits])
+        evidence = np.array([_evidence(f) for f in fits])
         if abs(evidence[0] - evidence[1]) > DECISIVE:  # a verdict: the loser from the winner too
             lose = int(np.argmin(evidence))
             hand, win = (1.0, -1.0)[lose], fits[1 - lose]
