@@ -15,6 +15,7 @@
 """Simulator node across processes: types, frames, stamps, rate, physics agreement, services."""
 
 import math
+import os
 import signal
 import subprocess
 import sys
@@ -674,20 +675,20 @@ def test_parameter_combinations():
 
 def _fifo_threads(pid: int) -> list[int]:
     """Real-time priorities of the threads of ``pid`` on SCHED_FIFO."""
-    import os
     from pathlib import Path
 
     found = []
     for task in Path(f'/proc/{pid}/task').iterdir():
         try:
-            if os.sched_getscheduler(int(task.name)) == os.SCHED_FIFO:
+            policy = os.sched_getscheduler(int(task.name)) & ~os.SCHED_RESET_ON_FORK
+            if policy == os.SCHED_FIFO:
                 found.append(os.sched_getparam(int(task.name)).sched_priority)
         except OSError:  # a thread that just ended
             pass
     return found
 
 
-def test_thread_priority_puts_the_pacer_alone_on_sched_fifo_or_says_why_not(
+def test_thread_priority_puts_the_pacer_and_executor_on_sched_fifo_or_says_why_not(
         start_node, collector):
     normal = start_node('simulator')
     assert 'pacing on the normal scheduler' in normal.log()
@@ -699,10 +700,11 @@ def test_thread_priority_puts_the_pacer_alone_on_sched_fifo_or_says_why_not(
         assert 'thread_priority 7' in log and 'pacing on the normal scheduler' in log
         assert _fifo_threads(node.pid) == []
         expected = 'normal scheduler'
-    else:  # the pacing thread, and no other, at priority 7
-        assert 'pacing on the SCHED_FIFO priority 7' in log
-        assert _fifo_threads(node.pid) == [7]
-        expected = 'SCHED_FIFO priority 7'
+    else:  # the pacing thread at priority 7, the executor (main) thread below it, no other
+        assert 'pacing on the SCHED_FIFO priority 7 (executor 6)' in log
+        assert sorted(_fifo_threads(node.pid)) == [6, 7]
+        assert os.sched_getparam(node.pid).sched_priority == 6  # the main thread's id: the pid
+        expected = 'SCHED_FIFO priority 7 (executor 6)'
     collector.subscribe(DiagnosticArray, qos.DIAGNOSTICS, qos.DIAGNOSTICS_QOS)
     collector.wait_for(lambda: any(
         kv.key == 'pacing' and kv.value == expected

@@ -23,7 +23,9 @@ same stamp. After publishing, a tick integrates the next tick's sample, so that 
 publishes at its deadline whatever the integration costs (in place instead when the flight
 changed meanwhile or the simulated camera is on). After the landing the landed state is
 republished at ``hold_rate`` (0 = never). ``thread_priority`` > 0 puts the pacing thread on
-SCHED_FIFO, so that other work of the machine does not make ticks late (:func:`fifo_priority`).
+SCHED_FIFO, so that other work of the machine does not make ticks late (:func:`fifo_priority`),
+and the executor thread one priority below it: a handler holding the GIL must not be preempted
+by ordinary work while the pacer waits for it (a priority inversion).
 
 Threads: the pacing thread is the only one that integrates and publishes state, markers, /clock
 and /diagnostics; the executor thread serves orders, services, parameters and a 1 Hz check for
@@ -187,8 +189,9 @@ PARAMETERS = (
         'thread_priority',
         0,
         'Scheduling of the pacing thread: 0 = the normal scheduler; 1..99 = SCHED_FIFO at this '
-        'real-time priority (as the thread_priority of the ros2_control manager; needs an '
-        'rtprio limit or CAP_SYS_NICE, else a warning and the normal scheduler)',
+        'real-time priority, the executor thread one below (as the thread_priority of the '
+        'ros2_control manager; needs an rtprio limit or CAP_SYS_NICE, else a warning and the '
+        'normal scheduler)',
         (0, 99),
         read_only=True,
     ),
@@ -240,16 +243,18 @@ PUBLISH_TF = ParamSpec(
 )
 
 
-def fifo_priority(priority: int) -> str | None:
+def fifo_priority(priority: int, tid: int = 0) -> str | None:
     """
-    Put the calling thread on SCHED_FIFO at ``priority`` (1..99); return why not, or None.
+    Put thread ``tid`` (0: this one) on SCHED_FIFO at ``priority`` (1..99); return why not.
 
     A real-time thread wakes at its deadline ahead of every normal thread of the machine (a
     pacing loop on the normal scheduler is late by whole periods whenever the kernel runs
     something else first: bench/entities_benchmark.py measures both).
     """
     try:
-        os.sched_setscheduler(0, os.SCHED_FIFO, os.sched_param(priority))  # 0: this thread
+        # Threads it starts later (e.g. the executor's timer thread) stay on the normal scheduler.
+        policy = os.SCHED_FIFO | getattr(os, 'SCHED_RESET_ON_FORK', 0)
+        os.sched_setscheduler(tid, policy, os.sched_param(priority))
     except (OSError, AttributeError) as exc:  # EPERM without rtprio; no SCHED_FIFO off Linux
         return str(exc)
     return None
@@ -398,6 +403,7 @@ class SimulatorNode(QuietNode):
         self._stop = threading.Event()
         self._scheduled = threading.Event()
         self._scheduling = 'normal scheduler'
+        self._executor_tid = threading.get_native_id()  # the runner spins in this thread
         self._thread = threading.Thread(target=self._pace, name='football-pacer', daemon=True)
         self._thread.start()
         self._scheduled.wait(5.0)
@@ -589,7 +595,11 @@ class SimulatorNode(QuietNode):
                     '"@realtime - rtprio 99" in /etc/security/limits.conf, or CAP_SYS_NICE)'
                 )
             else:
-                self._scheduling = f'SCHED_FIFO priority {self.thread_priority}'
+                below = max(1, self.thread_priority - 1)
+                refused = fifo_priority(below, self._executor_tid)
+                self._scheduling = f'SCHED_FIFO priority {self.thread_priority}' + (
+                    f' (executor {below})' if refused is None else
+                    f' (executor on the normal scheduler: {refused})')
         self._scheduled.set()
         mono0 = time.monotonic_ns()
         wall0 = time.time_ns()
