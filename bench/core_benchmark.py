@@ -42,6 +42,8 @@ Every figure is a ratio to a baseline measured in the same run, ``--draws`` time
   processes (no ROS, one thread): the bare loop (no work) and one busy for the simulator's CPU
   per tick of the same workload (its real-time row): on the normal scheduler a loaded machine
   delays a loop by the work it does a tick, so the second is the floor of the first target.
+  The late ticks are also counted per minute of the soak for all three (:func:`windows`), so
+  that a moment of load beside the run counts against all three in the same window.
 
 ``--thread-priority`` > 0 puts the simulator's pacing thread (its ``thread_priority``) and the
 bare pacing loop on SCHED_FIFO at that priority (root or an rtprio limit); its run is recorded
@@ -241,7 +243,12 @@ def realtime_phase(pid: int, balls: int, seconds: float, subscribed: str) -> dic
 
 
 def soak_phase(pid: int, balls: int, seconds: float) -> dict:
-    """RSS growth [MB] and late ticks of the simulator over ``seconds`` with a /tf subscriber."""
+    """
+    RSS growth [MB] and late ticks of the simulator over ``seconds`` with a /tf subscriber.
+
+    ``marks`` holds [time.monotonic() s, late ticks so far] after each re-throw cycle, so that
+    the late ticks of loops run beside it can be counted in the same windows (:func:`windows`).
+    """
     bench = eb.Bench()
     bench.reset()
     bench.node.create_subscription(eb.TFMessage, qos.TF, lambda _m: None, qos.TF_QOS, raw=True)
@@ -251,14 +258,35 @@ def soak_phase(pid: int, balls: int, seconds: float) -> dict:
     bench.spin(5.0)
     rss0 = rss_mb(pid)
     late, skipped = bench.late_ticks()
+    marks = [[time.monotonic(), 0]]
     end = time.monotonic() + seconds
     while time.monotonic() < end:
         bench.spin(min(10.0, max(0.0, end - time.monotonic())))
         bench.set_state(SimulationState.STATE_PAUSED)
         bench.throw(balls, eb.LOCK_STEP_LOB)
         bench.set_state(SimulationState.STATE_PLAYING)
+        marks.append([time.monotonic(), bench.late_ticks()[0] - late])
     late2, skipped2 = bench.late_ticks()
-    return {'rss0': rss0, 'rss1': rss_mb(pid), 'late': late2 - late, 'skipped': skipped2 - skipped}
+    return {'rss0': rss0, 'rss1': rss_mb(pid), 'late': late2 - late, 'skipped': skipped2 - skipped,
+            'marks': marks}
+
+
+def windows(marks: list, loops: list[list], width: float = 60.0) -> list[tuple]:
+    """
+    Late ticks of the simulator and of each loop per window of about ``width`` s of the soak.
+
+    ``marks``: the soak's [t, simulator's late ticks so far]; ``loops``: each loop's late_at
+    ([t, ticks behind]). The windows end at the marks (the simulator's count is read there).
+    """
+    edges = [marks[0]]
+    for mark in marks[1:]:
+        if mark[0] - edges[-1][0] >= width - 5.0 or mark is marks[-1]:
+            edges.append(mark)
+    rows = []
+    for (t0, n0), (t1, n1) in zip(edges, edges[1:]):
+        rows.append((n1 - n0, *(sum(n for t, n in late_at if t0 <= t < t1)
+                                for late_at in loops)))
+    return rows
 
 
 def rss_mb(pid: int) -> float:
@@ -570,6 +598,13 @@ def report(draws: list[dict], args) -> None:
         print(f"| {soak['rss0']:.1f} | {soak['rss1']:.1f} | {soak['rss1'] - soak['rss0']:.2f} "
               f"| {soak['late']} | {soak['skipped']} | {draws[0]['pace']['late']} "
               f"| {work['late']} |")
+        rows = windows(soak['marks'], [draws[0]['pace']['late_at'], work['late_at']])
+        sim, bare, busy = zip(*rows)
+        print(f'Late ticks per minute of the soak ({len(rows)} windows): simulator '
+              f"{', '.join(map(str, sim))}; bare loop {', '.join(map(str, bare))}; busy loop "
+              f"{', '.join(map(str, busy))}. Minutes with the simulator at or under the busy "
+              f'loop: {sum(a <= c for a, _b, c in rows)} of {len(rows)}; at or under the bare '
+              f'loop: {sum(a <= b for a, b, _c in rows)} of {len(rows)}')
         if draws[0]['pace']['refused']:
             print(f"The bare loop's SCHED_FIFO was refused: {draws[0]['pace']['refused']}")
 

@@ -396,7 +396,9 @@ def pace(rate: float, seconds: float, priority: int, work=None) -> dict:
     Sleeps to absolute deadlines k / ``rate`` for ``seconds`` and counts late ticks as the
     simulator does (whole periods behind at each wake-up), on SCHED_FIFO at ``priority`` if
     > 0 (``refused`` says why not). ``work(t)``, if given, is each tick's work (t [s] since
-    the start); ``cpu`` is this process's CPU seconds over the loop.
+    the start); ``cpu`` is this process's CPU seconds over the loop; ``late_at`` lists the
+    late wake-ups as [time.monotonic() s, ticks behind] (CLOCK_MONOTONIC: comparable across
+    processes).
     """
     from football_ros.nodes.simulator import fifo_priority
 
@@ -405,18 +407,20 @@ def pace(rate: float, seconds: float, priority: int, work=None) -> dict:
     cpu = time.process_time()
     next_due = start = time.monotonic_ns()
     end = start + int(seconds * 1e9)
-    late = 0
+    late = []
     while next_due < end:
         now = time.monotonic_ns()
         if now < next_due:
             time.sleep(min(next_due - now, 50_000_000) * 1e-9)
             continue
-        late += (now - next_due) // period
+        if now - next_due >= period:
+            late.append([now * 1e-9, (now - next_due) // period])
         while next_due <= now:
             if work is not None:
                 work((next_due - start) * 1e-9)
             next_due += period
-    return {'late': int(late), 'refused': refused, 'cpu': time.process_time() - cpu}
+    return {'late': int(sum(n for _t, n in late)), 'late_at': late, 'refused': refused,
+            'cpu': time.process_time() - cpu}
 
 
 def publish_floor(rate: float, balls: int, seconds: float, priority: int) -> dict:
