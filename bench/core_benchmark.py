@@ -23,7 +23,8 @@ Every figure is a ratio to a baseline measured in the same run, ``--draws`` time
 
 - Lock-step: the simulator's CPU (its process, /proc, less its idle pacing) per StepSimulation
   (1000 steps) and per SimulateSteps goal (1000 steps) with N balls in the air, over the bare
-  core's CPU for the same steps in this process (``Simulation.step_n(1000)``). Two floors: a
+  core's CPU for the same steps in the client's thread (``Simulation.step_n(1000)``, in the
+  same rounds as the simulator's calls, so that both meet the same load). Two floors: a
   do-nothing rclpy server offering StepSimulation and SimulateSteps (it answers at once),
   running beside the simulator and called in the same rounds, in turn with it ("less floor":
   (simulator - floor) / core); and the simulator's own call of one step (its executor with
@@ -88,23 +89,23 @@ FLOOR_NODE = '/football_floor'  # the do-nothing server, beside the simulator (e
 EXECUTORS = EXECUTOR_TYPES  # the simulator's executor_type: its default first
 
 
-def bare_core(balls: int, default: bool = False) -> float:
-    """Median CPU seconds of ``Simulation.step_n(STEPS)`` with ``balls`` lobs in the air."""
-    sim = core.Simulation(max_entities=balls + 1)
-    names = [DEFAULT_ENTITY] if default else []
-    for k in range(0 if default else balls):
-        names.append(sim.spawn(f'b{k}', 'football_ros://american', [0, 0.5 * k, 0],
-                               [0, 0, 0, 1]).name)
-    for name in names:
-        sim.throw(name, FlightRun(name, Flight.from_release(eb.LOCK_STEP_LOB)))
-    sim.set_state(core.PAUSED)
-    sim.step_n(1, 0)
-    times = []
-    for _ in range(REPEATS):
-        start = time.thread_time()
-        sim.step_n(STEPS, 0)
-        times.append(time.thread_time() - start)
-    return statistics.median(times)
+class BareCore:
+    """The core alone (no ROS) with ``balls`` lobs in the air, stepped as the services step it."""
+
+    def __init__(self, balls: int, default: bool = False) -> None:
+        self.sim = core.Simulation(max_entities=balls + 1)
+        self.names = [DEFAULT_ENTITY] if default else [
+            self.sim.spawn(f'b{k}', 'football_ros://american', [0, 0.5 * k, 0], [0, 0, 0, 1]).name
+            for k in range(balls)]
+        self.sim.set_state(core.PAUSED)
+
+    def throw(self) -> None:
+        """Throw every ball afresh (a fresh throw before each round, as the simulator's)."""
+        for name in self.names:
+            self.sim.throw(name, FlightRun(name, Flight.from_release(eb.LOCK_STEP_LOB)))
+
+    def step(self) -> None:
+        self.sim.step_n(STEPS, 0)
 
 
 def bare_tick(balls: int, seconds: float = 2.0) -> float:
@@ -133,37 +134,41 @@ def idle_rate(pid: int, seconds: float = 2.0) -> float:
 
 def per_call(measures: dict, rounds: int = ROUNDS) -> dict:
     """
-    CPU seconds per call of each measure, of its process less that process's idle CPU.
+    CPU seconds per call of each measure, less the idle CPU of what it measures.
 
-    ``measures``: {key: (pid, idle, prepare, call)}, ``idle`` the process's CPU seconds per
-    second at rest. In each of ``rounds`` rounds, the measures in turn (so that they share the
-    load's drift): ``prepare()`` (a fresh throw), one ``call()`` outside the figure, then
+    ``measures``: {key: (cpu_ns, idle, prepare, call)}, ``cpu_ns()`` the CPU nanoseconds so far
+    of what is measured (a process, or this thread for the bare core), ``idle`` its CPU seconds
+    per second at rest. In each of ``rounds`` rounds, the measures in turn (so that they share
+    the load's drift): ``prepare()`` (a fresh throw), one ``call()`` outside the figure, then
     REPEATS calls measured; the figure is the median over the rounds (a round that met a burst
     of other work on the machine does not move it).
     """
     per_round = {key: [] for key in measures}
     for _ in range(rounds):
-        for key, (pid, idle, prepare, call) in measures.items():
+        for key, (cpu_ns, idle, prepare, call) in measures.items():
             prepare()
             call()
-            cpu, wall = eb.cpu_ns(pid), time.monotonic()
+            cpu, wall = cpu_ns(), time.monotonic()
             for _ in range(REPEATS):
                 call()
-            used = (eb.cpu_ns(pid) - cpu) * 1e-9 - idle * (time.monotonic() - wall)
+            used = (cpu_ns() - cpu) * 1e-9 - idle * (time.monotonic() - wall)
             per_round[key].append(used / REPEATS)
     return {key: statistics.median(values) for key, values in per_round.items()}
 
 
 def lock_step_phase(pid: int, balls: list[int], floor_pid: int) -> dict:
     """
-    Measure the simulator's CPU per call beside the floor server's ('floor ...'), new client.
+    Measure the simulator's CPU per call beside the floor server's and the bare core's.
 
-    The floor's calls are interleaved with the simulator's in the same rounds, so that a ratio
-    to the floor compares calls made under the same load.
+    The floor server's calls ('floor ...') and the bare core's steps in this thread ('core
+    ...') are interleaved with the simulator's in the same rounds, so that every ratio
+    compares figures measured under the same load.
     """
     bench = eb.Bench()
     floor = eb.Bench(FLOOR_NODE, share=bench)
     idle, floor_idle = idle_rate(pid), idle_rate(floor_pid)
+    sim_cpu = functools.partial(eb.cpu_ns, pid)
+    floor_cpu = functools.partial(eb.cpu_ns, floor_pid)
 
     def nothing() -> None:
         pass
@@ -177,15 +182,17 @@ def lock_step_phase(pid: int, balls: list[int], floor_pid: int) -> dict:
         # fly 12 s, so no ball lands inside one. The same calls of one step: the simulator's
         # own floor (its executor, services, publishers and action).
         throw = functools.partial(bench.throw, n, eb.LOCK_STEP_LOB)
+        bare = BareCore(n)
         out.update(per_call({
-            f'floor step {n}': (floor_pid, floor_idle, nothing,
+            f'core {n}': (time.thread_time_ns, 0.0, bare.throw, bare.step),
+            f'floor step {n}': (floor_cpu, floor_idle, nothing,
                                 functools.partial(floor.step, STEPS)),
-            f'floor action {n}': (floor_pid, floor_idle, nothing,
+            f'floor action {n}': (floor_cpu, floor_idle, nothing,
                                   functools.partial(floor.simulate_steps, STEPS)),
-            f'step {n}': (pid, idle, throw, functools.partial(bench.step, STEPS)),
-            f'action {n}': (pid, idle, throw, functools.partial(bench.simulate_steps, STEPS)),
-            f'step {n} one': (pid, idle, throw, functools.partial(bench.step, 1)),
-            f'action {n} one': (pid, idle, throw, functools.partial(bench.simulate_steps, 1)),
+            f'step {n}': (sim_cpu, idle, throw, functools.partial(bench.step, STEPS)),
+            f'action {n}': (sim_cpu, idle, throw, functools.partial(bench.simulate_steps, STEPS)),
+            f'step {n} one': (sim_cpu, idle, throw, functools.partial(bench.step, 1)),
+            f'action {n} one': (sim_cpu, idle, throw, functools.partial(bench.simulate_steps, 1)),
         }))
         bench.reset()
     # The default ball (a flight order, as the release node sends) and one spawned ball,
@@ -204,8 +211,12 @@ def lock_step_phase(pid: int, balls: list[int], floor_pid: int) -> dict:
         bench.throw(1, eb.LOCK_STEP_LOB)
 
     step = functools.partial(bench.step, STEPS)
-    out.update(per_call({'step default': (pid, idle, order, step),
-                         'step spawned': (pid, idle, throw, step)}))
+    bare_default, bare_spawned = BareCore(1, default=True), BareCore(1)
+    out.update(per_call({
+        'core default': (time.thread_time_ns, 0.0, bare_default.throw, bare_default.step),
+        'core spawned': (time.thread_time_ns, 0.0, bare_spawned.throw, bare_spawned.step),
+        'step default': (sim_cpu, idle, order, step),
+        'step spawned': (sim_cpu, idle, throw, step)}))
     bench.reset()
     bench.set_state(SimulationState.STATE_PLAYING)
     return out
@@ -463,9 +474,7 @@ def main(argv=None) -> int:
         with tempfile.TemporaryDirectory() as tmp:
             tmp = Path(tmp)
             for draw in range(args.draws):
-                row = {'core': {n: bare_core(n) for n in args.balls},
-                       'core default': bare_core(1, default=True),
-                       'physics': bare_tick(args.rt_balls)}
+                row = {'physics': bare_tick(args.rt_balls)}
                 # The simulator on its classic executor (the lock-step baseline of the same
                 # run), then on its default; each beside the do-nothing floor on its executor.
                 sim = simulator(tmp, f'{draw}-single', args.thread_priority, 'single_threaded')
@@ -525,8 +534,8 @@ def report(draws: list[dict], args) -> None:
              else 'the normal scheduler.'))
     print()
     print(f'Lock-step, {STEPS} steps of 1 ms per call (CPU ms per call: the median over '
-          f'{ROUNDS} rounds of {REPEATS} calls, the floor server called in the same rounds as '
-          'the simulator; ratios to the bare core measured in the same draw)')
+          f'{ROUNDS} rounds of {REPEATS} calls; the floor server and the bare core (its '
+          "step_n in the client's thread) measured in the same rounds as the simulator)")
     print("executor: the simulator's executor_type (events: its default; single_threaded: "
           "the classic, the baseline) and the do-nothing floor server's; (simulator - floor) "
           '/ core subtracts the floor on the same executor, (... - classic floor) the '
@@ -537,11 +546,11 @@ def report(draws: list[dict], args) -> None:
     print('|---|---|---|---|---|---|---|---|---|---|---|')
     for kind, key in (('StepSimulation', 'step'), ('SimulateSteps', 'action')):
         for n in args.balls:
-            core_ms = [d['core'][n] * 1e3 for d in draws]
             classic_ms = [d['sim single_threaded'][f'floor {key} {n}'] * 1e3 for d in draws]
             for executor in EXECUTORS:
-                floor_ms = [d[f'sim {executor}'][f'floor {key} {n}'] * 1e3 for d in draws]
                 sim = [d[f'sim {executor}'] for d in draws]
+                core_ms = [x[f'core {n}'] * 1e3 for x in sim]
+                floor_ms = [x[f'floor {key} {n}'] * 1e3 for x in sim]
                 sim_ms = [x[f'{key} {n}'] * 1e3 for x in sim]
                 one_ms = [x[f'{key} {n} one'] * 1e3 for x in sim]
                 print(f'| {kind} | {n} | {executor} | {_cells(core_ms, "{:.3f}")} '
@@ -552,10 +561,10 @@ def report(draws: list[dict], args) -> None:
                       f'| {_cells(one_ms)} '
                       f'| {_cells([(s - o) / c for s, o, c in zip(sim_ms, one_ms, core_ms)])} |')
     if 1 in args.balls:
-        core_ratio = [d['core default'] / d['core'][1] for d in draws]
         for executor in EXECUTORS:
-            sim_ratio = [d[f'sim {executor}']['step default']
-                         / d[f'sim {executor}']['step spawned'] for d in draws]
+            sim = [d[f'sim {executor}'] for d in draws]
+            core_ratio = [x['core default'] / x['core spawned'] for x in sim]
+            sim_ratio = [x['step default'] / x['step spawned'] for x in sim]
             print(f'| StepSimulation, the default ball (a flight order) / a spawned ball (ratios)'
                   f' | 1 | {executor} | {_cells(core_ratio)} | | {_cells(sim_ratio)} '
                   '| | | | | |')
