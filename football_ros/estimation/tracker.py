@@ -230,10 +230,11 @@ class TrackerSettings:
     (:func:`_basins`); to find them the starts are also fitted to the first quarter and half of
     the fixes and the tumble starts' axis tilted (:meth:`FlightTracker._spread_fits`). 0: one
     basin, the lowest objective alone.
-    Off by default: an unstable kick then costs many fits, and it has been measured on 16
-    flights a tumbling case only (bench/RESULTS.md, "prediction, tumbling kicks, unstable_fits
-    on, basin_reach" and "prediction bound, tumbling kicks, global bound"); on a day of kicks,
-    on (tumbling kicks come far closer to the global bound, their covariance honest).
+    Off by default for its CPU: an unstable kick then costs many fits, the multi-start run
+    inside a prediction (bench/RESULTS.md, "tracker CPU, unstable_fits off and on"; spirals
+    and gusts untouched); on a day of kicks, on, where the CPU allows (tumbling kicks come far
+    closer to the global bound, their covariance honest: "prediction bound, tumbling kicks,
+    unstable_fits on, seeds 3..4" and its lead 0.5 s).
 
     The noise and prior defaults make the covariance honest (landing NEES 2 or below) on the
     prediction benchmark's still-air flights; the gusty twins (``gust_rate``, on by default)
