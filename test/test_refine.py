@@ -26,7 +26,7 @@ from football_ros.estimation.motion import (
     X_KL,
     X_S,
 )
-from football_ros.estimation.refine import Prior, refine
+from football_ros.estimation.refine import _cross, Prior, refine
 from football_ros.physics import Flight, Release
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -66,6 +66,17 @@ def test_fly_through_matches_the_filters_propagation_and_flies_back_to_its_start
     out = np.zeros((1, 2, 3))
     fly_through(bad, np.array([0.1, 0.2]), tracker.params, 0.005, out)
     assert np.all(np.isnan(bad)) and np.all(np.isnan(out))
+
+
+def test_the_fits_cross_product_is_numpys_bit_for_bit():
+    """The fit's own cross product (one vector, rows, broadcast) equals np.cross exactly."""
+    rng = np.random.default_rng(5)
+    for a, b in (
+        (rng.normal(size=3), rng.normal(size=3)),
+        (rng.normal(size=(15, 3)) * 1e3, rng.normal(size=(15, 3)) * 1e-3),
+        (rng.normal(size=(4, 3)), rng.normal(size=3)),
+    ):
+        assert np.array_equal(_cross(a, b), np.cross(a, b))
 
 
 def test_the_fit_recovers_the_flown_state_from_a_perturbed_start():
