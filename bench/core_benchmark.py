@@ -110,10 +110,10 @@ class BareCore:
 
 def bare_tick(balls: int, seconds: float = 2.0) -> float:
     """CPU seconds of the core's kernel pass of one 100 Hz tick for ``balls`` lobs (no ROS)."""
-    sim = core.Simulation(max_entities=balls + 1)
-    for k in range(balls):
-        sim.spawn(f'b{k}', 'football_ros://american', [0, 0.5 * k, 0], [0, 0, 0, 1])
-        sim.throw(f'b{k}', FlightRun(f'b{k}', Flight.from_release(eb.LOCK_STEP_LOB)))
+    bare = BareCore(balls)
+    bare.throw()
+    sim = bare.sim
+    sim.set_state(core.PLAYING)
     sim.tick(0, 10_000_000, 1.0, 1.0)
     n, spent, start = 0, 0.0, time.monotonic()
     while time.monotonic() - start < seconds:

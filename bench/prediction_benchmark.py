@@ -369,6 +369,22 @@ SECOND_BALL = Release(
 """The other ball of ``--two-balls``: released 0.3 s after each benchmark throw, seen too."""
 
 
+def flight_fixes(release: Release, seed: int, case: Case) -> tuple[list, float, np.ndarray]:
+    """
+    Return a flight's fixes [(Observation, told covariance or None)], landing time [s], point.
+
+    A field case's own fixes (:func:`field_fixes`), else the camera's of the case
+    (:func:`camera_fixes`) on the flown truth; the landing point [m] in ``field`` x, y.
+    """
+    if any(case is c for c in FIELD_CASES.values()):
+        fixes, t_land, xy_land, _ = field_fixes(release, seed, case)
+        return fixes, t_land, xy_land
+    truth = Flight.from_release(release).simulate(rate=100.0, duration=20.0)
+    t_land = float(truth.times[-1])
+    return ([(o, None) for o in camera_fixes(release, seed, t_land, case)], t_land,
+            truth.positions[-1, :2])
+
+
 def run_flight(
     release: Release,
     seed: int,
@@ -386,17 +402,11 @@ def run_flight(
     this ball's fixes (the baselines are handed this ball's fixes alone; no oracle).
     Returns {lead: {method: (error [m], time error [s], NEES) or None}} and the flight time [s].
     """
-    told = {}  # id(observation) -> its covariance, where the tracker is told one
+    fixes, t_land, xy_land = flight_fixes(release, seed, case)
+    told = {id(o): c for o, c in fixes if c is not None}  # where the tracker is told one
+    obs = [(o, True) for o, _ in fixes]
     if any(case is c for c in FIELD_CASES.values()):
-        fixes, t_land, xy_land, _ = field_fixes(release, seed, case)
-        told = {id(o): c for o, c in fixes if c is not None}
-        obs = [(o, True) for o, _ in fixes]
         oracle = False
-    else:
-        truth = Flight.from_release(release).simulate(rate=100.0, duration=20.0)
-        t_land = float(truth.times[-1])
-        xy_land = truth.positions[-1, :2]
-        obs = [(o, True) for o in camera_fixes(release, seed, t_land, case)]
     if two_balls:
         t2 = float(Flight.from_release(SECOND_BALL).simulate(rate=100.0).times[-1])
         other = camera_fixes(SECOND_BALL, seed + 50021, t2, case)

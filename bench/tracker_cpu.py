@@ -38,7 +38,7 @@ import sys
 import time
 
 from football_ros.estimation import FlightTracker, TrackerSettings
-from football_ros.physics import Flight, Release
+from football_ros.physics import Release
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -46,15 +46,6 @@ _benchmark = importlib.import_module('prediction_benchmark')  # its flights, cam
 CASES = _benchmark.CASES
 DEFAULT_CASES = ('defaults', 'rugby 60-600 rpm', 'gust 2-8 m/s over 0.5-2 s',
                  'end over end 20-120 rpm', 'rugby 0-120 rpm')
-
-
-def flight_fixes(release: Release, seed: int, case) -> tuple[list, float]:
-    """Return [(Observation, told covariance or None)] of a flight and its landing time [s]."""
-    if any(case is c for c in _benchmark.FIELD_CASES.values()):
-        fixes, t_land, _, _ = _benchmark.field_fixes(release, seed, case)
-        return fixes, t_land
-    t_land = float(Flight.from_release(release).simulate(rate=100.0, duration=20.0).times[-1])
-    return [(o, None) for o in _benchmark.camera_fixes(release, seed, t_land, case)], t_land
 
 
 def replay(fixes: list, case, unstable: bool, every: int) -> dict:
@@ -84,8 +75,8 @@ def main() -> None:
     unknown = sorted(set(args.cases) - set(CASES))
     if unknown or not (1 <= args.flights <= 100 and 1 <= args.every <= 100):
         ap.error(f'unknown case(s) {unknown}, or --flights / --every outside 1-100')
-    replay(flight_fixes(Release(model='full'), 0, CASES['defaults'])[0], CASES['defaults'],
-           True, args.every)  # the compiled kernels warmed
+    warm = _benchmark.flight_fixes(Release(model='full'), 0, CASES['defaults'])[0]
+    replay(warm, CASES['defaults'], True, args.every)  # the compiled kernels warmed
     print(f"{args.flights} flights a case, draw {args.seed} (prediction_benchmark's seeding), "
           f'a prediction after every {args.every}. fix; CPU of this thread; per fix: its update '
           'and the prediction after it')
@@ -95,7 +86,7 @@ def main() -> None:
         case, ci = CASES[name], list(CASES).index(name)
         releases = _benchmark.random_releases(np.random.default_rng(args.seed * 1000 + ci),
                                               args.flights, case)
-        flights = [flight_fixes(r, args.seed * 100000 + ci * 1000 + k, case)
+        flights = [_benchmark.flight_fixes(r, args.seed * 100000 + ci * 1000 + k, case)[:2]
                    for k, r in enumerate(releases)]
         runs = {on: [replay(f, case, on, args.every) for f, _ in flights] for on in (False, True)}
         flown = sum(t for _, t in flights)
