@@ -45,6 +45,7 @@ Information limit of the same flights and fixes: bench/prediction_bound.py. The 
 are in bench/RESULTS.md.
 
     .venv/bin/python bench/prediction_benchmark.py [--flights 60] [--draws 5] [--cases ...]
+        [--unstable-fits] [--every 2]  # the node's cadence: a prediction after every 2nd fix
     .venv/bin/python bench/prediction_benchmark.py --cameras [--rigs mono ...]  # config/rig_*
 """
 
@@ -176,14 +177,17 @@ def random_releases(rng: np.random.Generator, n: int, case: Case) -> list[Releas
     return out
 
 
-GUSTS: dict = {}
-"""The tracker's gust_rate and gust_prior of this run (``--gust-rate``, ``--gust-prior``; absent:
-the tracker's defaults)."""
+TOLD: dict = {}
+"""The tracker's settings of this run beyond the case's (``--gust-rate``, ``--gust-prior``,
+``--unstable-fits``; absent: the tracker's defaults)."""
+EVERY = 0
+"""The tracker also predicts after every EVERY-th fix of the flight, as the node does
+(``--every``; 0: only at the leads): its fits are then followed from prediction to prediction."""
 
 
 def tracker_settings(case: Case, wind_sigma: float = 0.0) -> TrackerSettings:
     """Return what the tracker is told in ``case``: the ball, the camera's noise, the wind's."""
-    return TrackerSettings(noise=case.noise, ball=case.ball, wind_sigma=wind_sigma, **GUSTS)
+    return TrackerSettings(noise=case.noise, ball=case.ball, wind_sigma=wind_sigma, **TOLD)
 
 
 # --- baselines ----------------------------------------------------------------------------------
@@ -439,6 +443,8 @@ def run_flight(
             i += 1
             cov = told.get(id(o))
             got = tracker.update(o.stamp, o.position, covariance=cov)
+            if EVERY and i % EVERY == 0:
+                tracker.predict_landing()
             if alone is not None:
                 alone.update(o.stamp, o.position, covariance=cov)
             if id(o) not in mine:
@@ -726,10 +732,20 @@ def main() -> None:
                     choices=[rig_key(f) for f in CAMERA_RIGS.values()],
                     help='with --cameras: only these rigs (each on the seeds it has in the '
                          'whole set)')
+    ap.add_argument('--unstable-fits', action='store_true',
+                    help="the tracker's unstable_fits on (the multi-start fits of unstable kicks)")
+    ap.add_argument('--every', type=int, default=0,
+                    help='the tracker also predicts after every n-th fix, as the node does '
+                         '(2: 30 a second at 60 Hz; 0: only at the leads)')
     args = ap.parse_args()
-    GUSTS.update({name: value for name, value in (('gust_rate', args.gust_rate),
-                                                  ('gust_prior', args.gust_prior))
-                  if value is not None})
+    if not 0 <= args.every <= 1000:
+        ap.error(f'--every {args.every}: 0 (only at the leads) to 1000')
+    global EVERY
+    EVERY = args.every
+    TOLD.update({name: value for name, value in (('gust_rate', args.gust_rate),
+                                                 ('gust_prior', args.gust_prior),
+                                                 ('unstable_fits', args.unstable_fits or None))
+                 if value is not None})
     if args.cameras:
         camera_main(args)
         return
@@ -746,6 +762,8 @@ def main() -> None:
         f'gust_rate {tracker_settings(CASES["defaults"]).gust_rate:g} m/s/sqrt(s), '
         f'gust_prior {tracker_settings(CASES["defaults"]).gust_prior:g}, '
         f'clutter {args.clutter:g} Hz' + (', a second ball' if args.two_balls else '')
+        + (', unstable_fits on' if args.unstable_fits else '')
+        + (f', a prediction after every {EVERY}. fix' if EVERY else '')
         + '. NEES: 2 and 0.95 in the 95 % ellipse when honest.'
     )
     summary = []

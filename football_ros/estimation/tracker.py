@@ -134,6 +134,15 @@ TUMBLE_PHASES = (-0.5, 0.5)
 """The axis of a tumble start also tilted by these angles [rad] about the pitch axis (with
 ``basin_reach`` > 0, :meth:`FlightTracker._prior_starts`): where a tumble is in its turn at
 the first fix is unknown."""
+FOLLOW = (4, 8)
+"""An unstable kick's fits followed from one prediction to the next (:meth:`FlightTracker._refit`):
+at most this many Levenberg-Marquardt iterations for a fit whose last fit is at most this many
+fixes older (a node predicting every few fixes); the fit goes on from where it stopped at the next
+prediction."""
+START_ITERATIONS = 10
+"""An unstable kick's multi-start fit (:meth:`FlightTracker._spread_fits`): Levenberg-Marquardt
+iterations of each start at most (enough to fall into its basin; the basins kept are then
+polished)."""
 LADDER = (10, 2.0, 6)
 """An unstable kick's multi-start fit on a part of its fixes (:meth:`FlightTracker._spread_fits`):
 the fewest fixes of the first quarter, the reach (x ``basin_reach``) and the most basins kept
@@ -897,22 +906,29 @@ class FlightTracker:
         The lowest objective is kept; the other basins those starts found within
         ``basin_reach`` of its evidence are kept beside it in ``tr.basins``, each refitted from
         its own last fit at every refit until it falls out of reach or into another's basin.
+        Such a kick's fits are followed at a bounded cost (:data:`FOLLOW`), and one that is not
+        sound is kept (its spin, near 0, takes either sign; the multi-starts cover the other
+        starts): two cold fits a hand at every prediction cost 2-3x the rest of its refits.
         """
         times = np.array(sorted(tr.fixes))
         if times[-1] != tr.t:
             return None
         last = tr.fits.get(hand)
+        tumbling = self._tumbling(tr)
+        follow = None  # iterations of a fit followed from its last (None: refine_iterations)
+        if tumbling and last is not None and times.size - last[0][1] <= FOLLOW[1]:
+            follow = FOLLOW[0]
         fit = None
         if last is not None and last[1] is not None:
-            fit = self._fit_from(tr, hand, [last[1].x0])
-        if fit is None or not _sound(fit, hand):
+            fit = self._fit_from(tr, hand, [last[1].x0], follow)
+        if fit is None or not (_sound(fit, hand) or tumbling):
             starts = [self._filter_start(tr, hand, times)]
             other = tr.fits.get(-hand)
             if other is not None and other[1] is not None:
                 starts.append(_reversed(other[1].x0))
             fit = _least(fit, self._fit_from(tr, hand, [x0 for x0 in starts if x0 is not None]))
-        others = [self._fit_from(tr, hand, [b.x0]) for b in tr.basins.get(hand, [])]
-        if self._tumbling(tr) and times.size >= 2 * tr.spread_at.get(hand, 0):
+        others = [self._fit_from(tr, hand, [b.x0], follow) for b in tr.basins.get(hand, [])]
+        if tumbling and times.size >= 2 * tr.spread_at.get(hand, 0):
             tr.spread_at[hand] = times.size
             back = [fly_state(h.x, [times[0] - tr.t], self.params, self.settings.step)[0]
                     for h in _hand_filters(tr, hand)]
@@ -984,8 +1000,9 @@ class FlightTracker:
         """
         Return the fits of ``tr`` for ``hand`` from many ``starts``, lowest objective first.
 
-        Each start takes ``refine_iterations`` steps; the lowest is polished with three times
-        as many (cold starts take more steps than a warm one), and so are the other basins
+        Each start takes at most :data:`START_ITERATIONS` steps; the lowest is polished with
+        three times ``refine_iterations`` (a cold start takes more steps than a warm one), and
+        so are the other basins
         within ``basin_reach`` of its evidence (:func:`_basins`; 0: the lowest alone). With
         ``basin_reach`` > 0 the starts are also fitted to the first quarter of the fixes, then
         the basins kept (:data:`LADDER`) to the first half, and these join the starts: a
@@ -994,14 +1011,16 @@ class FlightTracker:
         every fix does).
         """
         reach = self.settings.basin_reach
+        starts_it = min(START_ITERATIONS, self.settings.refine_iterations)
         climbed = starts
         for part in (4, 2) if reach > 0.0 and len(tr.fixes) >= 4 * LADDER[0] else ():
-            fits = self._fits_from(tr, hand, climbed, count=len(tr.fixes) // part)
+            fits = self._fits_from(tr, hand, climbed, starts_it, count=len(tr.fixes) // part)
             if not fits:
                 break
             top = min(fits, key=lambda f: f.cost)
             climbed = [f.x0 for f in [top] + _basins(top, fits, LADDER[1] * reach, LADDER[2])]
-        fits = self._fits_from(tr, hand, starts + (climbed if climbed is not starts else []))
+        fits = self._fits_from(tr, hand, starts + (climbed if climbed is not starts else []),
+                               starts_it)
         if not fits:
             return []
         top = fits[0]
