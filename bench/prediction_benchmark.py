@@ -846,6 +846,9 @@ if __name__ == '__main__':
     pre.add_argument('--cameras', action='store_true')
     pre.add_argument('--cases', nargs='*', default=[])
     pre.add_argument('--rigs', nargs='*', default=[])
+    pre.add_argument('--unstable-fits', action='store_true')
+    pre.add_argument('--every', type=int, default=0)
+    pre.add_argument('--seed', type=int, default=1)
     flags, _ = pre.parse_known_args()
     field_only = bool(flags.cases) and all(c in FIELD_CASES for c in flags.cases)
     section = 'prediction' + (', field cases' if field_only else '') + ''.join(
@@ -854,5 +857,8 @@ if __name__ == '__main__':
          ('gust_prior', flags.gust_prior), ('clutter Hz', flags.clutter))
         if value > 0.0 or (name == 'gust_rate' and value == 0.0)
     ) + (', two balls' if flags.two_balls else '') + (', cameras' if flags.cameras else '') + (
+        ', unstable_fits on' if flags.unstable_fits else '') + (
+        f', a prediction every {flags.every} fixes' if flags.every > 0 else '') + (
+        f', seed {flags.seed}' if flags.seed != 1 else '') + (
         f' ({", ".join(flags.rigs)})' if flags.cameras and flags.rigs else '')
     raise SystemExit(results.recorded(section, main))
