@@ -233,9 +233,8 @@ class Whitener:
         )
         self.other = [k for k, f in enumerate(self.fixes) if not isinstance(f, PositionFix)]
         self._z = np.array([self.fixes[k].z for k in self.pos]).reshape(-1, 3)
-        self._w = np.array(
-            [np.linalg.inv(np.linalg.cholesky(self.fixes[k].R)) for k in self.pos]
-        ).reshape(-1, 3, 3)
+        R = np.array([self.fixes[k].R for k in self.pos]).reshape(-1, 3, 3)
+        self._w = np.linalg.inv(np.linalg.cholesky(R))  # stacked: one call for all
         self._ow = [np.linalg.inv(np.linalg.cholesky(self.fixes[k].R)) for k in self.other]
         self.size = 3 * self.pos.size + sum(self.fixes[k].size for k in self.other)
 
