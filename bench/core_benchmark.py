@@ -44,7 +44,11 @@ Every figure is a ratio to a baseline measured in the same run, ``--draws`` time
   per tick of the same workload (its real-time row): on the normal scheduler a loaded machine
   delays a loop by the work it does a tick, so the second is the floor of the first target.
   The late ticks are also counted per minute of the soak for all three (:func:`windows`), so
-  that a moment of load beside the run counts against all three in the same window.
+  that a moment of load beside the run counts against all three in the same window; beside
+  them the host's steal time per minute (:func:`steal_phase`): on a virtual machine the
+  hypervisor takes a vCPU away for up to ~0.1 s now and then (measured: FIFO loops pinned one
+  to each vCPU, each late by 9 ticks exactly when /proc/stat showed its vCPU stolen for 0.1 s),
+  and a loop that happens to sit on the other vCPU then is not late.
 
 ``--thread-priority`` > 0 puts the simulator's pacing thread (its ``thread_priority``) and the
 bare pacing loop on SCHED_FIFO at that priority (root or an rtprio limit); its run is recorded
@@ -282,12 +286,40 @@ def soak_phase(pid: int, balls: int, seconds: float) -> dict:
             'marks': marks}
 
 
+def steal_phase(seconds: float, every: float = 0.1) -> dict:
+    """
+    Measure the host's steal time per CPU over ``seconds`` (a hypervisor running other work).
+
+    Read from /proc/stat every ``every`` s; ``late_at`` lists each sample with any steal as
+    [time.monotonic() s, CPU, ms stolen since the last sample] (a thread on that CPU, whatever
+    its priority, stood still that long), ``total_ms`` per CPU.
+    """
+    tick_ms = 1000.0 / os.sysconf('SC_CLK_TCK')
+
+    def read() -> dict:
+        with open('/proc/stat') as stat:
+            return {int(f[0][3:]): int(f[8]) for f in (line.split() for line in stat)
+                    if f[0].startswith('cpu') and f[0][3:].isdigit()}
+
+    last, start, stolen = read(), read(), []
+    end = time.monotonic() + seconds
+    while time.monotonic() < end:
+        time.sleep(every)
+        now = read()
+        stolen += [[time.monotonic(), cpu, (n - last[cpu]) * tick_ms]
+                   for cpu, n in now.items() if n > last.get(cpu, n)]
+        last = now
+    return {'late_at': stolen, 'total_ms': {cpu: (n - start[cpu]) * tick_ms
+                                            for cpu, n in last.items()}}
+
+
 def windows(marks: list, loops: list[list], width: float = 60.0) -> list[tuple]:
     """
     Late ticks of the simulator and of each loop per window of about ``width`` s of the soak.
 
     ``marks``: the soak's [t, simulator's late ticks so far]; ``loops``: each loop's late_at
-    ([t, ticks behind]). The windows end at the marks (the simulator's count is read there).
+    ([t, ticks behind]; or any [t, ..., n] list, its last entry summed). The windows end at the
+    marks (the simulator's count is read there).
     """
     edges = [marks[0]]
     for mark in marks[1:]:
@@ -295,7 +327,7 @@ def windows(marks: list, loops: list[list], width: float = 60.0) -> list[tuple]:
             edges.append(mark)
     rows = []
     for (t0, n0), (t1, n1) in zip(edges, edges[1:]):
-        rows.append((n1 - n0, *(sum(n for t, n in late_at if t0 <= t < t1)
+        rows.append((n1 - n0, *(sum(e[-1] for e in late_at if t0 <= e[0] < t1)
                                 for late_at in loops)))
     return rows
 
@@ -462,7 +494,7 @@ def main(argv=None) -> int:
             floor_server(**options)
             return 0
         fn = {'lockstep': lock_step_phase, 'realtime': realtime_phase, 'soak': soak_phase,
-              'pace': pace_phase}[args.phase]
+              'pace': pace_phase, 'steal': steal_phase}[args.phase]
         print(json.dumps(fn(**options)))
         return 0
     if any(b < 1 for b in args.balls) or args.rt_balls < 1 or args.draws < 1 or args.hogs < 0:
@@ -507,9 +539,12 @@ def main(argv=None) -> int:
                         paces = [phase_process('pace', seconds=args.soak + 5.0,
                                                priority=args.thread_priority, work_ms=w)
                                  for w in (0.0, work_ms)]
+                        paces.append(phase_process('steal', seconds=args.soak + 5.0))
                         row['soak'] = run_phase('soak', pid=sim.pid, balls=SOAK_BALLS,
                                                 seconds=args.soak)
-                        row['pace'], row['pace work'] = (phase_result('pace', p) for p in paces)
+                        row['pace'], row['pace work'], row['steal'] = (
+                            phase_result(name, p) for name, p in zip(('pace', 'pace', 'steal'),
+                                                                     paces))
                         row['pace work']['work_ms'] = work_ms
                 finally:
                     stop(sim)
@@ -607,13 +642,26 @@ def report(draws: list[dict], args) -> None:
         print(f"| {soak['rss0']:.1f} | {soak['rss1']:.1f} | {soak['rss1'] - soak['rss0']:.2f} "
               f"| {soak['late']} | {soak['skipped']} | {draws[0]['pace']['late']} "
               f"| {work['late']} |")
-        rows = windows(soak['marks'], [draws[0]['pace']['late_at'], work['late_at']])
-        sim, bare, busy = zip(*rows)
+        steal = draws[0]['steal']
+        bursts = [[t, 1] for t, _cpu, ms in steal['late_at'] if ms >= 20.0]  # counted
+        rows = windows(soak['marks'], [draws[0]['pace']['late_at'], work['late_at'],
+                                       steal['late_at'], bursts])
+        sim, bare, busy, stolen, burst = zip(*rows)
         print(f'Late ticks per minute of the soak ({len(rows)} windows): simulator '
               f"{', '.join(map(str, sim))}; bare loop {', '.join(map(str, bare))}; busy loop "
               f"{', '.join(map(str, busy))}. Minutes with the simulator at or under the busy "
-              f'loop: {sum(a <= c for a, _b, c in rows)} of {len(rows)}; at or under the bare '
-              f'loop: {sum(a <= b for a, b, _c in rows)} of {len(rows)}')
+              f'loop: {sum(r[0] <= r[2] for r in rows)} of {len(rows)}; at or under the bare '
+              f'loop: {sum(r[0] <= r[1] for r in rows)} of {len(rows)}')
+        total = ', '.join(f'cpu{c} {ms / 1e3:.1f} s'
+                          for c, ms in sorted(steal['total_ms'].items()))
+        per_minute = ', '.join(f'{ms:.0f}' for ms in stolen)
+        print('Host steal time (/proc/stat; a vCPU the hypervisor gave to something else: any '
+              f'thread on it stood still, SCHED_FIFO or not): {total} over the soak; per minute '
+              f'[ms, all CPUs] {per_minute}; 0.1 s samples with '
+              '20 ms or more (2 periods of a 100 Hz loop) stolen from one CPU per minute '
+              f"{', '.join(map(str, burst))}; "
+              f'minutes with the simulator above the bare loop and none such: '
+              f'{sum(r[0] > r[1] and not r[4] for r in rows)} of {len(rows)}')
         if draws[0]['pace']['refused']:
             print(f"The bare loop's SCHED_FIFO was refused: {draws[0]['pace']['refused']}")
 
