@@ -46,9 +46,9 @@ Every figure is a ratio to a baseline measured in the same run, ``--draws`` time
   The late ticks are also counted per minute of the soak for all three (:func:`windows`), so
   that a moment of load beside the run counts against all three in the same window; beside
   them the host's steal time per minute (:func:`steal_phase`): on a virtual machine the
-  hypervisor takes a vCPU away for up to ~0.1 s now and then (measured: FIFO loops pinned one
-  to each vCPU, each late by 9 ticks exactly when /proc/stat showed its vCPU stolen for 0.1 s),
-  and a loop that happens to sit on the other vCPU then is not late.
+  hypervisor takes a vCPU away now and then (FIFO loops pinned one to each vCPU were late
+  exactly when /proc/stat showed their own vCPU stolen), and a loop that happens to sit on
+  the other vCPU then is not late.
 
 ``--thread-priority`` > 0 puts the simulator's pacing thread (its ``thread_priority``) and the
 bare pacing loop on SCHED_FIFO at that priority (root or an rtprio limit); its run is recorded
