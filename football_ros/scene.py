@@ -187,13 +187,14 @@ def _line(points, color: dict, kind: int = 0, thickness: float = 0.03) -> dict:
 def arc_from_x(direction: Sequence[float]) -> tuple[float, float, float, float]:
     """Return the unit quaternion (x, y, z, w) of the shortest turn of +x onto ``direction``."""
     dx, dy, dz = (float(c) for c in direction)
-    across = dy * dy + dz * dz
-    norm = math.sqrt(dx * dx + across)
-    w = norm + dx if dx >= 0.0 else across / (norm - dx)  # |d| + dx without cancellation
-    if w == 0.0:  # along -x: half a turn about z
+    across = math.hypot(dy, dz)  # hypot, not sums of squares: no underflow for tiny dy, dz
+    norm = math.hypot(dx, across)
+    # |d| + dx without cancellation: across^2 / (|d| - dx) when d points back
+    w = norm + dx if dx >= 0.0 else across * (across / (norm - dx))
+    if w == 0.0 and across == 0.0:  # along -x: half a turn about z
         return 0.0, 0.0, 1.0, 0.0
-    scale = 1.0 / math.sqrt(w * w + across)
-    return 0.0, -dz * scale, dy * scale, w * scale
+    length = math.hypot(w, across)  # divided by, not multiplied by its reciprocal (overflow)
+    return 0.0, -dz / length, dy / length, w / length
 
 
 def _arrow(origin, attitude, length: float, color: dict) -> dict:
