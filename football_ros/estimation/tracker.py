@@ -139,10 +139,6 @@ FOLLOW = (4, 8)
 at most this many Levenberg-Marquardt iterations for a fit whose last fit is at most this many
 fixes older (a node predicting every few fixes); the fit goes on from where it stopped at the next
 prediction."""
-START_ITERATIONS = 10
-"""An unstable kick's multi-start fit (:meth:`FlightTracker._spread_fits`): Levenberg-Marquardt
-iterations of each start at most (enough to fall into its basin; the basins kept are then
-polished)."""
 LADDER = (10, 2.0, 6)
 """An unstable kick's multi-start fit on a part of its fixes (:meth:`FlightTracker._spread_fits`):
 the fewest fixes of the first quarter, the reach (x ``basin_reach``) and the most basins kept
@@ -1000,9 +996,8 @@ class FlightTracker:
         """
         Return the fits of ``tr`` for ``hand`` from many ``starts``, lowest objective first.
 
-        Each start takes at most :data:`START_ITERATIONS` steps; the lowest is polished with
-        three times ``refine_iterations`` (a cold start takes more steps than a warm one), and
-        so are the other basins
+        Each start takes ``refine_iterations`` steps; the lowest is polished with three times
+        as many (cold starts take more steps than a warm one), and so are the other basins
         within ``basin_reach`` of its evidence (:func:`_basins`; 0: the lowest alone). With
         ``basin_reach`` > 0 the starts are also fitted to the first quarter of the fixes, then
         the basins kept (:data:`LADDER`) to the first half, and these join the starts: a
@@ -1011,16 +1006,14 @@ class FlightTracker:
         every fix does).
         """
         reach = self.settings.basin_reach
-        starts_it = min(START_ITERATIONS, self.settings.refine_iterations)
         climbed = starts
         for part in (4, 2) if reach > 0.0 and len(tr.fixes) >= 4 * LADDER[0] else ():
-            fits = self._fits_from(tr, hand, climbed, starts_it, count=len(tr.fixes) // part)
+            fits = self._fits_from(tr, hand, climbed, count=len(tr.fixes) // part)
             if not fits:
                 break
             top = min(fits, key=lambda f: f.cost)
             climbed = [f.x0 for f in [top] + _basins(top, fits, LADDER[1] * reach, LADDER[2])]
-        fits = self._fits_from(tr, hand, starts + (climbed if climbed is not starts else []),
-                               starts_it)
+        fits = self._fits_from(tr, hand, starts + (climbed if climbed is not starts else []))
         if not fits:
             return []
         top = fits[0]
