@@ -904,7 +904,7 @@ class FlightTracker:
         its own last fit at every refit until it falls out of reach or into another's basin.
         Such a kick's fits are followed at a bounded cost (:data:`FOLLOW`), and one that is not
         sound is kept (its spin, near 0, takes either sign; the multi-starts cover the other
-        starts): two cold fits a hand at every prediction cost 2-3x the rest of its refits.
+        starts) rather than refitted from two cold starts at nearly every prediction.
         """
         times = np.array(sorted(tr.fixes))
         if times[-1] != tr.t:
