@@ -301,7 +301,8 @@ def steal_phase(seconds: float, every: float = 0.1) -> dict:
             return {int(f[0][3:]): int(f[8]) for f in (line.split() for line in stat)
                     if f[0].startswith('cpu') and f[0][3:].isdigit()}
 
-    last, start, stolen = read(), read(), []
+    start = last = read()
+    stolen = []
     end = time.monotonic() + seconds
     while time.monotonic() < end:
         time.sleep(every)
@@ -536,15 +537,15 @@ def main(argv=None) -> int:
                         # workload (its real-time row just measured): the floor of any loop
                         # doing that much work a tick on this machine, no ROS, one thread.
                         work_ms = row['rt'][f'{SOAK_BALLS} tf']['cores'] * 10.0  # 100 Hz
-                        paces = [phase_process('pace', seconds=args.soak + 5.0,
+                        beside = {
+                            key: phase_process('pace', seconds=args.soak + 5.0,
                                                priority=args.thread_priority, work_ms=w)
-                                 for w in (0.0, work_ms)]
-                        paces.append(phase_process('steal', seconds=args.soak + 5.0))
+                            for key, w in (('pace', 0.0), ('pace work', work_ms))
+                        }
+                        beside['steal'] = phase_process('steal', seconds=args.soak + 5.0)
                         row['soak'] = run_phase('soak', pid=sim.pid, balls=SOAK_BALLS,
                                                 seconds=args.soak)
-                        row['pace'], row['pace work'], row['steal'] = (
-                            phase_result(name, p) for name, p in zip(('pace', 'pace', 'steal'),
-                                                                     paces))
+                        row.update({key: phase_result(key, p) for key, p in beside.items()})
                         row['pace work']['work_ms'] = work_ms
                 finally:
                     stop(sim)

@@ -180,9 +180,6 @@ def random_releases(rng: np.random.Generator, n: int, case: Case) -> list[Releas
 TOLD: dict = {}
 """The tracker's settings of this run beyond the case's (``--gust-rate``, ``--gust-prior``,
 ``--unstable-fits``; absent: the tracker's defaults)."""
-EVERY = 0
-"""The tracker also predicts after every EVERY-th fix of the flight, as the node does
-(``--every``; 0: only at the leads): its fits are then followed from prediction to prediction."""
 
 
 def tracker_settings(case: Case, wind_sigma: float = 0.0) -> TrackerSettings:
@@ -397,10 +394,13 @@ def run_flight(
     oracle: bool = True,
     clutter: float = 0.0,
     two_balls: bool = False,
+    every: int = 0,
 ):
     """
     Replay one flight's fixes into the tracker (and the oracle) and the baselines.
 
+    ``every`` > 0: the tracker also predicts after every ``every``-th observation delivered, as
+    the node does (its fits then followed from prediction to prediction); 0: only at the leads.
     ``two_balls``: the camera also sees :data:`SECOND_BALL` (released 0.3 s later, its own
     noise) and the tracker is a :class:`MultiTracker`, judged on the track that took most of
     this ball's fixes (the baselines are handed this ball's fixes alone; no oracle).
@@ -443,7 +443,7 @@ def run_flight(
             i += 1
             cov = told.get(id(o))
             got = tracker.update(o.stamp, o.position, covariance=cov)
-            if EVERY and i % EVERY == 0:
+            if every and i % every == 0:
                 tracker.predict_landing()
             if alone is not None:
                 alone.update(o.stamp, o.position, covariance=cov)
@@ -740,8 +740,6 @@ def main() -> None:
     args = ap.parse_args()
     if not 0 <= args.every <= 1000:
         ap.error(f'--every {args.every}: 0 (only at the leads) to 1000')
-    global EVERY
-    EVERY = args.every
     TOLD.update({name: value for name, value in (('gust_rate', args.gust_rate),
                                                  ('gust_prior', args.gust_prior),
                                                  ('unstable_fits', args.unstable_fits or None))
@@ -763,7 +761,7 @@ def main() -> None:
         f'gust_prior {tracker_settings(CASES["defaults"]).gust_prior:g}, '
         f'clutter {args.clutter:g} Hz' + (', a second ball' if args.two_balls else '')
         + (', unstable_fits on' if args.unstable_fits else '')
-        + (f', a prediction after every {EVERY}. fix' if EVERY else '')
+        + (f', a prediction after every {args.every}. fix' if args.every else '')
         + '. NEES: 2 and 0.95 in the 95 % ellipse when honest.'
     )
     summary = []
@@ -775,7 +773,7 @@ def main() -> None:
             for k, r in enumerate(random_releases(rng, args.flights, case)):
                 res, t_land = run_flight(
                     r, seed * 100000 + ci * 1000 + k, case, args.wind_sigma,
-                    clutter=args.clutter, two_balls=args.two_balls,
+                    clutter=args.clutter, two_balls=args.two_balls, every=args.every,
                 )
                 per.append(res)
                 t_flights.append(t_land)
