@@ -352,6 +352,7 @@ def floor_server(executor: str = 'single_threaded') -> None:
     from rclpy.executors import ExternalShutdownException
 
     from football_ros.nodes.runner import make_executor
+    from football_ros.nodes.simulator import PARAMETERS
     from simulation_interfaces.action import SimulateSteps
     from simulation_interfaces.srv import GetSimulationState, ResetSimulation, SetSimulationState
     from simulation_interfaces.srv import StepSimulation
@@ -377,9 +378,12 @@ def floor_server(executor: str = 'single_threaded') -> None:
         out.result.result = Result.RESULT_OK
         return out
 
+    # The simulator's result timeout (goal_result_timeout): with rclpy's 900 s a goal costs
+    # more the more goals came before it (every status message lists them).
+    timeout = next(p.default for p in PARAMETERS if p.name == 'goal_result_timeout')
     ActionServer(node, SimulateSteps, '~/simulate_steps', execute_callback=execute,
                  goal_service_qos_profile=depth, result_service_qos_profile=depth,
-                 cancel_service_qos_profile=depth)
+                 cancel_service_qos_profile=depth, result_timeout=timeout)
     spinner = make_executor(executor)
     spinner.add_node(node)
     print('ready', flush=True)

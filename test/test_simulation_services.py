@@ -179,13 +179,24 @@ def test_simulate_steps_cancel_stops_at_a_step_boundary(start_node, collector):
     np.testing.assert_allclose(
         [got.position.x, got.position.y, got.position.z], want, rtol=0, atol=1e-9
     )
-    # The next goal runs to the end.
-    sent = action.send_goal_async(SimulateSteps.Goal(steps=100))
+    # The next goal runs to the end; its feedback (one per chunk but the last, if it took more
+    # than one) never repeats what the result says.
+    feedback.clear()
+    sent = action.send_goal_async(
+        SimulateSteps.Goal(steps=100), feedback_callback=lambda f: feedback.append(f.feedback)
+    )
     collector.wait_for(sent.done, 20.0, 'goal accepted')
     done = sent.result().get_result_async()
     collector.wait_for(done.done, 20.0, 'goal result')
     assert done.result().status == GoalStatus.STATUS_SUCCEEDED
     assert done.result().result.result.result == OK
+    assert all(0 < f.completed_steps < 100 == f.completed_steps + f.remaining_steps
+               for f in feedback)
+    got = srv(collector, 'get_entity_state', si_srv.GetEntityState, entity='b7').state.pose
+    want = Flight.from_release(release).sample((ran + 100) * 0.001).position
+    np.testing.assert_allclose(
+        [got.position.x, got.position.y, got.position.z], want, rtol=0, atol=1e-9
+    )
 
 
 @pytest.mark.parametrize('frame_id', ['field', 'f', 'abc', 'abcdefgh', 'x' * 13])

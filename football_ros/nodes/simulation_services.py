@@ -207,6 +207,7 @@ class SimulationServices:
                 goal_service_qos_profile=depth,
                 result_service_qos_profile=depth,
                 cancel_service_qos_profile=depth,
+                result_timeout=node.goal_result_timeout,
             )
             for name in (qos.SIMULATE_STEPS,)
             for prefix in prefixes
@@ -683,8 +684,10 @@ class SimulationServices:
         Step a goal's chunks (stepping thread; one chunk: the executor's); return steps done, why.
 
         A chunk is as many steps as fit CHUNK_SECONDS at the last chunk's cost per ball-step;
-        feedback after each (rclpy's goal handle publishes from any thread) unless it was the
-        last; the states are published after each chunk.
+        feedback after each chunk but the goal's last (rclpy's goal handle publishes from any
+        thread), so a run stopped early has told its steps done (a feedback of 0 if it stopped
+        before the first chunk) and a finished goal has no feedback its result repeats (a goal
+        of one chunk: none). The states are published after each chunk.
         """
         sim = self._sim
         done, stop = 0, None
@@ -705,9 +708,8 @@ class SimulationServices:
                 goal_handle.publish_feedback(
                     SimulateSteps.Feedback(completed_steps=done, remaining_steps=steps - done)
                 )
-        goal_handle.publish_feedback(
-            SimulateSteps.Feedback(completed_steps=done, remaining_steps=steps - done)
-        )
+        if stop is not None and not done:
+            goal_handle.publish_feedback(SimulateSteps.Feedback(remaining_steps=steps))
         return done, stop
 
     def _in_worker(self, fn, *args) -> Future:

@@ -228,6 +228,16 @@ PARAMETERS = (
         read_only=True,
     ),
     ParamSpec(
+        'goal_result_timeout',
+        5.0,
+        "How long a finished SimulateSteps goal's result is kept for its client [s] (rclpy's "
+        'default: 900). Every goal status message lists every goal kept, so the cost of a goal '
+        'grows with the goals of this window: keep it short at high goal rates; a client asks '
+        'for the result when its goal is accepted (as ros2 action send_goal does)',
+        (0.5, 900.0),
+        read_only=True,
+    ),
+    ParamSpec(
         'camera_rig',
         '',
         "Camera rig file (YAML, config/rig_*.yaml): each camera's CameraInfo and ball "
@@ -705,8 +715,8 @@ class SimulatorNode(QuietNode):
         """
         Publish a frame (the simulation's lock held).
 
-        The default ball's topics and markers, the spawned balls' pose and odom (only topics
-        somebody subscribes to), one /tf for all.
+        The default ball's topics and markers, the spawned balls' pose and odom, one /tf for
+        all: each only while somebody subscribes to it (a count: a local rmw query, ~1 us).
         """
         rows = self.sim.world.rows
         if frame.default is not None:
@@ -718,7 +728,8 @@ class SimulatorNode(QuietNode):
         if frame.shown.size:
             self._publish_entities(frame, rows, stamp)
         ns = stamp.sec * 1_000_000_000 + stamp.nanosec
-        if self._tf_pub is None or not self.publish_tf or not frame.shown.size:
+        if (self._tf_pub is None or not self.publish_tf or not frame.shown.size
+                or not self._tf_pub.get_subscription_count()):
             return
         clock, last_ns = self._tf_last
         if clock == self.publish_clock and ns <= last_ns:
