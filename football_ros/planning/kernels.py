@@ -38,10 +38,10 @@ from ..physics.batch import hermite
 APPROACH_POINTS = np.linspace(0.0, 1.0, 201)
 """Fractions of a step at which :func:`closest_approach` evaluates the interpolant."""
 
-# The linear theory's plain-float functions, compiled as they stand (one source for each).
-_exponents = njit(cache=True, error_model='numpy')(lt.local_exponents_scalar)
-_drift_points = njit(cache=True, error_model='numpy')(lt.drift_points)
-_drift_of = njit(cache=True, error_model='numpy')(lt.drift_of)
+# The linear theory's plain-float functions, compiled there (one source and one cache each).
+_exponents = lt.exponents_compiled
+_drift_points = lt.drift_points_compiled
+_drift_of = lt.drift_of_compiled
 
 
 @njit(cache=True, nogil=True)
