@@ -522,7 +522,6 @@ def quasi_steady_advance(consts: tuple, air, h1: float, t: float, memory: np.nda
     return common * (memory[7] * cmath.exp(memory[5]) + memory[8] * cmath.exp(memory[6])) + x_p
 
 
-
 class QuasiSteadyTracker:
     """
     The quasi-steady linear theory sample by sample (real time).
