@@ -197,6 +197,11 @@ def lock_step_phase(pid: int, balls: list[int], floor_pid: int) -> dict:
             f'action {n}': (sim_cpu, idle, throw, functools.partial(bench.simulate_steps, STEPS)),
             f'step {n} one': (sim_cpu, idle, throw, functools.partial(bench.step, 1)),
             f'action {n} one': (sim_cpu, idle, throw, functools.partial(bench.simulate_steps, 1)),
+            # As many goals for the floor as for the simulator: a goal's cost grows with the
+            # goals whose results a server keeps (goal_result_timeout), so the floor must keep
+            # as many.
+            f'floor action {n} one': (floor_cpu, floor_idle, nothing,
+                                      functools.partial(floor.simulate_steps, 1)),
         }))
         bench.reset()
     # The default ball (a flight order, as the release node sends) and one spawned ball,

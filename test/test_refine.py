@@ -26,7 +26,7 @@ from football_ros.estimation.motion import (
     X_KL,
     X_S,
 )
-from football_ros.estimation.refine import _cross, Prior, refine
+from football_ros.estimation.refine import _apply, _prior_terms, Prior, refine
 from football_ros.physics import Flight, Release
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -68,15 +68,44 @@ def test_fly_through_matches_the_filters_propagation_and_flies_back_to_its_start
     assert np.all(np.isnan(bad)) and np.all(np.isnan(out))
 
 
-def test_the_fits_cross_product_is_numpys_bit_for_bit():
-    """The fit's own cross product (one vector, rows, broadcast) equals np.cross exactly."""
+def test_the_fits_compiled_terms_match_their_numpy_statement():
+    """_apply and _prior_terms (numba, per row) against the same definitions in numpy."""
     rng = np.random.default_rng(5)
-    for a, b in (
-        (rng.normal(size=3), rng.normal(size=3)),
-        (rng.normal(size=(15, 3)) * 1e3, rng.normal(size=(15, 3)) * 1e-3),
-        (rng.normal(size=(4, 3)), rng.normal(size=3)),
-    ):
-        assert np.array_equal(_cross(a, b), np.cross(a, b))
+    for n_x, n_delta in ((14, 13), (16, 15)):
+        x = rng.normal(size=n_x)
+        x[X_S:X_S + 3] /= np.linalg.norm(x[X_S:X_S + 3])
+        x[3:6] *= 20.0
+        deltas = rng.normal(size=(16, n_delta)) * 0.05
+        moved = _apply(x, deltas)
+        s = x[X_S:X_S + 3]
+        a = np.array([0.0, 0.0, 1.0]) if abs(s[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
+        b1 = np.cross(a, s) / np.linalg.norm(np.cross(a, s))
+        b2 = np.cross(s, b1)
+        axis = s + deltas[:, 6:7] * b1 + deltas[:, 7:8] * b2
+        want = np.repeat(x[None, :], 16, axis=0)
+        want[:, [0, 1, 2, 3, 4, 5, 9, 10, 11, 12, 13] + ([14, 15] if n_x == 16 else [])] += (
+            deltas[:, [0, 1, 2, 3, 4, 5, 8, 9, 10, 11, 12] + ([13, 14] if n_x == 16 else [])]
+        )
+        want[:, X_S:X_S + 3] = axis / np.linalg.norm(axis, axis=1)[:, None]
+        np.testing.assert_allclose(moved, want, rtol=0, atol=1e-14)
+
+        prior = ((12, 1.0, 0.2), (13, 0.9, 0.3))
+        spin = np.array([0.3, 50.0, 20.0, 5.0])
+        terms = _prior_terms(moved, spin, np.array([12, 13]), np.array([[1.0, 0.2], [0.9, 0.3]]))
+        v, s, h = moved[:, 3:6], moved[:, X_S:X_S + 3], moved[:, X_H:X_H + 3]
+        vhat = v / np.linalg.norm(v, axis=1)[:, None]
+        e2 = np.array([0.0, 0.0, 1.0]) - vhat[:, 2:3] * vhat
+        e2 /= np.linalg.norm(e2, axis=1)[:, None]
+        e3 = np.cross(vhat, e2)
+        h1 = np.sum(h * s, axis=1)
+        perp = h - h1[:, None] * s
+        a = np.array([0.0, 0.0, 1.0]) if abs(s[0, 2]) < 0.9 else np.array([1.0, 0.0, 0.0])
+        c1 = np.cross(a, s[0]) / np.linalg.norm(np.cross(a, s[0]))
+        c2 = np.cross(s[0], c1)
+        want = np.stack([np.sum(s * e2, axis=1) / 0.3, np.sum(s * e3, axis=1) / 0.3,
+                         (h1 - 50.0) / 20.0, perp @ c1 / 5.0, perp @ c2 / 5.0]
+                        + [(moved[:, i] - m) / sd for i, m, sd in prior], axis=1)
+        np.testing.assert_allclose(terms, want, rtol=0, atol=1e-12)
 
 
 def test_the_fit_recovers_the_flown_state_from_a_perturbed_start():

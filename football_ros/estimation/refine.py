@@ -41,6 +41,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 import math
 
+from numba import njit
 import numpy as np
 
 from .measurement import Measurement, position_fix, Whitener
@@ -98,77 +99,97 @@ class Refined:
     dof: int = 0
 
 
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """
-    Return a x b over the last axis: np.cross's own products, bit for bit.
-
-    Without its overhead (tens of microseconds a call), which was a quarter of a tumbling
-    kick's multi-start fit (a call per residual row block, 3 per objective).
-    """
-    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
-    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
-    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    out[..., 0] = a1 * b2 - a2 * b1
-    out[..., 1] = a2 * b0 - a0 * b2
-    out[..., 2] = a0 * b1 - a1 * b0
-    return out
+@njit(cache=True, error_model='numpy')
+def _basis(ux: float, uy: float, uz: float) -> tuple:
+    """Two unit vectors completing the unit u, as 3-tuples (continuous away from u = +/- z)."""
+    ax, ay, az = (0.0, 0.0, 1.0) if abs(uz) < 0.9 else (1.0, 0.0, 0.0)
+    b1x, b1y, b1z = ay * uz - az * uy, az * ux - ax * uz, ax * uy - ay * ux
+    norm = math.sqrt(b1x * b1x + b1y * b1y + b1z * b1z)
+    b1x, b1y, b1z = b1x / norm, b1y / norm, b1z / norm
+    return (b1x, b1y, b1z), (uy * b1z - uz * b1y, uz * b1x - ux * b1z, ux * b1y - uy * b1x)
 
 
-def _basis(u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Two unit vectors completing the unit ``u`` (continuous away from u = +/- z)."""
-    a = np.array([0.0, 0.0, 1.0]) if abs(u[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
-    b1 = _cross(a, u)
-    b1 /= np.linalg.norm(b1)
-    return b1, _cross(u, b1)
-
-
+@njit(cache=True, error_model='numpy')
 def _apply(x: np.ndarray, deltas: np.ndarray) -> np.ndarray:
-    """States (m, n_x): ``x`` moved by each row of ``deltas`` (m, n_delta)."""
-    n = deltas.shape[0]
-    out = np.repeat(x[None, :], n, axis=0)
-    out[:, X_R:X_R + 3] += deltas[:, 0:3]
-    out[:, X_V:X_V + 3] += deltas[:, 3:6]
-    b1, b2 = _basis(x[X_S:X_S + 3])
-    s = x[X_S:X_S + 3] + deltas[:, 6:7] * b1 + deltas[:, 7:8] * b2
-    out[:, X_S:X_S + 3] = s / np.linalg.norm(s, axis=1)[:, None]
-    out[:, X_H:X_H + 3] += deltas[:, 8:11]
-    out[:, X_KD] += deltas[:, 11]
-    out[:, X_KL] += deltas[:, 12]
-    if x.size >= N_X_WIND:
-        out[:, X_W:X_W + 2] += deltas[:, 13:15]
+    """
+    States (m, n_x): ``x`` moved by each row of ``deltas`` (m, n_delta).
+
+    Position, velocity, h, the drag and lift scales (and the wind) add; the axis turns by the
+    two angles about a basis completing it, renormalised.
+    """
+    m = deltas.shape[0]
+    out = np.empty((m, x.size))
+    b1, b2 = _basis(x[X_S], x[X_S + 1], x[X_S + 2])
+    for i in range(m):
+        out[i] = x
+        for j in range(3):
+            out[i, X_R + j] += deltas[i, j]
+            out[i, X_V + j] += deltas[i, 3 + j]
+            out[i, X_H + j] += deltas[i, 8 + j]
+        sx = x[X_S] + deltas[i, 6] * b1[0] + deltas[i, 7] * b2[0]
+        sy = x[X_S + 1] + deltas[i, 6] * b1[1] + deltas[i, 7] * b2[1]
+        sz = x[X_S + 2] + deltas[i, 6] * b1[2] + deltas[i, 7] * b2[2]
+        norm = math.sqrt(sx * sx + sy * sy + sz * sz)
+        out[i, X_S], out[i, X_S + 1], out[i, X_S + 2] = sx / norm, sy / norm, sz / norm
+        out[i, X_KD] += deltas[i, 11]
+        out[i, X_KL] += deltas[i, 12]
+        if x.size >= N_X_WIND:
+            out[i, X_W] += deltas[i, 13]
+            out[i, X_W + 1] += deltas[i, 14]
     return out
 
 
-def _prior_terms(states: np.ndarray, prior: Prior) -> np.ndarray:
-    """Whitened prior residuals (m, 5 + len(prior.states)) of states at the first fix."""
-    v = states[:, X_V:X_V + 3]
-    s = states[:, X_S:X_S + 3]
-    h = states[:, X_H:X_H + 3]
-    vhat = v / np.linalg.norm(v, axis=1)[:, None]
-    up = np.array([0.0, 0.0, 1.0])
-    e2 = up - vhat[:, 2:3] * vhat
-    e2 /= np.linalg.norm(e2, axis=1)[:, None]
-    e3 = _cross(vhat, e2)
-    h1 = np.einsum('ij,ij->i', h, s)
-    perp = h - h1[:, None] * s
-    b1, b2 = _basis(s[0])  # one transverse basis for all rows (they are near s[0])
-    cols = [
-        np.einsum('ij,ij->i', s, e2) / prior.axis_sigma,
-        np.einsum('ij,ij->i', s, e3) / prior.axis_sigma,
-        (h1 - prior.h1[0]) / prior.h1[1],
-        perp @ b1 / prior.rate_sigma,
-        perp @ b2 / prior.rate_sigma,
-    ]
-    cols += [(states[:, i] - mean) / sigma for i, mean, sigma in prior.states]
-    return np.stack(cols, axis=1)
+@njit(cache=True, error_model='numpy')
+def _prior_terms(states: np.ndarray, spin: np.ndarray, index: np.ndarray,
+                 entries: np.ndarray) -> np.ndarray:
+    """
+    Whitened prior residuals (m, 5 + len(index)) of states (m, n_x) at the first fix.
+
+    ``spin``: the axis sigma, h1's mean and sigma and the transverse rate sigma
+    (:class:`Prior`); ``index`` the state entries with a prior, ``entries`` (len(index), 2)
+    their means and sigmas. Columns: the axis's two angles to the velocity (about the velocity
+    frame: horizontal-up, then across), h1 = h.s, the two transverse components of h in one
+    basis completing the first row's axis, then each entry.
+    """
+    m = states.shape[0]
+    out = np.empty((m, 5 + index.size))
+    axis_sigma, h1_mean, h1_sigma, rate_sigma = spin[0], spin[1], spin[2], spin[3]
+    b1, b2 = _basis(states[0, X_S], states[0, X_S + 1], states[0, X_S + 2])
+    for i in range(m):
+        vx, vy, vz = states[i, X_V], states[i, X_V + 1], states[i, X_V + 2]
+        sx, sy, sz = states[i, X_S], states[i, X_S + 1], states[i, X_S + 2]
+        hx, hy, hz = states[i, X_H], states[i, X_H + 1], states[i, X_H + 2]
+        speed = math.sqrt(vx * vx + vy * vy + vz * vz)
+        vx, vy, vz = vx / speed, vy / speed, vz / speed
+        e2x, e2y, e2z = -vz * vx, -vz * vy, 1.0 - vz * vz
+        norm = math.sqrt(e2x * e2x + e2y * e2y + e2z * e2z)
+        e2x, e2y, e2z = e2x / norm, e2y / norm, e2z / norm
+        e3x, e3y, e3z = vy * e2z - vz * e2y, vz * e2x - vx * e2z, vx * e2y - vy * e2x
+        h1 = hx * sx + hy * sy + hz * sz
+        px, py, pz = hx - h1 * sx, hy - h1 * sy, hz - h1 * sz
+        out[i, 0] = (sx * e2x + sy * e2y + sz * e2z) / axis_sigma
+        out[i, 1] = (sx * e3x + sy * e3y + sz * e3z) / axis_sigma
+        out[i, 2] = (h1 - h1_mean) / h1_sigma
+        out[i, 3] = (px * b1[0] + py * b1[1] + pz * b1[2]) / rate_sigma
+        out[i, 4] = (px * b2[0] + py * b2[1] + pz * b2[2]) / rate_sigma
+        for j in range(index.size):
+            out[i, 5 + j] = (states[i, index[j]] - entries[j, 0]) / entries[j, 1]
+    return out
 
 
-def _residuals(states, rel, whiten, params, step, prior):
+def warm_up(x: np.ndarray) -> None:
+    """Load (or compile) the fit's own kernels for filter states like ``x`` (n_x,)."""
+    n_delta = 15 if x.size >= N_X_WIND else 13
+    points = _apply(np.ascontiguousarray(x, dtype=float), np.zeros((2, n_delta)))
+    _prior_terms(points, np.ones(4), np.array([X_KD], dtype=np.int64), np.array([[1.0, 0.1]]))
+
+
+def _residuals(states, rel, whiten, params, step, prior_arrays):
     """Whitened residuals (m, n_fix + n_prior) of states at the first fix (end: at the last)."""
-    first = states.copy()
+    prior = _prior_terms(states, *prior_arrays)  # before the flights move the states on
     out = np.empty((states.shape[0], rel.size, 3))
     fly_through(states, rel, params, step, out)
-    return np.concatenate([whiten(out), _prior_terms(first, prior)], axis=1)
+    return np.concatenate([whiten(out), prior], axis=1)
 
 
 def refine(
@@ -201,6 +222,11 @@ def refine(
             return None
         zs = [position_fix(z, noise=noise) for z in zs]
     whiten = Whitener(zs)
+    prior_arrays = (
+        np.array([prior.axis_sigma, prior.h1[0], prior.h1[1], prior.rate_sigma]),
+        np.array([i for i, _, _ in prior.states], dtype=np.int64),
+        np.array([(mean, sigma) for _, mean, sigma in prior.states], dtype=float).reshape(-1, 2),
+    )
     rel = times - times[0]
     n = 15 if x0.size >= N_X_WIND else 13
     steps = FD_STEP[:n]
@@ -209,7 +235,7 @@ def refine(
     def linearise(x: np.ndarray):
         """(residuals at x, their Jacobian (m, n), d x(times[-1]) / d delta (n, n_x)) or None."""
         pts = _apply(x, fd)
-        res = _residuals(pts, rel, whiten, params, step, prior)  # pts end at the last fix
+        res = _residuals(pts, rel, whiten, params, step, prior_arrays)  # pts: at the last
         if not (np.all(np.isfinite(res)) and np.all(np.isfinite(pts))):
             return None
         return res[0], ((res[1:] - res[0]) / steps[:, None]).T, (pts[1:] - pts[0]) / steps[:, None]
@@ -230,7 +256,7 @@ def refine(
             except np.linalg.LinAlgError:
                 return None
             trial = _apply(x, d[None, :])
-            rt = _residuals(trial.copy(), rel, whiten, params, step, prior)[0]
+            rt = _residuals(trial.copy(), rel, whiten, params, step, prior_arrays)[0]
             new = float(rt @ rt) if np.all(np.isfinite(rt)) else math.inf
             if new < cost:
                 break

@@ -1712,10 +1712,11 @@ def warm_up(settings: TrackerSettings | None = None):
     import time
 
     from ..physics.precompile import CompileStep
-    from . import motion
+    from . import motion, refine as batch_fit
 
     def counts():
-        stats = [d.stats for d in vars(motion).values() if hasattr(d, 'stats')]
+        stats = [d.stats for module in (motion, batch_fit) for d in vars(module).values()
+                 if hasattr(d, 'stats')]
         return (sum(sum(st.cache_hits.values()) for st in stats),
                 sum(sum(st.cache_misses.values()) for st in stats))
 
@@ -1728,7 +1729,8 @@ def warm_up(settings: TrackerSettings | None = None):
     scratch.predict_planes(1.2, vertical_plane(10.0, 0.0, 0.0))
     scratch.predict_path(0.05)
     _, x, _ = scratch.estimate
-    fly_state(x, [-0.01], scratch.params, s.step)  # the batch fit's kernel
+    fly_state(x, [-0.01], scratch.params, s.step)  # the batch fit's kernels
+    batch_fit.warm_up(x)
     scratch.update(0.5 / 60.0, (0.2, 0.0, 1.9))  # a late fix: the roll-back path
     new_hits, new_misses = counts()
     return CompileStep('tracker kernels (filter, predictions, batch fit)',

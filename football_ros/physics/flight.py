@@ -34,9 +34,10 @@ import numpy as np
 
 from . import dynamics as dyn
 from .aero import AeroModel
-from .linear_theory import LinearModes, quasi_steady_components, QuasiSteadyTracker
+from .linear_theory import LinearModes, quasi_steady_components
 from .modes import flown_model, flown_modes
 from .presets import BallPreset
+from .quasi_steady import QuasiSteadyTracker
 from .release import check_choice, InitialState, MODELS, MOMENT_CURVES, Release
 from .step_stability import check_flyable
 

@@ -38,7 +38,6 @@ import cmath
 from dataclasses import dataclass
 import math
 
-from numba import njit
 import numpy as np
 
 from . import frames
@@ -434,7 +433,9 @@ def drift_of(b, d_c, x_p, x_p_ahead, x_p_behind) -> tuple:
     return x_p + b * x_p_dot / c, x_p_dot
 
 
-def _start(modes: LinearModes, sigma_1, sigma_2, x_p0, x_p_dot0=0.0) -> tuple[complex, complex]:
+def mode_amplitudes(
+    modes: LinearModes, sigma_1, sigma_2, x_p0, x_p_dot0=0.0
+) -> tuple[complex, complex]:
     """
     Return mode amplitudes for the release state of ``modes`` (x0, x0').
 
@@ -476,7 +477,7 @@ def quasi_steady_components(
         d_c,
         x_p,
     )
-    k1, k2 = _start(modes, sig1[0], sig2[0], x_p[0], x_p_dot[0])
+    k1, k2 = mode_amplitudes(modes, sig1[0], sig2[0], x_p[0], x_p_dot[0])
     dt = np.diff(times)
 
     def integral(f, df=None):
@@ -488,74 +489,3 @@ def quasi_steady_components(
     with np.errstate(over='ignore', invalid='ignore'):
         modes_part = k1 * np.exp(integral(sig1) + drift) + k2 * np.exp(integral(sig2) - drift)
         return common * modes_part + x_p
-
-
-exponents_compiled = njit(cache=True, error_model='numpy')(local_exponents_scalar)
-drift_points_compiled = njit(cache=True, error_model='numpy')(drift_points)
-drift_of_compiled = njit(cache=True, error_model='numpy')(drift_of)
-"""The scalar theory compiled (numba), for kernels: the quasi-steady frame, the planner's."""
-
-
-@njit(cache=True, error_model='numpy')
-def quasi_steady_advance(consts: tuple, air, h1: float, t: float, memory: np.ndarray) -> complex:
-    """
-    Return x = s2 + i s3 of the quasi-steady theory at ``t`` [s], its integrals moved on to it.
-
-    ``consts`` from :func:`scalar_constants`, ``air`` the air velocity [m/s] (3, ``field``),
-    ``h1`` [rad/s]; ``memory`` (complex, 10; updated in place): the last sample's t, sigma_1,
-    sigma_2, B and D_c, the two integrals (sigma +- the WKB drift, trapezoid rule), the mode
-    amplitudes k1, k2 and D_c at release. A ``t`` not after the last leaves the integrals.
-    Compiled (a frame's theory: a few us against ~35 in Python); not finite once an unstable
-    ball's theory overflows.
-    """
-    sig1, sig2, b, d_c, x_p = exponents_compiled(consts, air, h1)
-    air_a, h1_a, air_b, h1_b = drift_points_compiled(consts, air, h1)
-    x_p = drift_of_compiled(b, d_c, x_p, exponents_compiled(consts, air_a, h1_a)[4],
-                            exponents_compiled(consts, air_b, h1_b)[4])[0]
-    if t > memory[0].real:
-        dt = t - memory[0].real
-        drift = (b - memory[3]) * 0.5 * (1.0 / (2j * d_c) + 1.0 / (2j * memory[4]))
-        memory[5] += 0.5 * dt * (sig1 + memory[1]) + drift
-        memory[6] += 0.5 * dt * (sig2 + memory[2]) - drift
-        memory[0], memory[1], memory[2], memory[3], memory[4] = t, sig1, sig2, b, d_c
-    common = cmath.sqrt(memory[9] / d_c)
-    return common * (memory[7] * cmath.exp(memory[5]) + memory[8] * cmath.exp(memory[6])) + x_p
-
-
-class QuasiSteadyTracker:
-    """
-    The quasi-steady linear theory sample by sample (real time).
-
-    Call :meth:`update` with non-decreasing times; the integrals advance by the trapezoid rule
-    between calls, from the release (t = 0) on (:func:`quasi_steady_advance`).
-    """
-
-    def __init__(
-        self, modes: LinearModes, params: np.ndarray, release_air_velocity: np.ndarray
-    ) -> None:
-        self.modes, self.params = modes, params
-        self._consts = scalar_constants(params)
-        sig1, sig2, b, d_c, x_p = local_exponents_scalar(
-            self._consts, release_air_velocity, modes.h1
-        )
-        x_p, x_p_dot = self._equilibrium(release_air_velocity, modes.h1, b, d_c, x_p)
-        k1, k2 = _start(modes, sig1, sig2, x_p, x_p_dot)
-        # t, sigma_1, sigma_2, B, D_c (the last sample), the two integrals, k1, k2, D_c(0)
-        self._memory = np.array([0.0, sig1, sig2, b, d_c, 0.0, 0.0, k1, k2, d_c], dtype=complex)
-
-    def update(self, t: float, air_velocity: np.ndarray, h1: float) -> np.ndarray:
-        """
-        Return alpha, beta [rad] of the quasi-steady theory at ``t`` [s] since release.
-
-        NaN once an unstable ball's theory overflows.
-        """
-        x = quasi_steady_advance(self._consts, air_velocity, float(h1), float(t),
-                                 self._memory)
-        if not (math.isfinite(x.real) and math.isfinite(x.imag)):
-            return np.full(2, np.nan)
-        s2, s3 = min(1.0, max(-1.0, x.real)), min(1.0, max(-1.0, x.imag))
-        s1 = math.sqrt(max(0.0, 1.0 - s2 * s2 - s3 * s3))
-        return np.array([math.atan2(s2, s1), math.asin(s3)])
-
-    def _equilibrium(self, air, h1, b, d_c, x_p):
-        return drifting_equilibrium_scalar(self._consts, air, float(h1), b, d_c, x_p)

@@ -32,16 +32,16 @@ from numba import njit
 import numpy as np
 
 from ..physics import dynamics as dyn
-from ..physics import linear_theory as lt
+from ..physics import quasi_steady as qs
 from ..physics.batch import hermite
 
 APPROACH_POINTS = np.linspace(0.0, 1.0, 201)
 """Fractions of a step at which :func:`closest_approach` evaluates the interpolant."""
 
 # The linear theory's plain-float functions, compiled there (one source and one cache each).
-_exponents = lt.exponents_compiled
-_drift_points = lt.drift_points_compiled
-_drift_of = lt.drift_of_compiled
+_exponents = qs.exponents_compiled
+_drift_points = qs.drift_points_compiled
+_drift_of = qs.drift_of_compiled
 
 
 @njit(cache=True, nogil=True)
