@@ -383,8 +383,8 @@ def floor_server(executor: str = 'single_threaded') -> None:
         out.result.result = Result.RESULT_OK
         return out
 
-    # The simulator's result timeout (goal_result_timeout): with rclpy's 900 s a goal costs
-    # more the more goals came before it (every status message lists them).
+    # The simulator's result timeout (goal_result_timeout): a goal costs more the more goals
+    # a server keeps (every status message lists them), so both keep them as long.
     timeout = next(p.default for p in PARAMETERS if p.name == 'goal_result_timeout')
     ActionServer(node, SimulateSteps, '~/simulate_steps', execute_callback=execute,
                  goal_service_qos_profile=depth, result_service_qos_profile=depth,

@@ -229,12 +229,13 @@ PARAMETERS = (
     ),
     ParamSpec(
         'goal_result_timeout',
-        5.0,
+        900.0,
         "How long a finished SimulateSteps goal's result is kept for its client [s] (rclpy's "
-        'default: 900). Every goal status message lists every goal kept, so the cost of a goal '
-        'grows with the goals of this window: keep it short at high goal rates; a client asks '
-        'for the result when its goal is accepted (as ros2 action send_goal does)',
-        (0.5, 900.0),
+        'default). Every goal status message lists every goal kept, so at hundreds of goals a '
+        'second a goal costs more the more goals this window holds: shorten it (e.g. 5) when '
+        'every client asks for its result as soon as its goal is accepted, as ros2 action '
+        'send_goal does (a result asked for later is gone: status UNKNOWN)',
+        (0.5, 3600.0),
         read_only=True,
     ),
     ParamSpec(
