@@ -118,6 +118,7 @@ class Collector:
         self.executor.add_node(self.node)
         self.messages: dict[str, list] = {}
         self.arrivals: dict[str, list[int]] = {}
+        self.lost: dict[str, int] = {}  # messages DDS reports lost to a subscription
         self._lock = threading.Lock()
         self._thread = threading.Thread(target=self._spin, daemon=True)
         self._thread.start()
@@ -132,10 +133,18 @@ class Collector:
                 raise
 
     def subscribe(self, msg_type, topic: str, qos, raw: bool = False) -> None:
-        """Record messages of ``topic`` (``raw``: serialized bytes, cheaper at high rates)."""
+        """
+        Record messages of ``topic`` (``raw``: serialized bytes, cheaper at high rates).
+
+        And count the messages DDS reports lost to this reader (``lost[topic]``).
+        """
+        from rclpy.event_handler import SubscriptionEventCallbacks
+
         with self._lock:
             self.messages.setdefault(topic, [])
             self.arrivals.setdefault(topic, [])
+
+            self.lost.setdefault(topic, 0)
 
         def callback(msg, topic=topic):
             now = time.monotonic_ns()
@@ -143,7 +152,14 @@ class Collector:
                 self.messages[topic].append(msg)
                 self.arrivals[topic].append(now)
 
-        self.node.create_subscription(msg_type, topic, callback, qos, raw=raw)
+        def lost(info, topic=topic):
+            with self._lock:
+                self.lost[topic] += info.total_count_change
+
+        self.node.create_subscription(
+            msg_type, topic, callback, qos, raw=raw,
+            event_callbacks=SubscriptionEventCallbacks(message_lost=lost),
+        )
 
     def publisher(self, msg_type, topic: str, qos):
         return self.node.create_publisher(msg_type, topic, qos)
