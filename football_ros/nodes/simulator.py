@@ -717,7 +717,7 @@ class SimulatorNode(QuietNode):
         Publish a frame (the simulation's lock held).
 
         The default ball's topics and markers, the spawned balls' pose and odom, one /tf for
-        all: each only while somebody subscribes to it (a count: a local rmw query, ~1 us).
+        all: each only while somebody subscribes to it (a count: a local rmw query).
         """
         rows = self.sim.world.rows
         if frame.default is not None:

@@ -17,8 +17,8 @@ The quasi-steady linear theory frame by frame, compiled (numba).
 
 :mod:`.linear_theory` keeps the theory in plain Python and numpy (the modes report loads no
 numba); here its scalar functions are compiled as they stand, for the real-time frame
-(:class:`QuasiSteadyTracker`, one call of :func:`quasi_steady_advance` a frame: a few us
-against ~35 in Python) and the planner's kernels.
+(:class:`QuasiSteadyTracker`: one call of :func:`quasi_steady_advance` a frame, which in Python
+was most of the default ball's cost a frame beyond a spawned ball's) and the planner's kernels.
 """
 
 from __future__ import annotations
@@ -54,8 +54,7 @@ def quasi_steady_advance(consts: tuple, air, h1: float, t: float, memory: np.nda
     ``h1`` [rad/s]; ``memory`` (complex, 10; updated in place): the last sample's t, sigma_1,
     sigma_2, B and D_c, the two integrals (sigma +- the WKB drift, trapezoid rule), the mode
     amplitudes k1, k2 and D_c at release. A ``t`` not after the last leaves the integrals.
-    Compiled (a frame's theory: a few us against ~35 in Python); not finite once an unstable
-    ball's theory overflows.
+    Not finite once an unstable ball's theory overflows.
     """
     sig1, sig2, b, d_c, x_p = exponents_compiled(consts, air, h1)
     air_a, h1_a, air_b, h1_b = drift_points_compiled(consts, air, h1)
@@ -87,7 +86,9 @@ class QuasiSteadyTracker:
         sig1, sig2, b, d_c, x_p = local_exponents_scalar(
             self._consts, release_air_velocity, modes.h1
         )
-        x_p, x_p_dot = self._equilibrium(release_air_velocity, modes.h1, b, d_c, x_p)
+        x_p, x_p_dot = drifting_equilibrium_scalar(
+            self._consts, release_air_velocity, float(modes.h1), b, d_c, x_p
+        )
         k1, k2 = mode_amplitudes(modes, sig1, sig2, x_p, x_p_dot)
         # t, sigma_1, sigma_2, B, D_c (the last sample), the two integrals, k1, k2, D_c(0)
         self._memory = np.array([0.0, sig1, sig2, b, d_c, 0.0, 0.0, k1, k2, d_c], dtype=complex)
@@ -105,6 +106,3 @@ class QuasiSteadyTracker:
         s2, s3 = min(1.0, max(-1.0, x.real)), min(1.0, max(-1.0, x.imag))
         s1 = math.sqrt(max(0.0, 1.0 - s2 * s2 - s3 * s3))
         return np.array([math.atan2(s2, s1), math.asin(s3)])
-
-    def _equilibrium(self, air, h1, b, d_c, x_p):
-        return drifting_equilibrium_scalar(self._consts, air, float(h1), b, d_c, x_p)
