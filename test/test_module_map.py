@@ -74,6 +74,7 @@ MODULE_TESTS: dict[str, tuple[str, ...]] = {
     'football_ros.physics.modes': ('test_physics.py', 'test_full_model.py'),
     'football_ros.physics.precompile': ('test_compile.py', 'test_cli.py'),
     'football_ros.physics.presets': ('test_physics.py', 'test_paper.py'),
+    'football_ros.physics.quasi_steady': ('test_physics.py', 'test_full_model.py'),
     'football_ros.physics.release': ('test_release_state.py', 'test_physics.py'),
     # layer 3: estimation, planning, simulation
     'football_ros.estimation': ('test_estimation.py',),
