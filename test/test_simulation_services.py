@@ -199,6 +199,38 @@ def test_simulate_steps_cancel_stops_at_a_step_boundary(start_node, collector):
     )
 
 
+def test_a_finished_goals_result_is_kept_for_goal_result_timeout(start_node, collector):
+    """The result is there when asked for at once, and gone (UNKNOWN) after the window."""
+    from action_msgs.msg import GoalStatus
+    from rclpy.action import ActionClient
+
+    start_node('simulator', '--ros-args', '-p', 'goal_result_timeout:=0.5')
+    paused = SimulationState(state=SimulationState.STATE_PAUSED)
+    assert srv(collector, 'set_simulation_state', si_srv.SetSimulationState,
+               state=paused).result.result == OK
+    action = ActionClient(collector.node, SimulateSteps, f'{NODE}/simulate_steps')
+    assert action.wait_for_server(timeout_sec=20.0)
+    sent = action.send_goal_async(SimulateSteps.Goal(steps=10))
+    collector.wait_for(sent.done, 20.0, 'goal accepted')
+    handle = sent.result()
+    first = handle.get_result_async()
+    collector.wait_for(first.done, 20.0, 'the result')
+    assert first.result().status == GoalStatus.STATUS_SUCCEEDED
+    assert first.result().result.result.result == OK
+    asked = []
+
+    def expired() -> bool:  # ask again until the server has let the result go
+        if not asked or asked[-1].done():
+            if asked and asked[-1].result().status == GoalStatus.STATUS_UNKNOWN:
+                return True
+            asked.append(handle.get_result_async())
+        return False
+
+    collector.wait_for(expired, 20.0, 'the result to expire')
+    assert all(f.result().status in (GoalStatus.STATUS_SUCCEEDED, GoalStatus.STATUS_UNKNOWN)
+               for f in asked)
+
+
 @pytest.mark.parametrize('frame_id', ['field', 'f', 'abc', 'abcdefgh', 'x' * 13])
 def test_entity_messages_bytes_decode_to_the_messages(frame_id):
     """The hand-made CDR of pose, odom and TF decodes (rclpy) to the messages it stands for."""
