@@ -143,7 +143,6 @@ class Collector:
         with self._lock:
             self.messages.setdefault(topic, [])
             self.arrivals.setdefault(topic, [])
-
             self.lost.setdefault(topic, 0)
 
         def callback(msg, topic=topic):
