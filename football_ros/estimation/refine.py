@@ -156,6 +156,9 @@ def _prior_terms(states: np.ndarray, spin: np.ndarray, index: np.ndarray,
     axis_sigma, h1_mean, h1_sigma, rate_sigma = spin[0], spin[1], spin[2], spin[3]
     b1, b2 = _basis(states[0, X_S], states[0, X_S + 1], states[0, X_S + 2])
     for i in range(m):
+        # The velocity frame as dynamics.velocity_frame_components builds it, inline: that
+        # kernel raises ZeroDivisionError on a vertical or zero velocity (numba's Python error
+        # model), where the fit wants NaN (a step refused or no fit, as with numpy's terms).
         vx, vy, vz = states[i, X_V], states[i, X_V + 1], states[i, X_V + 2]
         sx, sy, sz = states[i, X_S], states[i, X_S + 1], states[i, X_S + 2]
         hx, hy, hz = states[i, X_H], states[i, X_H + 1], states[i, X_H + 2]
