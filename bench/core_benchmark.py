@@ -21,8 +21,9 @@ The simulator against its own core: how much of its CPU is the physics.
 Every figure is a ratio to a baseline measured in the same run, ``--draws`` times, with
 ``--hogs`` busy-loop processes beside it (a loaded machine):
 
-- Lock-step: the simulator's CPU (its process, /proc, less its idle pacing) per StepSimulation
-  (1000 steps) and per SimulateSteps goal (1000 steps) with N balls in the air, over the bare
+- Lock-step: the simulator's CPU (its process, /proc, less its idle CPU paused) per
+  StepSimulation (1000 steps) and per SimulateSteps goal (1000 steps) with N balls in the air
+  (and its idle CPU: playing with nothing in the air, paused with a ball in it), over the bare
   core's CPU for the same steps in the client's thread (``Simulation.step_n(1000)``, in the
   same rounds as the simulator's calls, so that both meet the same load). Two floors: a
   do-nothing rclpy server offering StepSimulation and SimulateSteps (it answers at once),
@@ -170,14 +171,17 @@ def lock_step_phase(pid: int, balls: list[int], floor_pid: int) -> dict:
     """
     bench = eb.Bench()
     floor = eb.Bench(FLOOR_NODE, share=bench)
-    idle, floor_idle = idle_rate(pid), idle_rate(floor_pid)
+    out = {'idle playing': idle_rate(pid)}  # fresh: playing, nothing in the air
+    bench.set_state(SimulationState.STATE_PAUSED)
+    bench.spawn_and_throw(1, eb.LOCK_STEP_LOB)
+    idle, floor_idle = idle_rate(pid), idle_rate(floor_pid)  # paused, a ball in the air
+    out['idle paused'] = idle
     sim_cpu = functools.partial(eb.cpu_ns, pid)
     floor_cpu = functools.partial(eb.cpu_ns, floor_pid)
 
     def nothing() -> None:
         pass
 
-    out = {}
     for n in balls:
         bench.set_state(SimulationState.STATE_PAUSED)
         bench.reset()
@@ -581,6 +585,11 @@ def report(draws: list[dict], args) -> None:
     print(f'Lock-step, {STEPS} steps of 1 ms per call (CPU ms per call: the median over '
           f'{ROUNDS} rounds of {REPEATS} calls; the floor server and the bare core (its '
           "step_n in the client's thread) measured in the same rounds as the simulator)")
+    for executor in EXECUTORS:
+        print(f"The simulator's idle CPU ({executor}; cores): playing with nothing in the air "
+              + _cells([d[f'sim {executor}']['idle playing'] for d in draws], '{:.4f}')
+              + '; paused with a ball in the air (subtracted from its calls) '
+              + _cells([d[f'sim {executor}']['idle paused'] for d in draws], '{:.4f}'))
     print("executor: the simulator's executor_type (events: its default; single_threaded: "
           "the classic, the baseline) and the do-nothing floor server's; (simulator - floor) "
           '/ core subtracts the floor on the same executor, (... - classic floor) the '

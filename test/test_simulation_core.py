@@ -143,6 +143,85 @@ def test_a_change_after_integrating_ahead_is_honoured():
     assert frame.pose[0, :3].tolist() == [5.0, 0.0, 1.0] and not frame.twist.any()
 
 
+def _paced(rest: bool, changes: dict) -> tuple[list, int, int]:
+    """
+    Tick 1000 periods at 100 Hz, hold rate 2 Hz; ``changes`` {tick: f(sim)} made before it.
+
+    ``rest``: skip the ticks :meth:`core.Simulation.quiet_until` says show nothing, as the
+    node's pacer does, until the next change. Returns every frame shown (tick, rows, poses,
+    clock), the clock at the end and the ticks skipped.
+    """
+    sim = core.Simulation()
+    shown, k, skipped = [], 0, 0
+    while k < 1000:
+        if k in changes:
+            changes[k](sim)
+        frame = sim.tick(k * PERIOD_NS, PERIOD_NS, 1.0, 2.0)
+        if frame.shown.size:
+            shown.append((k, frame.shown.tolist(), frame.pose.tolist(), sim.clock_ns))
+        sim.drain_events()
+        k += 1
+        if rest:
+            quiet = sim.quiet_until(k * PERIOD_NS, 2.0)
+            wake = min([c for c in changes if c >= k] + [1000])
+            if quiet is not None:
+                wake = min(wake, -(-quiet // PERIOD_NS))  # the first tick at or after it
+            if wake > k:
+                sim.skip(wake - k, PERIOD_NS, 1.0)
+                skipped += wake - k
+                k = wake
+    return shown, sim.clock_ns, skipped
+
+
+def test_a_resting_pacer_skips_only_ticks_that_show_nothing():
+    changes = {
+        0: lambda s: s.spawn('a', 'football_ros://american', [1.0, 0.0, 0.0], UPRIGHT),
+        120: lambda s: s.throw('a', run(Release(speed=12.0, elevation_deg=40.0))),
+        130: lambda s: s.throw(wd.DEFAULT_ENTITY, run(Release(speed=8.0, elevation_deg=30.0))),
+        400: lambda s: s.set_state(core.PAUSED),
+        430: lambda s: s.spawn('b', 'football_ros://rugby', [0.0, 2.0, 0.0], UPRIGHT),
+        450: lambda s: s.step_n(300, 0),
+        610: lambda s: s.set_state(core.PLAYING),
+        700: lambda s: s.place('b', [3.0, 2.0, 0.5], UPRIGHT),
+        720: lambda s: s.throw('b', run(Release(ball='rugby', speed=9.0))),
+        900: lambda s: s.reset(time=False, state=True, spawned=False),
+    }
+    every, clock, none = _paced(False, changes)
+    rested, rested_clock, skipped = _paced(True, changes)
+    assert rested == every
+    assert rested_clock == clock == 790 * PERIOD_NS + 300 * 1_000_000  # paused 400-609
+    assert none == 0 and skipped > 600  # at rest most of the time: held at 2 Hz
+    assert any(len(rows) == 2 for _, rows, _, _ in every)  # both balls in the air at once
+
+
+def test_every_change_a_tick_shows_wakes_the_pacer():
+    sim = core.Simulation()
+    changes = [
+        lambda: sim.spawn('a', 'football_ros://american', [0, 0, 0], UPRIGHT),
+        lambda: sim.place('a', [1.0, 0.0, 0.0], UPRIGHT),
+        lambda: sim.throw('a', run(Release(speed=10.0))),
+        lambda: sim.set_state(core.PAUSED),
+        lambda: sim.step_n(5000, 0),  # lands: an event to report
+        lambda: sim.reset(time=True, state=True, spawned=False),
+        lambda: sim.report('WARN', 'x', 'y'),
+        lambda: sim.delete('a'),
+    ]
+    for change in changes:
+        sim.changed.clear()
+        change()
+        assert sim.changed.is_set()
+    sim.spawn('b', 'football_ros://american', [0, 0, 0], UPRIGHT)
+    sim.throw('b', run(Release(speed=30.0)))
+    sim.drain_events()
+    sim.changed.clear()
+    sim.step_n(10, 0)  # lock-step shows its own frame: no wake, no event
+    sim.entity_state('b')
+    assert not sim.changed.is_set()
+    assert sim.quiet_until(5, 1.0) is None  # paused, b in the air: no tick has work
+    sim.set_state(core.PLAYING)
+    assert sim.quiet_until(5, 1.0) == 5  # playing: every tick moves b
+
+
 def test_deleting_a_ball_keeps_every_other_balls_numbers():
     sim = core.Simulation()
     for k in range(5):

@@ -441,6 +441,7 @@ class SimulatorNode(QuietNode):
                 setattr(self, p.name, p.value)
         self.sim.max_entities = int(self.max_entities)
         self.sim.step = float(self.integration_step)
+        self.sim.changed.set()  # a resting pacer takes the new values at once
         return SetParametersResult(successful=True)
 
     @property
@@ -631,6 +632,7 @@ class SimulatorNode(QuietNode):
                 self.stats['skipped'] += int(behind) - replay
                 next_due += (int(behind) - replay) * period_ns
             try:
+                self.sim.changed.clear()  # a change from here on wakes a rest below
                 while next_due <= now:
                     self._guarded_tick(wall0 + (next_due - mono0), period_ns)
                     next_due += period_ns
@@ -643,12 +645,38 @@ class SimulatorNode(QuietNode):
                 if now >= next_diag:
                     self._publish_diagnostics(None, 0)
                     next_diag = now + int(1e9 / self.diagnostics_rate)
+                if not self.publish_clock:
+                    next_due = self._rest(next_due, next_diag, period_ns, wall0 - mono0)
             except Exception:
                 if not self.context.ok():  # Ctrl-C / SIGTERM shut rclpy down under us: just stop
                     return
                 self._log_error_limited(
                     f'pacing error (the pacer continues):\n{traceback.format_exc()}'
                 )
+
+    def _rest(self, next_due: int, next_diag: int, period_ns: int, wall_offset: int) -> int:
+        """
+        Sleep through the ticks that would show nothing; return the next tick's due time.
+
+        While nothing flies and /clock is off, ticks show only resting balls at ``hold_rate``
+        (:meth:`.Simulation.quiet_until`): the pacer sleeps (no CPU, no GIL) until one is
+        due, /diagnostics is (``next_diag``), or the simulation changes (a service, an order,
+        a parameter), and the ticks it slept through move the clock as they would have
+        (:meth:`.Simulation.skip`). Times: monotonic ns; ``wall_offset`` wall - monotonic.
+        """
+        quiet = self.sim.quiet_until(next_due + wall_offset, self.hold_rate)
+        wake = next_diag if quiet is None else min(next_diag, quiet - wall_offset)
+        if wake - next_due < period_ns:
+            return next_due  # something to do at the next tick or the one after
+        self.tick_gate.announce(None)  # no tick due: handlers need not give way
+        self.sim.changed.wait((wake - time.monotonic_ns()) * 1e-9)
+        last = min(time.monotonic_ns(), wake - 1)  # the ticks due before wake, up to now
+        passed = (last - next_due) // period_ns + 1
+        if passed > 0:
+            self.sim.skip(int(passed), period_ns, self.real_time_factor)
+            self.stats['ticks'] += int(passed)
+            next_due += int(passed) * period_ns
+        return next_due
 
     def _log_events(self, events) -> None:
         """Log the default ball's landing, guard and data-range events (released: at the order)."""
@@ -1002,6 +1030,7 @@ class SimulatorNode(QuietNode):
     def close(self) -> None:
         """Stop the pacing and stepping threads (called before the node is destroyed)."""
         self._stop.set()
+        self.sim.changed.set()  # out of a rest at once
         self._thread.join(timeout=5.0)
         self.tick_gate.announce(None)  # no handler waits for a tick that will not come
         if self._sim_services is not None:

@@ -96,6 +96,9 @@ class Simulation:
     ``step``: the integration step [s] of new flights and of lock-step; ``max_entities``: the
     world's limit. Attributes ``world`` and ``lock`` are for a caller that publishes a frame
     (it holds ``lock`` while it reads the frame's entities); every change goes through a method.
+    ``changed`` (a threading.Event) is set by every change a tick may have to show or report
+    (spawn, delete, place, throw, play state, reset, a queued event), so that a pacer resting
+    while nothing flies (:meth:`quiet_until`) wakes for it; the pacer clears it.
     """
 
     def __init__(self, max_entities: int = 100, step: float = 0.001) -> None:
@@ -106,6 +109,7 @@ class Simulation:
         self.state = PLAYING
         self.last_order = None  # the default ball's last order (opaque: the node's)
         self._ahead = None
+        self.changed = threading.Event()
 
     # --- the world's entities ---------------------------------------------------------------
     @property
@@ -121,17 +125,22 @@ class Simulation:
               allow_renaming: bool = False) -> Entity:
         """Add a ball at rest (see :meth:`World.spawn`; EntityError names what is wrong)."""
         with self.lock:
-            return self.world.spawn(name, uri, position, orientation, allow_renaming)
+            entity = self.world.spawn(name, uri, position, orientation, allow_renaming)
+            self.changed.set()
+            return entity
 
     def delete(self, name: str) -> Entity:
         """Remove a spawned ball (EntityError 'not_found' or 'default')."""
         with self.lock:
-            return self.world.delete(name)
+            entity = self.world.delete(name)
+            self.changed.set()
+            return entity
 
     def place(self, name: str, position, orientation) -> None:
         """Put a ball at rest at a pose (its flight dropped; EntityError 'not_found', 'pose')."""
         with self.lock:
             self.world.place(self.world.get(name), position, orientation)
+            self.changed.set()
 
     def throw(self, name: str, run: FlightRun, order=None) -> FlightRun:
         """
@@ -144,6 +153,7 @@ class Simulation:
             self.world.throw(entity, run)
             if name == DEFAULT_ENTITY and order is not None:
                 self.last_order = order
+            self.changed.set()
             return run
 
     def run_of(self, name: str) -> FlightRun | None:
@@ -187,10 +197,12 @@ class Simulation:
         """Queue an event (level 'OK', 'WARN' or 'ERROR'; ``label``: its flight's) to drain."""
         with self.lock:
             self.world.events.append((level, event, text, label))
+            self.changed.set()
 
     def end_flights(self, reason: str) -> int:
         """End every flight in the air (ERROR events, e.g. after an internal error); count."""
         with self.lock:
+            self.changed.set()
             return self.world.end_all(reason)
 
     def flying_count(self) -> int:
@@ -217,6 +229,7 @@ class Simulation:
         with self.lock:
             doomed = self.reset(True, True, True) if target == STOPPED else []
             self.state = target
+            self.changed.set()
             return doomed
 
     def reset(self, time: bool, state: bool, spawned: bool) -> list[Entity]:
@@ -226,6 +239,7 @@ class Simulation:
             if time:
                 self.clock_ns = 0
             self._ahead = None
+            self.changed.set()
             return doomed
 
     def tick(self, wall_ns: int, period_ns: int, real_time_factor: float,
@@ -254,6 +268,32 @@ class Simulation:
             frame.default_t = asked
             return frame
 
+    def quiet_until(self, wall_ns: int, hold_rate: float) -> int | None:
+        """
+        Wall time [ns] before which no tick would show, move or report anything.
+
+        ``wall_ns`` while a ball flies (playing) or an event waits: every tick has work; else
+        when the next resting ball is due (:meth:`World.next_due_ns`, the rules of
+        :meth:`tick`), None if none is until a change. Meanwhile a playing tick only moves the
+        clock (:meth:`skip`); a paused one does nothing.
+        """
+        with self.lock:
+            world, playing = self.world, self.state == PLAYING
+            if world.events or world.events.dropped or (playing and world.flying().size):
+                return wall_ns
+            due = world.next_due_ns(hold_rate, landed=playing)
+            return None if due is None else max(due, wall_ns)
+
+    def skip(self, ticks: int, period_ns: int, real_time_factor: float) -> None:
+        """
+        Let ``ticks`` ticks with nothing to show pass (:meth:`quiet_until`).
+
+        Playing, the clock moves on as they would have moved it; paused, nothing changes.
+        """
+        with self.lock:
+            if self.state == PLAYING:
+                self.clock_ns += ticks * int(period_ns * real_time_factor)
+
     def integrate_ahead(self) -> None:
         """Compute the next tick's pass now (after publishing); a change meanwhile voids it."""
         with self.lock:
@@ -271,6 +311,8 @@ class Simulation:
                 self.state = PAUSED
             self.clock_ns += int(round(n_steps * self.step * 1e9))
             moved = self.world.advance(n_steps, self.step, wall_ns)
+            if self.world.events:  # a landing or an ended flight: the pacer reports it
+                self.changed.set()
             return self._frame(moved, np.empty(0, dtype=np.int64))
 
     def _frame(self, moved: np.ndarray, held: np.ndarray) -> Frame:

@@ -694,6 +694,24 @@ class World:
         shown[rows] = wall_ns
         return rows
 
+    def next_due_ns(self, hold_rate: float, landed: bool = True) -> int | None:
+        """
+        Wall time [ns] from which :meth:`due` returns a row again; None: not until a change.
+
+        The same rules as :meth:`due` (a row never shown: due at once, returned as 0).
+        """
+        n = self.size
+        status, shown = self.status[:n], self.shown_ns[:n]
+        resting = (status == AT_REST) | ((status == LANDED) if landed else False)
+        resting[0] &= status[0] == LANDED
+        if not resting.any():
+            return None
+        if (shown[resting] < 0).any():
+            return 0
+        if hold_rate <= 0:
+            return None
+        return int(shown[resting].min() + math.ceil(1e9 / hold_rate))
+
     def _sample(self, c: Computed, j: int) -> BallSample:
         out, d = c.out[j], c.described[j]
         landed = not math.isnan(c.landing[j])
