@@ -204,6 +204,7 @@ def refine(
     params: np.ndarray,
     step: float,
     max_iterations: int = 8,
+    secant: bool = False,
 ) -> Refined | None:
     """
     Fit the throw to every fix (batch MAP) from ``x0``, the state at ``times[0]``.
@@ -213,7 +214,10 @@ def refine(
     covariance and model; ``noise`` unused); ``params`` the motion kernel's parameters,
     ``step`` [s] its longest RK4 step. Levenberg-Marquardt from ``x0`` until a step lowers the
     objective by less than :data:`CONVERGED`, no step lowers it, or ``max_iterations``
-    Jacobians. At
+    steps. ``secant``: after the first, the Jacobian is carried by Broyden's rank-one update
+    from each accepted step's own flight (one flight a step instead of n + 1), and flown
+    afresh only when no step lowers the objective and at the end (the posterior's); for a
+    search from many cold starts, whose steps are many and far from the minimum. At
     ``times[-1]``: the fit flown there, and the posterior's covariance carried there by the
     derivatives of the Jacobian's flights (linear: the posterior is narrow). None if a fix or a
     flight is not finite, or the information matrix is singular.
@@ -247,10 +251,11 @@ def refine(
     lin = linearise(x)
     if lin is None:
         return None
+    r0, jac = lin[:2]
+    carried = False  # jac carried by secant updates since the last flown one
     lam, it, cost, converged = 1e-3, 0, math.inf, False
     while it < max_iterations:
         it += 1
-        r0, jac = lin[:2]
         cost, g, info = float(r0 @ r0), jac.T @ r0, jac.T @ jac
         new, trial = math.inf, x
         while lam < 1e8:  # Levenberg-Marquardt: shorten the step until the objective falls
@@ -264,13 +269,28 @@ def refine(
             if new < cost:
                 break
             lam *= 4.0
-        if new >= cost:  # no step lowers it: at the minimum
+        if new >= cost:  # no step lowers it: at the minimum, unless the Jacobian was carried
+            if carried:
+                lin = linearise(x)
+                if lin is None:
+                    return None
+                (r0, jac), carried, lam = lin[:2], False, 1e-3
+                continue
             converged = True
             break
         x, lam, cost = trial[0], max(lam / 4.0, 1e-7), new
         if r0 @ r0 - new <= CONVERGED:  # the last Jacobian serves the posterior
             converged = True
             break
+        if secant:  # Broyden: the Jacobian that maps this step onto its change of residuals
+            jac = jac + np.outer(rt - r0 - jac @ d, d / (d @ d))
+            r0, carried = rt, True
+        else:
+            lin = linearise(x)
+            if lin is None:
+                return None
+            r0, jac = lin[:2]
+    if carried:  # the posterior's Jacobian flown, at the fit
         lin = linearise(x)
         if lin is None:
             return None

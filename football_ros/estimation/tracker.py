@@ -971,12 +971,12 @@ class FlightTracker:
             best = _least(best, fit)
         return best
 
-    def _fits_from(self, tr: _Track, hand: float, starts: list,
-                   iterations: int | None = None, count: int | None = None) -> list[Refined]:
+    def _fits_from(self, tr: _Track, hand: float, starts: list, iterations: int | None = None,
+                   count: int | None = None, secant: bool = False) -> list[Refined]:
         """
         Return the fits of :meth:`_fit_from`, one a start that fits, in the starts' order.
 
-        Of the first ``count`` fixes (None: all).
+        Of the first ``count`` fixes (None: all); ``secant``: :func:`.refine.refine`'s.
         """
         s = self.settings
         times = np.array(sorted(tr.fixes))[:count]
@@ -987,7 +987,7 @@ class FlightTracker:
         for x0 in starts:
             if np.all(np.isfinite(x0)):
                 fit = refine(times, fixes, x0, prior, s.noise, self.params, s.step,
-                             iterations or s.refine_iterations)
+                             iterations or s.refine_iterations, secant)
                 if fit is not None:
                     out.append(fit)
         return out
@@ -1003,17 +1003,19 @@ class FlightTracker:
         the basins kept (:data:`LADDER`) to the first half, and these join the starts: a
         tumbling flight's objective is rugged over seconds of fixes and smooth over a fraction
         of one, and the basins are followed as the fixes grow (as a tracker predicting at
-        every fix does).
+        every fix does). The starts' fits carry their Jacobians by secant updates (one flight a
+        step, :func:`.refine.refine`); the polish flies them.
         """
         reach = self.settings.basin_reach
         climbed = starts
         for part in (4, 2) if reach > 0.0 and len(tr.fixes) >= 4 * LADDER[0] else ():
-            fits = self._fits_from(tr, hand, climbed, count=len(tr.fixes) // part)
+            fits = self._fits_from(tr, hand, climbed, count=len(tr.fixes) // part, secant=True)
             if not fits:
                 break
             top = min(fits, key=lambda f: f.cost)
             climbed = [f.x0 for f in [top] + _basins(top, fits, LADDER[1] * reach, LADDER[2])]
-        fits = self._fits_from(tr, hand, starts + (climbed if climbed is not starts else []))
+        fits = self._fits_from(tr, hand, starts + (climbed if climbed is not starts else []),
+                               secant=True)
         if not fits:
             return []
         top = fits[0]
