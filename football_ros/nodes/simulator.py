@@ -676,6 +676,7 @@ class SimulatorNode(QuietNode):
             self.sim.skip(int(passed), period_ns, self.real_time_factor)
             self.stats['ticks'] += int(passed)
             next_due += int(passed) * period_ns
+        self.tick_gate.announce(next_due, period_ns)
         return next_due
 
     def _log_events(self, events) -> None:
