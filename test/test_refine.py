@@ -134,6 +134,45 @@ def test_the_fit_recovers_the_flown_state_from_a_perturbed_start():
     assert refine(times, bad, start, prior, 0.02, tracker.params, 0.005, 25) is None
 
 
+def test_the_secant_fit_lands_in_the_basin_with_fewer_flights(monkeypatch):
+    # The multi-start's cold starts carry their Jacobian by Broyden updates (refine's secant):
+    # in the right basin for far fewer flights, short of the minimum, which a polish with flown
+    # Jacobians then reaches; its posterior's Jacobian is flown (as the exact fit's).
+    import football_ros.estimation.refine as refine_module
+
+    tracker, truth = _state()
+    times = np.arange(0, 90) / 60.0
+    zs = fly_state(truth, times, tracker.params, 0.005)[1]
+    h1 = float(truth[X_H:X_H + 3] @ truth[X_S:X_S + 3])
+    prior = Prior((h1, 0.19 * h1), 0.03, 0.3, ((X_KD, 1.0, 0.2), (X_KL, 1.0, 0.2)))
+    start = truth.copy()
+    start[0:3] += (0.3, -0.2, 0.2)
+    start[3:6] += (1.0, 0.8, -0.8)
+    start[X_H:X_H + 3] *= 0.7
+    start[X_KD] = 1.3
+    flown = []
+    real = refine_module.fly_through
+
+    def counted(points, *args):
+        flown.append(points.shape[0])
+        return real(points, *args)
+
+    monkeypatch.setattr(refine_module, 'fly_through', counted)
+    fits, rows = {}, {}
+    for secant in (False, True):
+        flown.clear()
+        fits[secant] = refine(times, zs, start, prior, 0.02, tracker.params, 0.005, 25, secant)
+        rows[secant] = sum(flown)
+    exact, carried = fits[False], fits[True]
+    assert exact.cost < 1e-6 and carried is not None and carried.cost < 1.0  # chi-square
+    assert rows[True] < 0.65 * rows[False], rows  # 75 against 122 state-flights
+    sd = np.sqrt(np.diag(carried.P)[:6]), np.sqrt(np.diag(exact.P)[:6])  # position, velocity
+    np.testing.assert_allclose(*sd, rtol=0.02)
+    polished = refine(times, zs, carried.x0, prior, 0.02, tracker.params, 0.005, 25)
+    assert polished.converged and polished.cost < 0.01  # refine.CONVERGED: at the minimum
+    assert np.all(np.abs(polished.x[:6] - exact.x[:6]) < 0.1 * sd[1])  # a tenth of a sigma
+
+
 def _kick_errors(release: Release, seed: int, lead: float = 1.0) -> list[tuple[float, float]]:
     """(landing error [m], NEES) of the filter alone and with the fit, fixes until ``lead``."""
     truth = Flight.from_release(release).simulate(rate=1000.0)
