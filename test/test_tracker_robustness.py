@@ -599,10 +599,11 @@ def test_an_end_over_end_punts_basins_are_found_and_mixed(prediction_bound):
 
     With ``unstable_fits`` and ``basin_reach`` (the default) the multi-start fit, its starts
     also fitted to the first quarter and half of the fixes and its tumble starts tilted,
-    finds the truth's basin of flight 1; on flight 2 it keeps several basins within reach
-    and predicts with their mixture, nearer than one basin and the truth inside its 95 %
-    ellipse. One basin (``basin_reach`` 0: the lowest objective of the starts fitted to all
-    the fixes, the filters' share for a wrong basin) sits in a wrong one on both.
+    finds the truth's basin of flight 1, where one basin (``basin_reach`` 0: the lowest
+    objective of the starts fitted to all the fixes, the filters' share for a wrong basin)
+    sits in a wrong one; on flight 2, whose posterior has two modes 32 cm apart, it keeps
+    several basins within reach and predicts with their mixture, the truth inside its 95 %
+    ellipse.
     """
     bench = prediction_bound
     name = 'end over end 20-120 rpm'
@@ -622,13 +623,15 @@ def test_an_end_over_end_punts_basins_are_found_and_mixed(prediction_bound):
             nees[k, reach] = float(d @ np.linalg.solve(pred.covariance, d))
             basins[k, reach] = sum(len(b) for b in tracker.track.basins.values())
     new = TrackerSettings.basin_reach
-    # Measured: flight 1 3.3 cm (NEES 0.09) against 58 cm with one basin; flight 2, its
-    # posterior with modes 32 cm apart at a chi-square 0.3 apart (bench/prediction_bound.py
-    # --modes; global bound median 18.6 cm, local 10.1 cm): 24 cm (NEES 0.6, five basins
-    # kept) against 41 cm (NEES 2.0).
+    # Measured (the multi-start's starts with secant Jacobians, 242f931): flight 1 3.5 cm
+    # (NEES 0.10) against 71 cm with one basin; flight 2, its posterior with modes 32 cm apart
+    # at a chi-square 0.3 apart (bench/prediction_bound.py --modes; global bound median
+    # 18.6 cm, local 10.1 cm): 25 cm (NEES 0.65) with the basins kept, one basin 16 cm (NEES
+    # 0.45; before the secant fits it sat in the other mode, 41 cm, NEES 2.0): which mode the
+    # lowest objective lands in is a toss-up there, the mixture covers both.
     assert err[1, new] < 0.1 < 0.4 < err[1, 0.0] and nees[1, new] < 5.991, (err, nees)
     assert basins[2, new] >= 2 and basins[2, 0.0] == 0, basins
-    assert err[2, new] < 0.3 < err[2, 0.0] and nees[2, new] < 5.991, (err, nees)
+    assert err[2, new] < 0.3 and nees[2, new] < 5.991, (err, nees)
 
 
 def test_a_tumbling_punts_fit_is_made_though_the_gusty_twins_take_in_its_tumble(
