@@ -108,18 +108,31 @@ def test_the_fits_compiled_terms_match_their_numpy_statement():
         np.testing.assert_allclose(terms, want, rtol=0, atol=1e-12)
 
 
-def test_the_fit_recovers_the_flown_state_from_a_perturbed_start():
-    # Fixes flown by the filter's own model, without noise: the only error left is the fit's.
+def _perturbed(dr, dv, h_scale: float, kd: float):
+    """
+    Return a spiral's 1.5 s of fixes flown by the filter's own model, without noise, a start.
+
+    As (tracker, truth, times, fixes, the truth at the last fix, prior, start): the start
+    is the truth moved by ``dr`` [m], ``dv`` [m/s], its spin momentum scaled by ``h_scale``,
+    its drag scale set to ``kd``.
+    """
     tracker, truth = _state()
     times = np.arange(0, 90) / 60.0
     end, zs = fly_state(truth, times, tracker.params, 0.005)
     h1 = float(truth[X_H:X_H + 3] @ truth[X_S:X_S + 3])
     prior = Prior((h1, 0.19 * h1), 0.03, 0.3, ((X_KD, 1.0, 0.2), (X_KL, 1.0, 0.2)))
     start = truth.copy()
-    start[0:3] += (0.05, -0.05, 0.05)
-    start[3:6] += (0.3, 0.3, -0.3)
-    start[X_H:X_H + 3] *= 0.9
-    start[X_KD] = 1.2
+    start[0:3] += dr
+    start[3:6] += dv
+    start[X_H:X_H + 3] *= h_scale
+    start[X_KD] = kd
+    return tracker, truth, times, zs, end, prior, start
+
+
+def test_the_fit_recovers_the_flown_state_from_a_perturbed_start():
+    # Fixes flown by the filter's own model, without noise: the only error left is the fit's.
+    tracker, truth, times, zs, end, prior, start = _perturbed(
+        (0.05, -0.05, 0.05), (0.3, 0.3, -0.3), 0.9, 1.2)
     fit = refine(times, zs, start, prior, 0.02, tracker.params, 0.005, 25)
     assert fit is not None and fit.iterations <= 25
     assert fit.cost < 1e-6  # the fixes and the prior are met exactly at the truth
@@ -140,16 +153,8 @@ def test_the_secant_fit_lands_in_the_basin_with_fewer_flights(monkeypatch):
     # Jacobians then reaches; its posterior's Jacobian is flown (as the exact fit's).
     import football_ros.estimation.refine as refine_module
 
-    tracker, truth = _state()
-    times = np.arange(0, 90) / 60.0
-    zs = fly_state(truth, times, tracker.params, 0.005)[1]
-    h1 = float(truth[X_H:X_H + 3] @ truth[X_S:X_S + 3])
-    prior = Prior((h1, 0.19 * h1), 0.03, 0.3, ((X_KD, 1.0, 0.2), (X_KL, 1.0, 0.2)))
-    start = truth.copy()
-    start[0:3] += (0.3, -0.2, 0.2)
-    start[3:6] += (1.0, 0.8, -0.8)
-    start[X_H:X_H + 3] *= 0.7
-    start[X_KD] = 1.3
+    tracker, truth, times, zs, _, prior, start = _perturbed(
+        (0.3, -0.2, 0.2), (1.0, 0.8, -0.8), 0.7, 1.3)
     flown = []
     real = refine_module.fly_through
 

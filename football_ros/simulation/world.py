@@ -684,8 +684,7 @@ class World:
         status, shown = self.status[:n], self.shown_ns[:n]
         if n == 1 and status[0] != LANDED:  # the default ball alone, not landed: nothing
             return np.empty(0, dtype=np.int64)
-        resting = (status == AT_REST) | ((status == LANDED) if landed else False)
-        resting[0] &= status[0] == LANDED
+        resting = self._resting(landed)
         if hold_rate > 0:
             ready = (shown < 0) | (wall_ns - shown >= 1e9 / hold_rate)
         else:
@@ -700,10 +699,8 @@ class World:
 
         The same rules as :meth:`due` (a row never shown: due at once, returned as 0).
         """
-        n = self.size
-        status, shown = self.status[:n], self.shown_ns[:n]
-        resting = (status == AT_REST) | ((status == LANDED) if landed else False)
-        resting[0] &= status[0] == LANDED
+        shown = self.shown_ns[:self.size]
+        resting = self._resting(landed)
         if not resting.any():
             return None
         if (shown[resting] < 0).any():
@@ -711,6 +708,13 @@ class World:
         if hold_rate <= 0:
             return None
         return int(shown[resting].min() + math.ceil(1e9 / hold_rate))
+
+    def _resting(self, landed: bool) -> np.ndarray:
+        """Rows a tick may show at rest: spawned balls at rest, and landed ones if ``landed``."""
+        status = self.status[:self.size]
+        resting = (status == AT_REST) | ((status == LANDED) if landed else False)
+        resting[0] &= status[0] == LANDED  # the default entity at rest is not shown
+        return resting
 
     def _sample(self, c: Computed, j: int) -> BallSample:
         out, d = c.out[j], c.described[j]
